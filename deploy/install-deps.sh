@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Installs every Debian package the project needs to build, test and cross-build.
+# Idempotent: safe to run again; run as root (or with sudo available) on Debian bookworm.
+set -euo pipefail
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+    SUDO="sudo"
+fi
+
+HOST_PACKAGES=(
+    build-essential cmake ninja-build pkg-config git python3 python3-venv
+    # wire protocol: nanopb for the firmware, libprotobuf for the hub
+    nanopb libnanopb-dev python3-protobuf protobuf-compiler libprotobuf-dev
+    # test runners
+    libcmocka-dev libgtest-dev libgmock-dev
+    # hub libraries
+    libeigen3-dev libceres-dev libopencv-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+    # node hardware backends
+    libgpiod-dev libcamera-dev libsystemd-dev
+    # fuzzing and sanitizers
+    clang libclang-rt-14-dev
+    # aarch64 cross-build and emulation
+    gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user
+    # measurement
+    time
+)
+
+# arm64 multiarch libraries that the cross-built firmware and its tests link against.
+CROSS_PACKAGES=(
+    libnanopb-dev:arm64 libcmocka-dev:arm64 libgpiod-dev:arm64 libsystemd-dev:arm64
+)
+
+missing() {
+    local pkg
+    for pkg in "$@"; do
+        dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || echo "$pkg"
+    done
+}
+
+if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    $SUDO dpkg --add-architecture arm64
+fi
+
+todo=$(missing "${HOST_PACKAGES[@]}" "${CROSS_PACKAGES[@]}")
+if [ -n "$todo" ]; then
+    $SUDO apt-get update
+    # shellcheck disable=SC2086
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends $todo
+fi
+echo "install-deps: all packages present"
