@@ -1,0 +1,175 @@
+// Reads and writes the DESIGN.md calibration JSON; validates every field a Rig depends on.
+#include "io/calibration_json.h"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+namespace mocap {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void Fail(const std::string& source, const std::string& reason) {
+  throw std::runtime_error(source + ": " + reason);
+}
+
+double Number(const json& value, const std::string& where, const std::string& source) {
+  if (!value.is_number()) Fail(source, where + " must be a number");
+  const double number = value.get<double>();
+  if (!std::isfinite(number)) Fail(source, where + " must be finite");
+  return number;
+}
+
+const json& Field(const json& object, const char* name, const std::string& where,
+                  const std::string& source) {
+  const auto it = object.find(name);
+  if (it == object.end()) Fail(source, where + ": missing \"" + name + "\"");
+  return *it;
+}
+
+int PositiveInt(const json& value, const std::string& where, const std::string& source) {
+  if (!value.is_number_integer() || value.get<int64_t>() <= 0 || value.get<int64_t>() > 1 << 20) {
+    Fail(source, where + " must be a positive integer");
+  }
+  return value.get<int>();
+}
+
+Camera CameraFromJson(const json& entry, size_t index, const std::string& source) {
+  std::string where = "camera #" + std::to_string(index);
+  if (!entry.is_object()) Fail(source, where + " must be an object");
+  Camera camera;
+  const json& id = Field(entry, "id", where, source);
+  if (!id.is_number_integer() || id.get<int64_t>() < 0 || id.get<int64_t>() > UINT32_MAX) {
+    Fail(source, where + ": id must be a non-negative 32-bit integer");
+  }
+  camera.id = id.get<uint32_t>();
+  where = "camera " + std::to_string(camera.id);
+
+  CameraIntrinsics& in = camera.intrinsics;
+  in.width = PositiveInt(Field(entry, "width", where, source), where + ": width", source);
+  in.height = PositiveInt(Field(entry, "height", where, source), where + ": height", source);
+  in.fx = Number(Field(entry, "fx", where, source), where + ": fx", source);
+  in.fy = Number(Field(entry, "fy", where, source), where + ": fy", source);
+  in.cx = Number(Field(entry, "cx", where, source), where + ": cx", source);
+  in.cy = Number(Field(entry, "cy", where, source), where + ": cy", source);
+  if (in.fx <= 0.0 || in.fy <= 0.0) Fail(source, where + ": fx and fy must be > 0");
+
+  // OpenCV writes 4, 5, 8, 12 or 14 coefficients; this model has k1 k2 p1 p2 k3, so longer
+  // vectors are accepted only when the terms it cannot represent are zero.
+  const auto distortion = entry.find("distortion");
+  if (distortion != entry.end()) {
+    if (!distortion->is_array() || distortion->size() < 4) {
+      Fail(source, where + ": distortion must be an array [k1, k2, p1, p2, k3]");
+    }
+    for (size_t i = 0; i < distortion->size(); ++i) {
+      const double value = Number((*distortion)[i], where + ": distortion[" + std::to_string(i) + "]", source);
+      if (i < 5) {
+        in.distortion[i] = value;
+      } else if (value != 0.0) {
+        Fail(source, where + ": distortion terms beyond k3 (rational/thin-prism) are not supported");
+      }
+    }
+  }
+
+  const json& rotation = Field(entry, "rotation", where, source);
+  if (!rotation.is_array() || rotation.size() != 3) Fail(source, where + ": rotation must be 3x3");
+  for (int r = 0; r < 3; ++r) {
+    if (!rotation[r].is_array() || rotation[r].size() != 3) {
+      Fail(source, where + ": rotation must be 3x3");
+    }
+    for (int c = 0; c < 3; ++c) {
+      camera.rotation(r, c) = Number(rotation[r][c], where + ": rotation element", source);
+    }
+  }
+  const double orthogonality =
+      (camera.rotation * camera.rotation.transpose() - Eigen::Matrix3d::Identity()).norm();
+  if (orthogonality > 1e-3 || camera.rotation.determinant() < 0.0) {
+    Fail(source, where + ": rotation is not a rotation matrix (orthonormal, det +1)");
+  }
+  // Files carry rounded numbers; snap to the nearest rotation so later maths stays exact.
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(camera.rotation, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  camera.rotation = svd.matrixU() * svd.matrixV().transpose();
+
+  const json& translation = Field(entry, "translation", where, source);
+  if (!translation.is_array() || translation.size() != 3) {
+    Fail(source, where + ": translation must be [tx, ty, tz]");
+  }
+  for (int i = 0; i < 3; ++i) {
+    camera.translation[i] = Number(translation[i], where + ": translation element", source);
+  }
+  return camera;
+}
+
+}  // namespace
+
+Rig RigFromJson(const json& document, const std::string& source) {
+  if (!document.is_object()) Fail(source, "top level must be a JSON object");
+  const auto units = document.find("units");
+  if (units != document.end() && !(units->is_string() && units->get<std::string>() == "mm")) {
+    Fail(source, "units must be \"mm\"");
+  }
+  const auto cameras = document.find("cameras");
+  if (cameras == document.end() || !cameras->is_array() || cameras->empty()) {
+    Fail(source, "\"cameras\" must be a non-empty array");
+  }
+  Rig rig;
+  std::set<uint32_t> ids;
+  for (size_t i = 0; i < cameras->size(); ++i) {
+    rig.cameras.push_back(CameraFromJson((*cameras)[i], i, source));
+    if (!ids.insert(rig.cameras.back().id).second) {
+      Fail(source, "camera id " + std::to_string(rig.cameras.back().id) + " appears twice");
+    }
+  }
+  return rig;
+}
+
+json RigToJson(const Rig& rig) {
+  json cameras = json::array();
+  for (const Camera& camera : rig.cameras) {
+    const CameraIntrinsics& in = camera.intrinsics;
+    json rotation = json::array();
+    for (int r = 0; r < 3; ++r) {
+      rotation.push_back({camera.rotation(r, 0), camera.rotation(r, 1), camera.rotation(r, 2)});
+    }
+    cameras.push_back({{"id", camera.id},
+                       {"width", in.width},
+                       {"height", in.height},
+                       {"fx", in.fx},
+                       {"fy", in.fy},
+                       {"cx", in.cx},
+                       {"cy", in.cy},
+                       {"distortion", in.distortion},
+                       {"rotation", rotation},
+                       {"translation",
+                        {camera.translation.x(), camera.translation.y(), camera.translation.z()}}});
+  }
+  return json{{"units", "mm"}, {"cameras", cameras}};
+}
+
+Rig LoadRigJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) Fail(path, "cannot open for reading");
+  json document;
+  try {
+    in >> document;
+  } catch (const json::exception& error) {
+    Fail(path, std::string("not valid JSON (") + error.what() + ")");
+  }
+  return RigFromJson(document, path);
+}
+
+void SaveRigJson(const Rig& rig, const std::string& path) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) Fail(path, "cannot open for writing");
+  out << RigToJson(rig).dump(2) << '\n';
+  out.flush();
+  if (!out) Fail(path, "write failed");
+}
+
+}  // namespace mocap
