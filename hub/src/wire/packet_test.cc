@@ -1,0 +1,137 @@
+// Datagram validation and encoding rules of protocol v1.
+#include "wire/packet.h"
+
+#include <gtest/gtest.h>
+
+#include "wire/chunking.h"
+#include "wire/limits.h"
+
+namespace mocap::wire {
+namespace {
+
+v1::MarkerFrame FrameWithMarkers(uint32_t n) {
+  v1::MarkerFrame f;
+  f.set_node_id(3);
+  f.set_frame_number(1234567);
+  f.set_width(1280);
+  f.set_height(800);
+  for (uint32_t i = 0; i < n; ++i) {
+    v1::Marker* m = f.add_markers();
+    m->set_x_q8(ToSubpixel(1279.99 - i * 3.3));
+    m->set_y_q8(ToSubpixel(799.99 - i * 2.1));
+    m->set_area(kMaxBlobArea);
+    m->set_peak(kMaxBrightness);
+    m->set_mean(kMaxBrightness);
+    m->set_flags(kMarkerFlagsMask);
+  }
+  return f;
+}
+
+TEST(Packet, WorstCaseChunksStayUnderDatagramLimit) {
+  v1::MarkerFrame f = FrameWithMarkers(256);
+  f.set_trigger_time_ns(~0ull);
+  f.set_capture_time_ns(~0ull);
+  f.set_send_time_ns(~0ull);
+  f.set_exposure_us(~0u);
+  f.set_flags(kFrameFlagsMask);
+  f.set_node_id(~0u);
+  f.set_frame_number(~0ull);
+  const auto packets = SplitMarkerFrame(f);
+  ASSERT_EQ(packets.size(), 6u);
+  for (const auto& p : packets) {
+    const auto bytes = Encode(p);
+    EXPECT_LE(bytes.size(), kMaxDatagramBytes);
+    const DecodeResult back = Decode(bytes.data(), bytes.size());
+    EXPECT_TRUE(back.ok) << back.reason;
+  }
+}
+
+TEST(Packet, SubpixelPrecisionIsBetterThanOneSixtyFourth) {
+  for (double x = 0.0; x < 1280.0; x += 0.37) {
+    EXPECT_LE(std::abs(FromSubpixel(ToSubpixel(x)) - x), 1.0 / 512.0 + 1e-12);
+  }
+}
+
+TEST(Packet, RejectsWrongVersion) {
+  v1::Packet p = SplitMarkerFrame(FrameWithMarkers(2))[0];
+  p.set_version(2);
+  std::string bytes = p.SerializeAsString();
+  const DecodeResult r = Decode(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("version"), std::string::npos);
+}
+
+TEST(Packet, RejectsOversizedAndEmptyAndGarbage) {
+  std::vector<uint8_t> big(kMaxDatagramBytes + 1, 0);
+  EXPECT_FALSE(Decode(big.data(), big.size()).ok);
+  EXPECT_FALSE(Decode(big.data(), 0).ok);
+  const uint8_t garbage[] = {0xff, 0xff, 0xff, 0xff, 0x0f};
+  const DecodeResult r = Decode(garbage, sizeof garbage);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.reason.empty());
+}
+
+TEST(Packet, RejectsTruncatedDatagram) {
+  const auto bytes = Encode(SplitMarkerFrame(FrameWithMarkers(10))[0]);
+  for (size_t cut = 1; cut < bytes.size(); ++cut) {
+    EXPECT_FALSE(Decode(bytes.data(), cut).ok) << "accepted a datagram cut at " << cut;
+  }
+}
+
+TEST(Packet, RejectsMarkerOutsideImageAndBadChunkFields) {
+  v1::Packet p = SplitMarkerFrame(FrameWithMarkers(1))[0];
+  p.mutable_marker_frame()->mutable_markers(0)->set_x_q8(1280 * 256);
+  EXPECT_NE(Validate(p), "");
+  p = SplitMarkerFrame(FrameWithMarkers(60))[1];
+  p.mutable_marker_frame()->set_first_marker(0);
+  EXPECT_NE(Validate(p), "");
+  p = SplitMarkerFrame(FrameWithMarkers(60))[1];
+  p.mutable_marker_frame()->set_chunk_count(5);
+  EXPECT_NE(Validate(p), "");
+  p = SplitMarkerFrame(FrameWithMarkers(60))[0];
+  p.mutable_marker_frame()->mutable_markers(0)->set_mean(kMaxBrightness + 1);
+  EXPECT_NE(Validate(p), "");
+}
+
+TEST(Packet, EncodeRefusesInvalidPackets) {
+  v1::Packet p;
+  p.set_version(1);
+  EXPECT_THROW(Encode(p), std::invalid_argument);
+  p.mutable_control()->mutable_preview_request()->set_downscale(3);
+  EXPECT_THROW(Encode(p), std::invalid_argument);
+  p.mutable_control()->mutable_preview_request()->set_downscale(4);
+  EXPECT_NO_THROW(Encode(p));
+}
+
+TEST(Packet, ControlAndPreviewRules) {
+  v1::Packet p;
+  p.set_version(1);
+  auto* mask = p.mutable_control()->mutable_set_mask();
+  mask->set_cell_px(8);
+  mask->set_cells_x(160);
+  mask->set_cells_y(100);
+  mask->set_chunk_count(3);
+  mask->set_chunk_index(2);
+  mask->set_bit_offset(2 * 896 * 8);
+  mask->set_bits(std::string(16000 / 8 - 2 * 896, '\x01'));
+  EXPECT_EQ(Validate(p), "");
+  mask->set_bit_offset(2 * 896 * 8 + 8);
+  EXPECT_NE(Validate(p), "");
+
+  v1::Packet q;
+  q.set_version(1);
+  auto* pc = q.mutable_preview_chunk();
+  pc->set_node_id(1);
+  pc->set_width(160);
+  pc->set_height(100);
+  pc->set_chunk_count(14);
+  pc->set_chunk_index(13);
+  pc->set_offset(16000 - 400);
+  pc->set_data(std::string(400, 'a'));
+  EXPECT_EQ(Validate(q), "");
+  pc->set_offset(16000 - 399);
+  EXPECT_NE(Validate(q), "");
+}
+
+}  // namespace
+}  // namespace mocap::wire
