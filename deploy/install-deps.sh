@@ -23,7 +23,7 @@ HOST_PACKAGES=(
     # aarch64 cross-build and emulation
     gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user
     # measurement
-    time
+    time zlib1g-dev
 )
 
 # arm64 multiarch libraries that the cross-built firmware and its tests link against.

@@ -1,0 +1,194 @@
+// Session directory reading and writing (see session.h).
+#include "ingest/session.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "ingest/frame_codec.h"
+#include "wire/packet.h"
+
+namespace mocap {
+namespace fs = std::filesystem;
+
+nlohmann::json SessionInfo::ToJson() const {
+  nlohmann::json j = extra;
+  j["format"] = "mocap-session";
+  j["version"] = 1;
+  j["rate_hz"] = rate_hz;
+  j["epoch_ns"] = epoch_ns;
+  j["free_run"] = free_run;
+  j["cameras"] = camera_ids;
+  j["frame_sets"] = frame_sets;
+  j["camera_frames"] = camera_frames;
+  j["dropped_camera_frames"] = dropped_camera_frames;
+  j["calibration"] = calibration;
+  j["log"] = log;
+  j["source"] = source;
+  return j;
+}
+
+SessionInfo SessionInfo::FromJson(const nlohmann::json& j) {
+  if (!j.is_object() || j.value("format", "") != "mocap-session")
+    throw std::runtime_error("not a mocap session description");
+  if (j.value("version", 0) != 1)
+    throw std::runtime_error("unsupported session version " + j.value("version", nlohmann::json()).dump());
+  SessionInfo info;
+  try {
+    info.rate_hz = j.at("rate_hz").get<double>();
+    info.epoch_ns = j.value("epoch_ns", uint64_t{0});
+    info.free_run = j.value("free_run", false);
+    info.camera_ids = j.at("cameras").get<std::vector<uint32_t>>();
+    info.frame_sets = j.value("frame_sets", uint64_t{0});
+    info.camera_frames = j.value("camera_frames", uint64_t{0});
+    info.dropped_camera_frames = j.value("dropped_camera_frames", uint64_t{0});
+    info.calibration = j.value("calibration", std::string("calibration.json"));
+    info.log = j.value("log", std::string("raw.mlog"));
+    info.source = j.value("source", std::string());
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("bad session description: ") + e.what());
+  }
+  if (!(info.rate_hz > 0.0 && info.rate_hz < 100000.0))
+    throw std::runtime_error("session rate_hz must be positive");
+  if (info.log.empty() || info.log.find('/') != std::string::npos)
+    throw std::runtime_error("session log must be a file name inside the session directory");
+  info.extra = j;
+  for (const char* known : {"format", "version", "rate_hz", "epoch_ns", "free_run", "cameras", "frame_sets",
+                            "camera_frames", "dropped_camera_frames", "calibration", "log", "source"})
+    info.extra.erase(known);
+  return info;
+}
+
+SessionInfo LoadSessionInfo(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "session.json").string();
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open (is " + dir + " a session directory?)");
+  try {
+    return SessionInfo::FromJson(nlohmann::json::parse(in));
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+void SaveSessionInfo(const SessionInfo& info, const std::string& dir) {
+  const fs::path path = fs::path(dir) / "session.json";
+  const fs::path tmp = fs::path(dir) / "session.json.tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
+    out << info.ToJson().dump(2) << "\n";
+    if (!out) throw std::runtime_error(tmp.string() + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+void SessionWriter::Create(const std::string& dir, const SessionInfo& info) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error(dir + ": cannot create session directory: " + ec.message());
+  dir_ = dir;
+  info_ = info;
+  log_.Open((fs::path(dir) / info_.log).string());
+  // session.json exists from the start so that a crashed recording is still a readable session.
+  SaveSessionInfo(info_, dir_);
+}
+
+void SessionWriter::Write(const CameraFrame& frame) {
+  if (any_frame_ && frame.frame_number != last_frame_number_) log_.Flush();
+  if (!any_frame_ || frame.frame_number != last_frame_number_) ++info_.frame_sets;
+  any_frame_ = true;
+  last_frame_number_ = frame.frame_number;
+  for (const auto& datagram : EncodeCameraFrame(frame))
+    log_.Append(datagram.data(), datagram.size(), frame.receive_time_ns);
+  ++info_.camera_frames;
+}
+
+void SessionWriter::AppendDatagram(const uint8_t* data, size_t size, uint64_t receive_time_ns) {
+  log_.Append(data, size, receive_time_ns);
+}
+
+void SessionWriter::Finish() {
+  log_.Close();
+  SaveSessionInfo(info_, dir_);
+}
+
+void SessionReader::Open(const std::string& dir) {
+  dir_ = dir;
+  info_ = LoadSessionInfo(dir);
+  log_.Open((fs::path(dir) / info_.log).string());
+}
+
+bool SessionReader::ReadMore() {
+  LogRecord record;
+  while (log_.Next(&record)) {
+    ++stats_.datagrams;
+    const wire::DecodeResult decoded = wire::Decode(record.payload.data(), record.payload.size());
+    if (!decoded.ok) {
+      if (stats_.malformed++ == 0) first_malformed_reason_ = decoded.reason;
+      continue;
+    }
+    if (!decoded.packet.has_marker_frame()) {
+      ++stats_.other_packets;
+      continue;
+    }
+    v1::MarkerFrame whole;
+    switch (assembler_.Add(decoded.packet.marker_frame(), &whole)) {
+      case wire::ChunkAssembler::Outcome::kDuplicate: ++stats_.duplicate_chunks; continue;
+      case wire::ChunkAssembler::Outcome::kInconsistent: ++stats_.inconsistent_chunks; continue;
+      case wire::ChunkAssembler::Outcome::kOverflow: ++stats_.incomplete_frames; continue;
+      case wire::ChunkAssembler::Outcome::kIncomplete: continue;
+      case wire::ChunkAssembler::Outcome::kComplete: break;
+    }
+    CameraFrame frame = FromMarkerFrame(whole, record.receive_time_ns);
+    if (emitted_any_ && frame.frame_number <= last_emitted_) {
+      ++stats_.late_frames;
+      continue;
+    }
+    FrameSet& set = pending_[frame.frame_number];
+    set.frame_number = frame.frame_number;
+    bool duplicate = false;
+    for (const CameraFrame& existing : set.cameras) duplicate |= existing.camera_id == frame.camera_id;
+    if (duplicate) {
+      ++stats_.duplicate_frames;
+      continue;
+    }
+    if (frame.frame_number > newest_) newest_ = frame.frame_number;
+    set.cameras.push_back(std::move(frame));
+    if (newest_ - pending_.begin()->first > window_) {
+      stats_.incomplete_frames += assembler_.DiscardBefore(newest_ - window_);
+      return true;
+    }
+  }
+  log_done_ = true;
+  return false;
+}
+
+bool SessionReader::Next(FrameSet* set) {
+  while (!log_done_ && (pending_.empty() || newest_ - pending_.begin()->first <= window_)) ReadMore();
+  if (pending_.empty()) return false;
+  auto first = pending_.begin();
+  *set = std::move(first->second);
+  pending_.erase(first);
+  emitted_any_ = true;
+  last_emitted_ = set->frame_number;
+  if (log_done_ && pending_.empty()) stats_.incomplete_frames += assembler_.pending();
+  return true;
+}
+
+std::vector<std::string> SessionReader::warnings() const {
+  std::vector<std::string> out;
+  if (!log_.warning().empty()) out.push_back(log_.warning());
+  if (stats_.malformed)
+    out.push_back(std::to_string(stats_.malformed) + " malformed datagrams dropped (first: " +
+                  first_malformed_reason_ + ")");
+  if (stats_.incomplete_frames)
+    out.push_back(std::to_string(stats_.incomplete_frames) + " camera frames incomplete (lost chunks)");
+  if (stats_.late_frames) out.push_back(std::to_string(stats_.late_frames) + " camera frames arrived too late");
+  if (stats_.duplicate_frames)
+    out.push_back(std::to_string(stats_.duplicate_frames) + " duplicate camera frames dropped");
+  return out;
+}
+
+}  // namespace mocap

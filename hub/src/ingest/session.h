@@ -1,0 +1,102 @@
+// A session directory: raw.mlog (every datagram as received), session.json (what the session
+// is), and beside them whatever later steps write (calibration.json, truth.trc, markers.trc).
+// Errors opening or writing files throw std::runtime_error naming the file; damaged logs are read
+// up to the last good record and the damage is reported through warnings().
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ingest/camera_frame.h"
+#include "ingest/session_log.h"
+#include "wire/chunking.h"
+
+namespace mocap {
+
+struct SessionInfo {
+  double rate_hz = 0.0;
+  uint64_t epoch_ns = 0;          // time of global frame 0 (trigger clock)
+  bool free_run = false;          // frames grouped by capture time, not a trigger wire
+  std::vector<uint32_t> camera_ids;
+  uint64_t frame_sets = 0;        // distinct frame numbers written
+  uint64_t camera_frames = 0;     // camera frames written
+  uint64_t dropped_camera_frames = 0;
+  std::string calibration = "calibration.json";
+  std::string log = "raw.mlog";
+  std::string source;             // "record", "sim project", ...
+  nlohmann::json extra = nlohmann::json::object();  // free-form statistics and notes
+
+  nlohmann::json ToJson() const;
+  // Throws std::runtime_error on missing or mistyped required fields.
+  static SessionInfo FromJson(const nlohmann::json& json);
+};
+
+SessionInfo LoadSessionInfo(const std::string& dir);
+void SaveSessionInfo(const SessionInfo& info, const std::string& dir);
+
+class SessionWriter {
+ public:
+  // Creates dir (if needed) and an empty raw log in it.
+  void Create(const std::string& dir, const SessionInfo& info);
+  // Encodes the frame into its datagrams and appends them; flushes whenever the frame number
+  // moves on, so a crash loses at most the frame in progress.
+  void Write(const CameraFrame& frame);
+  void AppendDatagram(const uint8_t* data, size_t size, uint64_t receive_time_ns);
+  void Flush() { log_.Flush(); }
+  SessionInfo& info() { return info_; }
+  // Flushes the log and writes session.json.
+  void Finish();
+
+ private:
+  std::string dir_;
+  SessionInfo info_;
+  SessionLogWriter log_;
+  uint64_t last_frame_number_ = ~0ull;
+  bool any_frame_ = false;
+};
+
+struct SessionReadStats {
+  uint64_t datagrams = 0;
+  uint64_t malformed = 0;
+  uint64_t other_packets = 0;     // status, preview, ... (not marker frames)
+  uint64_t duplicate_chunks = 0;
+  uint64_t inconsistent_chunks = 0;
+  uint64_t incomplete_frames = 0;
+  uint64_t late_frames = 0;       // arrived after their frame set was already handed out
+  uint64_t duplicate_frames = 0;  // the same camera twice in one frame set
+};
+
+class SessionReader {
+ public:
+  // reorder_window: how many frame numbers a camera frame may arrive behind the newest one.
+  explicit SessionReader(uint64_t reorder_window = 64) : window_(reorder_window) {}
+  void Open(const std::string& dir);
+  // Next frame set in frame-number order; false at the end.
+  bool Next(FrameSet* set);
+  const SessionInfo& Info() const { return info_; }
+  const std::string& dir() const { return dir_; }
+  const SessionReadStats& stats() const { return stats_; }
+  std::vector<std::string> warnings() const;
+
+ private:
+  bool ReadMore();
+
+  uint64_t window_;
+  std::string dir_;
+  SessionInfo info_;
+  SessionLogReader log_;
+  wire::ChunkAssembler assembler_;
+  std::map<uint64_t, FrameSet> pending_;
+  uint64_t newest_ = 0;
+  bool emitted_any_ = false;
+  uint64_t last_emitted_ = 0;
+  bool log_done_ = false;
+  SessionReadStats stats_;
+  std::string first_malformed_reason_;
+};
+
+}  // namespace mocap
