@@ -1,0 +1,378 @@
+// TRC reading (tolerant of the variations real files show) and writing (strict OpenSim layout:
+// tab after every value, empty cells for gaps, Time = frame number / rate).
+#include "io/trc.h"
+
+#include <cerrno>
+#include <cinttypes>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+namespace mocap {
+namespace {
+
+constexpr size_t kMaxMarkers = 100000;
+// NumFrames and friends are written as fixed-width fields so Close can patch them in place.
+constexpr int kPatchWidth = 12;
+
+std::vector<std::string> SplitTabs(const std::string& line) {
+  std::vector<std::string> cells;
+  size_t start = 0;
+  while (true) {
+    const size_t tab = line.find('\t', start);
+    if (tab == std::string::npos) {
+      cells.push_back(line.substr(start));
+      return cells;
+    }
+    cells.push_back(line.substr(start, tab - start));
+    start = tab + 1;
+  }
+}
+
+std::string Trim(const std::string& text) {
+  const char* spaces = " \t\r\n\v\f";
+  const size_t begin = text.find_first_not_of(spaces);
+  if (begin == std::string::npos) return "";
+  const size_t end = text.find_last_not_of(spaces);
+  return text.substr(begin, end - begin + 1);
+}
+
+// Parses the whole (trimmed) cell as a number; false for empty or malformed cells.
+bool ParseDouble(const std::string& cell, double* value) {
+  const std::string text = Trim(cell);
+  if (text.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  const double parsed = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || errno == ERANGE) return false;
+  *value = parsed;
+  return true;
+}
+
+bool IsBlank(const std::string& line) { return Trim(line).empty(); }
+
+class TrcParser {
+ public:
+  TrcParser(const std::string& source, const TrcReadOptions& options)
+      : source_(source), options_(options) {}
+
+  MarkerTrajectories Parse(const std::string& text) {
+    SplitLines(text);
+    size_t next = 0;
+    const std::string* path_line = NextNonBlank(&next);
+    if (path_line == nullptr || Trim(*path_line).rfind("PathFileType", 0) != 0) {
+      Fail(1, "not a TRC file (first line must start with PathFileType)");
+    }
+    const size_t keys_line = next;
+    const std::string* keys = NextNonBlank(&next);
+    const size_t values_line = next;
+    const std::string* values = NextNonBlank(&next);
+    if (keys == nullptr || values == nullptr) Fail(lines_.size(), "header ends early");
+    ParseHeader(*keys, *values, values_line + 1);
+    (void)keys_line;
+
+    const size_t names_line = next;
+    const std::string* names = NextNonBlank(&next);
+    if (names == nullptr) Fail(lines_.size(), "missing the marker name row");
+    ParseNames(*names, names_line + 1);
+
+    // The X1 Y1 Z1 row is optional in the wild; recognise it by its first label.
+    size_t after_labels = next;
+    const std::string* labels = NextNonBlank(&after_labels);
+    if (labels != nullptr) {
+      const std::vector<std::string> cells = SplitTabs(*labels);
+      for (const std::string& cell : cells) {
+        const std::string label = Trim(cell);
+        if (label.empty()) continue;
+        if (label[0] == 'X' || label[0] == 'x') next = after_labels;
+        break;
+      }
+    }
+
+    for (size_t i = next; i < lines_.size(); ++i) {
+      if (!IsBlank(lines_[i])) ParseRow(lines_[i], i + 1);
+    }
+    AssignFrameNumbers();
+    return std::move(result_);
+  }
+
+ private:
+  [[noreturn]] void Fail(size_t line, const std::string& reason) const {
+    throw std::runtime_error(source_ + ": line " + std::to_string(line) + ": " + reason);
+  }
+
+  void SplitLines(const std::string& text) {
+    std::string current;
+    for (size_t i = 0; i < text.size(); ++i) {
+      const char c = text[i];
+      if (c == '\n' || c == '\r') {
+        lines_.push_back(current);
+        current.clear();
+        if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
+      } else {
+        current.push_back(c);
+      }
+    }
+    if (!current.empty()) lines_.push_back(current);
+  }
+
+  // Returns the next non-blank line at or after *index and moves *index past it.
+  const std::string* NextNonBlank(size_t* index) const {
+    while (*index < lines_.size() && IsBlank(lines_[*index])) ++*index;
+    if (*index >= lines_.size()) return nullptr;
+    return &lines_[(*index)++];
+  }
+
+  void ParseHeader(const std::string& keys_line, const std::string& values_line, size_t line) {
+    const std::vector<std::string> keys = SplitTabs(keys_line);
+    const std::vector<std::string> values = SplitTabs(values_line);
+    std::map<std::string, std::string> header;
+    for (size_t i = 0; i < keys.size() && i < values.size(); ++i) {
+      const std::string key = Trim(keys[i]);
+      if (!key.empty()) header[key] = Trim(values[i]);
+    }
+    double rate = 0.0;
+    if (!ParseDouble(header["DataRate"], &rate) && !ParseDouble(header["CameraRate"], &rate)) {
+      Fail(line, "missing or malformed DataRate");
+    }
+    if (!(rate > 0.0) || !std::isfinite(rate)) Fail(line, "DataRate must be positive");
+    result_.rate_hz = rate;
+
+    double markers = 0.0;
+    if (ParseDouble(header["NumMarkers"], &markers)) {
+      if (markers < 0.0 || markers > kMaxMarkers || markers != std::floor(markers)) {
+        Fail(line, "NumMarkers out of range");
+      }
+      header_markers_ = static_cast<size_t>(markers);
+    }
+
+    const std::string units = header["Units"];
+    if (units.empty() || units == "mm") {
+      scale_ = 1.0;
+    } else if (units == "m") {
+      scale_ = options_.convert_to_mm ? 1000.0 : 1.0;
+    } else if (units == "cm") {
+      scale_ = options_.convert_to_mm ? 10.0 : 1.0;
+    } else {
+      Fail(line, "unsupported Units \"" + units + "\" (mm, cm or m)");
+    }
+  }
+
+  void ParseNames(const std::string& line_text, size_t line) {
+    const std::vector<std::string> cells = SplitTabs(line_text);
+    if (cells.empty() || Trim(cells[0]).rfind("Frame", 0) != 0) {
+      Fail(line, "marker name row must start with Frame#");
+    }
+    std::vector<std::string> names;
+    for (size_t i = 2; i < cells.size(); i += 3) {
+      const std::string name = Trim(cells[i]);
+      if (!name.empty()) {
+        if (names.size() >= kMaxMarkers) Fail(line, "too many markers");
+        // Names sit every third cell; a name elsewhere means the row is misaligned.
+        names.push_back(name);
+      }
+      for (size_t j = i + 1; j < i + 3 && j < cells.size(); ++j) {
+        if (!Trim(cells[j]).empty()) Fail(line, "marker names must be three columns apart");
+      }
+    }
+    // NumMarkers wins when the name row is short (unnamed markers get default names).
+    const size_t count = std::max(names.size(), header_markers_);
+    for (size_t i = names.size(); i < count; ++i) names.push_back(DefaultMarkerName(i));
+    result_.names = std::move(names);
+  }
+
+  void ParseRow(const std::string& line_text, size_t line) {
+    const std::vector<std::string> cells = SplitTabs(line_text);
+    const size_t markers = result_.names.size();
+    double frame = 0.0;
+    if (!ParseDouble(cells[0], &frame) || frame != std::floor(frame) || frame < 0.0 || frame > 1e15) {
+      Fail(line, "Frame# must be a non-negative integer");
+    }
+    double time = std::nan("");
+    if (cells.size() > 1 && !Trim(cells[1]).empty() && (!ParseDouble(cells[1], &time) || !std::isfinite(time))) {
+      Fail(line, "malformed Time");
+    }
+    for (size_t i = 2 + 3 * markers; i < cells.size(); ++i) {
+      if (!Trim(cells[i]).empty()) Fail(line, "more values than the " + std::to_string(markers) + " markers");
+    }
+    frame_column_.push_back(static_cast<uint64_t>(frame));
+    time_column_.push_back(time);
+    result_.frame_numbers.push_back(0);
+    result_.points.resize(result_.points.size() + markers, MarkerTrajectories::Gap());
+    Eigen::Vector3d* row = &result_.points[result_.points.size() - markers];
+    for (size_t m = 0; m < markers; ++m) {
+      Eigen::Vector3d point;
+      int present = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const size_t column = 2 + 3 * m + axis;
+        if (column >= cells.size() || Trim(cells[column]).empty()) continue;
+        double value = 0.0;
+        if (!ParseDouble(cells[column], &value)) {
+          Fail(line, "malformed coordinate \"" + Trim(cells[column]) + "\" in column " + std::to_string(column + 1));
+        }
+        point[axis] = value * scale_;
+        ++present;
+      }
+      // A partly empty marker is a gap: no tool writes one on purpose. NaN text stays NaN.
+      if (present == 3 && point.allFinite()) row[m] = point;
+    }
+  }
+
+  void AssignFrameNumbers() {
+    const size_t frames = frame_column_.size();
+    bool time_usable = true;
+    for (size_t i = 0; i < frames && time_usable; ++i) {
+      const double scaled = time_column_[i] * result_.rate_hz;
+      if (!std::isfinite(scaled) || scaled < -0.5 || scaled > 1e15) {
+        time_usable = false;
+      } else {
+        result_.frame_numbers[i] = static_cast<uint64_t>(std::llround(scaled));
+        if (i > 0 && result_.frame_numbers[i] <= result_.frame_numbers[i - 1]) time_usable = false;
+      }
+    }
+    if (time_usable) return;
+    // Time missing, negative or too coarse to separate frames: fall back on Frame#, 1-based.
+    for (size_t i = 0; i < frames; ++i) {
+      result_.frame_numbers[i] = frame_column_[i] > 0 ? frame_column_[i] - 1 : 0;
+      if (i > 0 && result_.frame_numbers[i] <= result_.frame_numbers[i - 1]) {
+        throw std::runtime_error(source_ + ": frames are not in increasing order (Time and Frame# both)");
+      }
+    }
+  }
+
+  const std::string& source_;
+  const TrcReadOptions& options_;
+  std::vector<std::string> lines_;
+  MarkerTrajectories result_;
+  size_t header_markers_ = 0;
+  double scale_ = 1.0;
+  std::vector<uint64_t> frame_column_;
+  std::vector<double> time_column_;
+};
+
+std::string BaseName(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+}  // namespace
+
+MarkerTrajectories ParseTrc(const std::string& text, const std::string& source,
+                            const TrcReadOptions& options) {
+  return TrcParser(source, options).Parse(text);
+}
+
+MarkerTrajectories ReadTrc(const std::string& path, const TrcReadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw std::runtime_error(path + ": read failed");
+  return ParseTrc(text.str(), path, options);
+}
+
+TrcWriter::~TrcWriter() {
+  if (file_ != nullptr) {
+    // Destructors must not throw; an explicit Close() reports errors.
+    try {
+      Close();
+    } catch (const std::exception&) {
+    }
+  }
+}
+
+void TrcWriter::Fail(const std::string& reason) const {
+  throw std::runtime_error(path_ + ": " + reason);
+}
+
+void TrcWriter::Open(const std::string& path, const std::vector<std::string>& names, double rate_hz) {
+  if (file_ != nullptr) Close();
+  path_ = path;
+  if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) Fail("TRC rate must be positive");
+  for (const std::string& name : names) {
+    if (name.empty() || name.find_first_of("\t\r\n") != std::string::npos) {
+      Fail("marker name \"" + name + "\" is empty or holds a tab or newline");
+    }
+  }
+  file_ = std::fopen(path.c_str(), "wb");
+  if (file_ == nullptr) Fail(std::string("cannot open for writing (") + std::strerror(errno) + ")");
+  num_markers_ = names.size();
+  rate_hz_ = rate_hz;
+  frames_ = 0;
+
+  std::fprintf(file_, "PathFileType\t4\t(X/Y/Z)\t%s\t\n", BaseName(path).c_str());
+  std::fprintf(file_,
+               "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\t"
+               "OrigNumFrames\t\n");
+  std::fprintf(file_, "%.6g\t%.6g\t", rate_hz, rate_hz);
+  num_frames_offset_ = std::ftell(file_);
+  std::fprintf(file_, "%*d\t%zu\tmm\t%.6g\t", kPatchWidth, 0, num_markers_, rate_hz);
+  start_frame_offset_ = std::ftell(file_);
+  std::fprintf(file_, "%*d\t", kPatchWidth, 1);
+  orig_num_frames_offset_ = std::ftell(file_);
+  std::fprintf(file_, "%*d\t\n", kPatchWidth, 0);
+  std::fprintf(file_, "Frame#\tTime\t");
+  for (const std::string& name : names) std::fprintf(file_, "%s\t\t\t", name.c_str());
+  std::fprintf(file_, "\n\t\t");
+  for (size_t m = 1; m <= num_markers_; ++m) std::fprintf(file_, "X%zu\tY%zu\tZ%zu\t", m, m, m);
+  std::fprintf(file_, "\n\n");
+  if (std::fflush(file_) != 0 || std::ferror(file_)) Fail("write failed");
+}
+
+void TrcWriter::WriteFrame(uint64_t frame_number, const Eigen::Vector3d* points, size_t count) {
+  if (file_ == nullptr) throw std::logic_error("TrcWriter::WriteFrame before Open");
+  if (count != num_markers_) {
+    Fail("frame has " + std::to_string(count) + " markers, the file " + std::to_string(num_markers_));
+  }
+  if (frames_ > 0 && frame_number <= last_frame_) Fail("frames must be written in increasing order");
+  if (frames_ == 0) first_frame_ = frame_number;
+  last_frame_ = frame_number;
+  ++frames_;
+  // Frame# is 1-based as in OpenSim's files; Time carries the global frame number.
+  std::fprintf(file_, "%" PRIu64 "\t%.6f\t", frame_number + 1, static_cast<double>(frame_number) / rate_hz_);
+  for (size_t m = 0; m < count; ++m) {
+    const Eigen::Vector3d& p = points[m];
+    if (MarkerTrajectories::IsGap(p)) {
+      std::fputs("\t\t\t", file_);
+    } else {
+      std::fprintf(file_, "%.5f\t%.5f\t%.5f\t", p.x(), p.y(), p.z());
+    }
+  }
+  std::fputc('\n', file_);
+  if (std::fflush(file_) != 0 || std::ferror(file_)) Fail("write failed");
+}
+
+void TrcWriter::Close() {
+  if (file_ == nullptr) return;
+  std::FILE* file = file_;
+  file_ = nullptr;
+  bool ok = true;
+  const auto patch = [&](long offset, uint64_t value) {
+    ok = ok && std::fseek(file, offset, SEEK_SET) == 0 &&
+         std::fprintf(file, "%*" PRIu64, kPatchWidth, value) == kPatchWidth;
+  };
+  patch(num_frames_offset_, frames_);
+  patch(start_frame_offset_, frames_ > 0 ? first_frame_ + 1 : 1);
+  patch(orig_num_frames_offset_, frames_);
+  ok = std::fclose(file) == 0 && ok;
+  if (!ok) Fail("write failed while finishing the file");
+}
+
+void WriteTrc(const MarkerTrajectories& trajectories, const std::string& path) {
+  if (trajectories.points.size() != trajectories.NumFrames() * trajectories.NumMarkers()) {
+    throw std::logic_error("WriteTrc: points do not match frames x markers");
+  }
+  TrcWriter writer;
+  writer.Open(path, trajectories.names, trajectories.rate_hz);
+  for (size_t f = 0; f < trajectories.NumFrames(); ++f) {
+    writer.WriteFrame(trajectories.frame_numbers[f], &trajectories.points[f * trajectories.NumMarkers()],
+                      trajectories.NumMarkers());
+  }
+  writer.Close();
+}
+
+}  // namespace mocap
