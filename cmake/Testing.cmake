@@ -4,6 +4,17 @@
 option(MOCAP_PARSERS_ONLY "Only build and register tests labelled 'parser' (sanitizer sub-build)" OFF)
 set(MOCAP_TEST_LABEL "" CACHE STRING "Extra ctest label for every test of this build")
 
+# Test frameworks: cmocka for C (also in cross builds), GoogleTest for C++.
+find_library(CMOCKA_LIBRARY cmocka REQUIRED)
+find_path(CMOCKA_INCLUDE_DIR cmocka.h REQUIRED)
+add_library(mocap::cmocka UNKNOWN IMPORTED GLOBAL)
+set_target_properties(mocap::cmocka PROPERTIES
+    IMPORTED_LOCATION ${CMOCKA_LIBRARY}
+    INTERFACE_INCLUDE_DIRECTORIES ${CMOCKA_INCLUDE_DIR})
+if(NOT MOCAP_FIRMWARE_ONLY)
+    find_package(GTest REQUIRED GLOBAL)
+endif()
+
 function(_mocap_register_test name labels)
     set(all_labels ${labels})
     if(MOCAP_TEST_LABEL)
