@@ -218,7 +218,7 @@ class TrcParser {
         ++present;
       }
       // A partly empty marker is a gap: no tool writes one on purpose. NaN text stays NaN.
-      if (present == 3 && point.allFinite()) row[m] = point;
+      if (present == 3 && point.allFinite() && !(options_.zero_is_gap && point.isZero(0.0))) row[m] = point;
     }
   }
 

@@ -14,6 +14,9 @@ namespace mocap {
 struct TrcReadOptions {
   // Files in metres or centimetres are converted to millimetres, the unit of the whole hub.
   bool convert_to_mm = true;
+  // Older tools write a missing marker as exactly (0, 0, 0) (running.trc's L.Bicep is such a
+  // column); a real marker sitting exactly on the origin is far less likely than that.
+  bool zero_is_gap = true;
 };
 
 // Reads a whole TRC file. Accepts trailing tabs, blank lines, long header lines, empty cells

@@ -114,16 +114,22 @@ TEST(TrcTest, ReaderToleratesRealWorldVariations) {
       "1\t0.00\t1.0\t2.0\t3.0\t4.0\t5.0\t6.0\t\t\r\n"
       "2\t0.01\t1.5\t2.5\t3.5\r\n"
       "\r\n"
-      "3\t0.02\t\t\t\t4.0\tNaN\t6.0\t\r\n";
+      "3\t0.02\t\t\t\t4.0\tNaN\t6.0\t\r\n"
+      "4\t0.03\t0\t0.0\t-0\t0\t0\t1e-9\t\r\n";
   const MarkerTrajectories read = ParseTrc(text, "variations");
   EXPECT_EQ(read.rate_hz, 100.0);
   EXPECT_EQ(read.names, (std::vector<std::string>{"A", "B"}));
-  EXPECT_EQ(read.frame_numbers, (std::vector<uint64_t>{0, 1, 2}));
+  EXPECT_EQ(read.frame_numbers, (std::vector<uint64_t>{0, 1, 2, 3}));
   EXPECT_EQ(read.At(0, 1), Eigen::Vector3d(4000.0, 5000.0, 6000.0));
   EXPECT_EQ(read.At(1, 0), Eigen::Vector3d(1500.0, 2500.0, 3500.0));
   EXPECT_FALSE(read.Has(1, 1));
   EXPECT_FALSE(read.Has(2, 0));
   EXPECT_FALSE(read.Has(2, 1));
+  EXPECT_FALSE(read.Has(3, 0));  // exactly (0, 0, 0): an old-style gap
+  EXPECT_TRUE(read.Has(3, 1));
+  TrcReadOptions keep_zero;
+  keep_zero.zero_is_gap = false;
+  EXPECT_TRUE(ParseTrc(text, "variations", keep_zero).Has(3, 0));
 }
 
 TEST(TrcTest, FrameNumbersFallBackOnFrameColumnWithoutTime) {
@@ -183,7 +189,7 @@ TEST(TrcTest, SharedRealMotions) {
     double rate;
     bool gaps;
   };
-  for (const Expected& e : {Expected{"walk.trc", 41, 151, 60, false}, Expected{"running.trc", 41, 600, 60, false},
+  for (const Expected& e : {Expected{"walk.trc", 41, 151, 60, false}, Expected{"running.trc", 41, 600, 60, true} /* L.Bicep is all (0,0,0) */,
                             Expected{"tennis_serve.trc", 39, 1092, 50, false},
                             Expected{"gaps_blank_cells.trc", 40, 464, 250, true}}) {
     SCOPED_TRACE(e.file);
