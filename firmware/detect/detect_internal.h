@@ -1,0 +1,70 @@
+/* Detector internals shared by the detector source files: the detector struct, the span type and
+ * the per-frame view. Not part of the public API. */
+#ifndef MN_DETECT_DETECT_INTERNAL_H
+#define MN_DETECT_DETECT_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "detect/detect.h"
+
+#define MN_DETECT_MAX_MORPH_RADIUS 8
+#define MN_DETECT_MAX_BBOX 1024
+
+/* One horizontal run of blob pixels on row y, inclusive ends. Sides are <= 16384 pixels. */
+struct mn_span {
+    uint16_t x0, x1;
+    uint32_t y;
+};
+
+struct mn_detector {
+    struct mn_detect_config cfg;
+    uint32_t max_w, max_h;
+    uint16_t cap_bbox;   /* max_bbox at creation: sizes the morphology patch */
+    uint8_t cap_radius;  /* morph_radius at creation: likewise */
+    size_t row_words;    /* uint64 words per row of the visited and mask bitmaps */
+    uint64_t *visited;   /* 1 = pixel already belongs to a region this frame */
+    uint64_t *mask;      /* 1 = pixel hidden by the hub's mask */
+    int has_mask;
+    uint32_t *dirty_lo;  /* per row: first and last visited word set this frame, so that */
+    uint32_t *dirty_hi;  /* clearing costs the regions' size instead of the frame's */
+    struct mn_span *spans;
+    size_t spans_cap;
+    uint64_t *patch[3];  /* morphology bit planes, patch_rows x patch_words each */
+    size_t patch_words;
+    size_t patch_rows;
+    struct mn_detect_stats stats;
+};
+
+/* The frame being processed and the threshold chosen for it. */
+struct mn_frame_view {
+    const uint8_t *px;
+    size_t stride;
+    uint32_t w, h;
+    uint8_t t;
+};
+
+static inline int mn_bit_get(const uint64_t *bits, size_t row_words, uint32_t x, uint32_t y)
+{
+    return (int)((bits[(size_t)y * row_words + (x >> 6)] >> (x & 63)) & 1u);
+}
+
+/* Sets bits x0..x1 (inclusive) of one bitmap row. */
+void mn_bits_set_range(uint64_t *row, uint32_t x0, uint32_t x1);
+
+/* Threshold for this frame from a sampled histogram (auto mode). */
+uint8_t mn_detect_auto_threshold(const struct mn_detector *det, const struct mn_frame_view *f);
+
+/* Computes a blob from n spans; returns 1 if it passes the filters (counted in stats if not). */
+int mn_detect_blob_from_spans(struct mn_detector *det, const struct mn_frame_view *f,
+                              const struct mn_span *spans, size_t n, struct mn_blob *out);
+
+/* Opening then closing of one region's spans on a bit patch; the resulting components are
+ * handed to emit one by one as span lists. */
+typedef void (*mn_emit_fn)(struct mn_detector *det, const struct mn_frame_view *f,
+                           const struct mn_span *spans, size_t n, void *ctx);
+void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view *f, size_t n,
+                            uint32_t bx0, uint32_t by0, uint32_t bx1, uint32_t by1,
+                            mn_emit_fn emit, void *ctx);
+
+#endif
