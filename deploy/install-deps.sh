@@ -12,6 +12,8 @@ HOST_PACKAGES=(
     build-essential cmake ninja-build pkg-config git python3 python3-venv
     # wire protocol: nanopb for the firmware, libprotobuf for the hub
     nanopb libnanopb-dev python3-protobuf protobuf-compiler libprotobuf-dev
+    # recorded-frame files (firmware/framefile)
+    zlib1g-dev
     # test runners
     libcmocka-dev libgtest-dev libgmock-dev
     # hub libraries
@@ -28,7 +30,7 @@ HOST_PACKAGES=(
 
 # arm64 multiarch libraries that the cross-built firmware and its tests link against.
 CROSS_PACKAGES=(
-    libnanopb-dev:arm64 libcmocka-dev:arm64 libgpiod-dev:arm64 libsystemd-dev:arm64
+    libnanopb-dev:arm64 libcmocka-dev:arm64 libgpiod-dev:arm64 libsystemd-dev:arm64 zlib1g-dev:arm64
 )
 
 missing() {
