@@ -1,0 +1,104 @@
+/* The node's one config module: a `key = value` file and `--key value` command-line flags map
+ * onto the same table of settings, each parsed and range-checked here; the rest of the node only
+ * reads the typed values of struct mn_config. Errors name the file and line (or the flag).
+ * Error rule (all of firmware/node): int functions return 0 on success and -1 on failure with
+ * errno set; config functions also write a one-line reason into the caller's err buffer. */
+#ifndef MN_NODE_CONFIG_H
+#define MN_NODE_CONFIG_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "common/log.h"
+
+#define MN_CONFIG_STR 256
+#define MN_CONFIG_ERR 512
+
+enum mn_source_kind {
+    MN_SOURCE_V4L2,      /* v4l2:/dev/videoN */
+    MN_SOURCE_LIBCAMERA, /* libcamera:N (camera index) */
+    MN_SOURCE_REPLAY,    /* replay:DIR (recorded frames) */
+};
+
+enum mn_sync_kind {
+    MN_SYNC_NONE, /* free run: frame numbers from capture time */
+    MN_SYNC_GPIO, /* gpio:CHIP:LINE edge events */
+    MN_SYNC_SIM,  /* sim:RATE simulated edges (tests, simulated sessions) */
+};
+
+/* A plain struct rather than an opaque type: it is only typed, already-checked values, read by
+ * every other module, and tests build it directly. */
+struct mn_config {
+    uint32_t node_id;
+    enum mn_source_kind source_kind;
+    char source_arg[MN_CONFIG_STR]; /* device path, camera index or directory */
+    enum mn_sync_kind sync_kind;
+    char gpio_chip[MN_CONFIG_STR];
+    uint32_t gpio_line;
+    bool gpio_falling;             /* trigger on the falling edge instead of the rising one */
+    char hub_host[MN_CONFIG_STR];  /* empty: find the hub by its HubAnnounce broadcast */
+    uint16_t hub_port;
+    uint16_t control_port;         /* 0: ephemeral (the hub answers to our source port) */
+    uint16_t announce_port;        /* where HubAnnounce broadcasts arrive */
+
+    uint32_t width, height;        /* requested capture size; 0 = the source's default */
+    uint32_t buffers;              /* V4L2 mmap buffers */
+    uint32_t exposure_us;          /* 0 = leave the camera's setting */
+    uint32_t gain_milli;           /* 0 = leave the camera's setting */
+    uint32_t threshold;
+    bool auto_threshold;
+    uint32_t min_area, max_area;   /* blob area filter, pixels */
+
+    double rate_hz;                /* trigger rate */
+    int64_t epoch_ns;              /* CLOCK_REALTIME of global frame 0; 0 = start time */
+    int32_t trigger_delay_us;      /* capture time stamp minus trigger edge */
+    uint32_t pair_window_pct;      /* match window, percent of a period either side */
+    uint32_t sim_jitter_us;        /* sim sync: edge jitter (standard deviation) */
+    double sim_missed;             /* sim sync: probability an edge is lost */
+    double sim_spurious;           /* sim sync: probability of an extra edge per period */
+    uint32_t sim_seed;
+
+    uint64_t frames;               /* stop after this many frames; 0 = unbounded */
+    double duration_s;             /* stop after this long; 0 = unbounded */
+    bool as_fast_as_possible;      /* replay: no pacing */
+    bool replay_loop;              /* replay: start again at the end (long soak runs) */
+    bool wait_for_start;           /* idle until the hub sends Start */
+
+    uint32_t status_interval_ms;
+    uint32_t reopen_min_ms, reopen_max_ms;
+    uint32_t send_buffer_kb;
+    char temperature_path[MN_CONFIG_STR];
+    char identify_led[MN_CONFIG_STR]; /* LED brightness file to blink on Identify; empty: log */
+    enum mn_log_level log_level;
+};
+
+/* Fills cfg with the documented defaults. */
+void mn_config_defaults(struct mn_config *cfg);
+
+/* Applies a `key = value` file on top of cfg. */
+int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size_t errlen);
+
+/* Applies one setting; origin names the place for error messages ("node.conf:12"). */
+int mn_config_set(struct mn_config *cfg, const char *key, const char *value, const char *origin,
+                  char *err, size_t errlen);
+
+enum mn_config_args_result {
+    MN_CONFIG_ARGS_RUN,   /* cfg is complete: run the node */
+    MN_CONFIG_ARGS_EXIT,  /* --help or --version was printed: exit 0 */
+    MN_CONFIG_ARGS_ERROR, /* err says why: exit non-zero */
+};
+
+/* Defaults, then --config FILE (wherever it appears), then every other flag in order, then
+ * mn_config_check. Flags are the keys with '-' for '_' ("--trigger-delay-us 100"); booleans may
+ * omit their value. */
+enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, char **argv,
+                                               char *err, size_t errlen);
+
+/* Cross-setting checks (a gpio sync needs a rate, sizes fit the source ...). */
+int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen);
+
+/* Writes the flag/key reference (name, range, meaning) to f. */
+void mn_config_print_help(void *file);
+
+#endif

@@ -1,0 +1,61 @@
+/* mocap-node: parse the config and flags, start the node, run its poll loop until a bound is
+ * reached or SIGTERM/SIGINT arrives (through a signalfd, so signals are one more descriptor of
+ * the same loop). Exit status: 0 done, 1 bad configuration or start failure, 2 run-time failure. */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include "common/log.h"
+#include "node/config.h"
+#include "node/node.h"
+#include "node/notify.h"
+
+int main(int argc, char **argv)
+{
+    struct mn_config cfg;
+    char err[MN_CONFIG_ERR];
+    switch (mn_config_from_args(&cfg, argc, argv, err, sizeof(err))) {
+    case MN_CONFIG_ARGS_EXIT:
+        return 0;
+    case MN_CONFIG_ARGS_ERROR:
+        mn_log_err("bad configuration, not starting: %s", err);
+        return 1;
+    case MN_CONFIG_ARGS_RUN:
+        break;
+    }
+    mn_log_set_level(cfg.log_level);
+
+    sigset_t mask;
+    sigemptyset(&mask);
+    sigaddset(&mask, SIGTERM);
+    sigaddset(&mask, SIGINT);
+    if (sigprocmask(SIG_BLOCK, &mask, NULL) < 0) {
+        mn_log_err("sigprocmask: %s", strerror(errno));
+        return 1;
+    }
+    int sfd = signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
+    if (sfd < 0) {
+        mn_log_err("signalfd: %s", strerror(errno));
+        return 1;
+    }
+    /* The hub going away must not kill us through SIGPIPE-like paths; UDP has none, but a
+     * future stream socket would. */
+    signal(SIGPIPE, SIG_IGN);
+
+    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
+    if (node == NULL) {
+        mn_log_err("cannot start: %s", err);
+        close(sfd);
+        return 1;
+    }
+    mn_node_set_stop_fd(node, sfd);
+    mn_notify_ready();
+    int rc = mn_node_run(node);
+    mn_notify_stopping();
+    mn_node_free(node);
+    close(sfd);
+    return rc < 0 ? 2 : 0;
+}
