@@ -1,0 +1,54 @@
+/* Test helpers: recordings of synthetic Gaussian spots written with the framefile writer (so
+ * tests/data stays empty), their true positions, a loopback "hub" socket and temp dirs. */
+#ifndef MN_NODE_TEST_FRAMES_H
+#define MN_NODE_TEST_FRAMES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "node/config.h"
+
+/* Spot i of frame k: on a grid of cells, drifting a fraction of a pixel per frame. */
+void test_spot_position(uint32_t frame, uint32_t i, double *x, double *y);
+
+/* Writes `frames` frames of w x h with `spots` spots each into dir/frames.mcf. */
+void test_write_recording(const char *dir, uint32_t w, uint32_t h, uint32_t frames,
+                          uint32_t spots);
+
+/* A fresh directory under /tmp (static buffer) and its recursive removal. */
+const char *test_temp_dir(void);
+void test_remove_tree(const char *dir);
+
+/* UDP socket on 127.0.0.1, any port; its port in *port. */
+int test_hub_socket(uint16_t *port);
+
+/* Node config for a replay of dir sending to 127.0.0.1:hub_port. */
+void test_node_config(struct mn_config *cfg, const char *dir, uint16_t hub_port);
+
+#endif
+
+/* What a test "hub" received, decoded with the wire module. */
+#define TEST_MAX_FRAMES 512
+#define TEST_MAX_MARKERS 96
+
+struct test_frame {
+    bool seen;
+    uint32_t marker_total, chunks_seen, chunk_count, flags;
+    uint64_t trigger_time_ns, capture_time_ns;
+    double x[TEST_MAX_MARKERS], y[TEST_MAX_MARKERS];
+};
+
+struct test_rx {
+    struct test_frame frames[TEST_MAX_FRAMES];
+    uint32_t marker_datagrams, status_datagrams, preview_datagrams, bad_datagrams;
+    uint32_t last_state;
+    uint64_t last_frames_sent;
+    uint32_t last_control_rejected, last_camera_reopens;
+    bool saw_camera_error;
+    uint32_t preview_w, preview_h, preview_chunks;
+    uint8_t preview[160 * 200];
+};
+
+/* Reads every queued datagram from fd into rx. */
+void test_drain(int fd, struct test_rx *rx);

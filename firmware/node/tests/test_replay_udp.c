@@ -1,0 +1,279 @@
+/* The real node, end to end on loopback: replay source -> pairing with the simulated trigger ->
+ * detector -> wire -> UDP, decoded by a test "hub" socket; and the hub's control datagrams
+ * (garbage, preview, threshold, start, stop) through the node's own socket and handler. */
+#include <arpa/inet.h>
+#include <math.h>
+#include <netinet/in.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "common/clock.h"
+#include "node/node.h"
+#include "test_frames.h"
+#include "wire/wire.h"
+
+static struct test_rx rx; /* large: keep it off the stack */
+
+/* Every received marker lies within tol of a distinct true spot of that frame. The spots are
+ * point-sampled and rounded to integers, which biases centroids by a few hundredths of a pixel;
+ * the detector's own tests hold its accuracy, this one the path from pixels to datagrams. */
+static void check_markers(const struct test_frame *f, uint32_t recorded_frame, uint32_t spots,
+                          double tol)
+{
+    assert_int_equal(f->marker_total, spots);
+    bool used[TEST_MAX_MARKERS] = {false};
+    for (uint32_t m = 0; m < f->marker_total; m++) {
+        double best = 1e9;
+        uint32_t best_i = 0;
+        for (uint32_t i = 0; i < spots; i++) {
+            double x, y;
+            test_spot_position(recorded_frame, i, &x, &y);
+            double d = hypot(f->x[m] - x, f->y[m] - y);
+            if (d < best) {
+                best = d;
+                best_i = i;
+            }
+        }
+        if (best > tol)
+            fail_msg("frame %u marker %u at (%.3f, %.3f): %.3f px from the nearest spot",
+                     recorded_frame, m, f->x[m], f->y[m], best);
+        assert_false(used[best_i]);
+        used[best_i] = true;
+    }
+}
+
+static void replay_as_fast_as_possible(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    enum { FRAMES = 30, SPOTS = 60 }; /* 60 markers: two chunks per frame */
+    test_write_recording(dir, 320, 400, FRAMES, SPOTS);
+    uint16_t port;
+    int hub = test_hub_socket(&port);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, port);
+    cfg.as_fast_as_possible = true;
+    cfg.sim_jitter_us = 200;
+    cfg.sim_missed = 0.2;
+    cfg.sim_seed = 3;
+    cfg.frames = FRAMES;
+    char err[MN_CONFIG_ERR];
+    assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
+    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
+    if (node == NULL)
+        fail_msg("node: %s", err);
+    assert_int_equal(mn_node_run(node), 0);
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    mn_node_free(node);
+
+    memset(&rx, 0, sizeof(rx));
+    test_drain(hub, &rx);
+    close(hub);
+    assert_int_equal(st.frames_processed, FRAMES);
+    assert_int_equal(st.frames_sent, FRAMES);
+    assert_int_equal(st.frames_dropped, 0);
+    assert_int_equal(rx.bad_datagrams, 0);
+    assert_int_equal(rx.marker_datagrams, 2 * FRAMES);
+    uint32_t unmatched = 0;
+    for (uint32_t k = 0; k < FRAMES; k++) {
+        const struct test_frame *f = &rx.frames[k];
+        assert_true(f->seen);
+        assert_int_equal(f->chunk_count, 2);
+        assert_int_equal(f->chunks_seen, 3);
+        check_markers(f, k, SPOTS, 0.1);
+        assert_false(f->flags & mocap_v1_FrameFlag_FRAME_FLAG_FREE_RUN);
+        if (f->flags & mocap_v1_FrameFlag_FRAME_FLAG_UNMATCHED)
+            unmatched++;
+        else /* paired: the edge lies within the simulated jitter of the capture stamp */
+            assert_true(llabs((long long)(f->capture_time_ns - f->trigger_time_ns)) < 2000000);
+        if (k > 0) /* frames are stamped on the 100 Hz grid */
+            assert_true(llabs((long long)(f->capture_time_ns - rx.frames[k - 1].capture_time_ns) -
+                              10000000) <= 1);
+    }
+    assert_false(rx.frames[FRAMES].seen);
+    /* Missed simulated edges show up as unmatched frames, in the frames and in sync health. */
+    assert_true(unmatched > 0 && unmatched < FRAMES / 2);
+    assert_int_equal(st.sync.unmatched_frames, unmatched);
+    /* The last status on the way out says what was sent. */
+    assert_true(rx.status_datagrams >= 1);
+    assert_int_equal(rx.last_frames_sent, FRAMES);
+    test_remove_tree(dir);
+}
+
+static void send_to_node(int hub, uint16_t node_port, const uint8_t *data, size_t len)
+{
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons(node_port),
+                            .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    assert_int_equal(sendto(hub, data, len, 0, (struct sockaddr *)&a, sizeof(a)), (ssize_t)len);
+}
+
+static void send_control(int hub, uint16_t node_port, mocap_v1_Control *c)
+{
+    static mocap_v1_Packet p;
+    p = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+    p.version = 1;
+    p.which_body = mocap_v1_Packet_control_tag;
+    p.body.control = *c;
+    uint8_t buf[MN_WIRE_MAX_DATAGRAM];
+    size_t len;
+    const char *why;
+    assert_int_equal(mn_wire_encode(&p, buf, sizeof(buf), &len, &why), 0);
+    send_to_node(hub, node_port, buf, len);
+}
+
+/* Steps the node for ms milliseconds, draining the hub socket as it goes. */
+static void run_for(struct mn_node *node, int hub, int ms)
+{
+    int64_t end = mn_clock_mono_ns() + (int64_t)ms * 1000000;
+    while (mn_clock_mono_ns() < end) {
+        assert_int_equal(mn_node_step(node, 5), 1);
+        test_drain(hub, &rx);
+    }
+}
+
+static void paced_replay_with_control(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    enum { RECORDED = 20, SPOTS = 5 };
+    test_write_recording(dir, 320, 200, RECORDED, SPOTS);
+    uint16_t port;
+    int hub = test_hub_socket(&port);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, port);
+    cfg.sync_kind = MN_SYNC_SIM;
+    cfg.rate_hz = 200.0;
+    cfg.replay_loop = true;
+    cfg.wait_for_start = true;
+    char err[MN_CONFIG_ERR];
+    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
+    if (node == NULL)
+        fail_msg("node: %s", err);
+    uint16_t node_port = mn_node_local_port(node);
+    memset(&rx, 0, sizeof(rx));
+
+    /* Idle: frames are captured but nothing is sent; status says IDLE. */
+    run_for(node, hub, 250);
+    assert_int_equal(rx.marker_datagrams, 0);
+    assert_true(rx.status_datagrams >= 1);
+    assert_int_equal(rx.last_state, mocap_v1_NodeState_NODE_STATE_IDLE);
+
+    /* Malformed datagrams are rejected and counted, and reported in status. */
+    const uint8_t garbage[] = {0x08, 0x01, 0x62, 0xff, 0xff};
+    send_to_node(hub, node_port, garbage, sizeof(garbage));
+    send_to_node(hub, node_port, (const uint8_t *)"hello", 5);
+    run_for(node, hub, 150);
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    assert_int_equal(st.control_rejected, 2);
+    assert_int_equal(rx.last_control_rejected, 2);
+
+    /* A raw preview at half size shows the spots where they are. */
+    mocap_v1_Control c = mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_preview_request_tag;
+    c.command.preview_request.mode = mocap_v1_PreviewMode_PREVIEW_MODE_RAW;
+    c.command.preview_request.downscale = 2;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 200);
+    assert_int_equal(rx.preview_w, 160);
+    assert_int_equal(rx.preview_h, 100);
+    assert_int_equal(rx.preview_datagrams, rx.preview_chunks);
+    unsigned bright = 0;
+    for (size_t i = 0; i < 160u * 100u; i++)
+        if (rx.preview[i] > 60)
+            bright++;
+    /* Each spot is a few bright pixels at half size; the rest is background. */
+    assert_true(bright >= SPOTS && bright <= SPOTS * 12);
+    double x0, y0;
+    test_spot_position(0, 0, &x0, &y0);
+    /* Spot 0 drifts by at most 3.4 px over the recording: 2 preview pixels. */
+    uint8_t peak = 0;
+    for (long y = lround(y0 / 2) - 2; y <= lround(y0 / 2) + 3; y++)
+        for (long x = lround(x0 / 2) - 2; x <= lround(x0 / 2) + 3; x++)
+            if (rx.preview[y * 160 + x] > peak)
+                peak = rx.preview[y * 160 + x];
+    assert_true(peak > 60);
+
+    /* Another node's command is ignored, not rejected. */
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 8;
+    c.which_command = mocap_v1_Control_stop_tag;
+    send_control(hub, node_port, &c);
+    /* Start a session 50 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. */
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 0;
+    c.which_command = mocap_v1_Control_start_tag;
+    c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 50000000;
+    c.command.start.rate_millihz = 200000;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 400);
+    mn_node_get_stats(node, &st);
+    assert_int_equal(st.control_ignored, 1);
+    assert_true(st.running);
+    assert_true(st.frames_sent >= 20);
+    for (uint32_t k = 0; k < st.frames_sent; k++) {
+        const struct test_frame *f = &rx.frames[k];
+        if (!f->seen)
+            fail_msg("frame %u of %llu missing", k, (unsigned long long)st.frames_sent);
+        check_markers(f, k % RECORDED, SPOTS, 0.1);
+        if (k > 0)
+            assert_true(llabs((long long)(f->capture_time_ns - rx.frames[k - 1].capture_time_ns) -
+                              5000000) <= 1);
+    }
+    assert_int_equal(st.frames_dropped, 0);
+
+    /* Stop: nothing more is sent. */
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_stop_tag;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 50);
+    uint32_t after_stop = rx.marker_datagrams;
+    run_for(node, hub, 100);
+    assert_int_equal(rx.marker_datagrams, after_stop);
+    mn_node_get_stats(node, &st);
+    assert_false(st.running);
+    assert_int_equal(st.control_rejected, 2);
+
+    mn_node_free(node);
+    close(hub);
+    test_remove_tree(dir);
+}
+
+static void bad_sources_refuse_to_start(void **state)
+{
+    (void)state;
+    struct mn_config cfg;
+    char err[MN_CONFIG_ERR] = "";
+    test_node_config(&cfg, "/nonexistent/cam1", 9);
+    assert_null(mn_node_new(&cfg, err, sizeof(err)));
+    assert_non_null(strstr(err, "/nonexistent/cam1"));
+    cfg.source_kind = MN_SOURCE_V4L2;
+    snprintf(cfg.source_arg, sizeof(cfg.source_arg), "/dev/null");
+    assert_null(mn_node_new(&cfg, err, sizeof(err)));
+    assert_non_null(strstr(err, "/dev/null: not a V4L2 device"));
+    snprintf(cfg.source_arg, sizeof(cfg.source_arg), "/dev/video-none");
+    assert_null(mn_node_new(&cfg, err, sizeof(err)));
+    assert_non_null(strstr(err, "/dev/video-none: No such file"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(replay_as_fast_as_possible),
+        cmocka_unit_test(paced_replay_with_control),
+        cmocka_unit_test(bad_sources_refuse_to_start),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
