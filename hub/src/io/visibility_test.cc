@@ -1,0 +1,48 @@
+// Tests of visibility.tsv: round trip and clear errors.
+#include "io/visibility.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+TEST(VisibilityTest, RoundTrip) {
+  const std::string path = testing::TempDir() + "/visibility.tsv";
+  VisibilityWriter writer;
+  writer.Open(path, {"A", "B:C7"});
+  writer.WriteFrame(10, {0, 3});
+  writer.WriteFrame(12, {8, 1});
+  writer.Close();
+  const MarkerVisibility read = ReadVisibility(path);
+  EXPECT_EQ(read.names, (std::vector<std::string>{"A", "B:C7"}));
+  EXPECT_EQ(read.frame_numbers, (std::vector<uint64_t>{10, 12}));
+  EXPECT_EQ(read.At(0, 0), 0);
+  EXPECT_EQ(read.At(0, 1), 3);
+  EXPECT_EQ(read.At(1, 0), 8);
+  EXPECT_EQ(read.At(1, 1), 1);
+}
+
+TEST(VisibilityTest, Errors) {
+  const auto expect_error = [](const std::string& text, const std::string& reason) {
+    const std::string path = testing::TempDir() + "/bad_visibility.tsv";
+    std::ofstream(path) << text;
+    try {
+      ReadVisibility(path);
+      ADD_FAILURE() << text;
+    } catch (const std::runtime_error& error) {
+      EXPECT_NE(std::string(error.what()).find(reason), std::string::npos) << error.what();
+    }
+  };
+  expect_error("", "empty visibility file");
+  expect_error("time\tA\n", "header must start");
+  expect_error("frame\tA\n1\t2\t3\n", "line 2: expected 2 cells");
+  expect_error("frame\tA\n1\t-2\n", "bad camera count");
+  expect_error("frame\tA\n2\t1\n2\t1\n", "must increase");
+  EXPECT_THROW(ReadVisibility("/nonexistent/v.tsv"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace mocap

@@ -1,0 +1,79 @@
+// Frame loop of `sim project`: project, write datagrams, keep the truth and visibility beside.
+#include "sim/project_session.h"
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "ingest/session.h"
+#include "io/calibration_json.h"
+#include "io/trc.h"
+#include "io/visibility.h"
+
+namespace mocap {
+
+ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& rig, const ProjectOptions& options,
+                                   const std::string& dir, const std::function<void(size_t, size_t)>& progress) {
+  options.Check();
+  if (!(motion.rate_hz > 0.0)) throw std::invalid_argument("motion rate must be positive");
+  if (rig.cameras.empty()) throw std::invalid_argument("rig has no cameras");
+
+  SessionInfo info;
+  info.rate_hz = motion.rate_hz;
+  info.epoch_ns = kSimEpochNs;
+  for (const Camera& camera : rig.cameras) info.camera_ids.push_back(camera.id);
+  info.source = "sim project";
+  info.extra["sim"] = {{"noise_px", options.noise_px},
+                       {"occlusion", options.occlusion},
+                       {"occlusion_frames", options.occlusion_frames},
+                       {"spurious", options.spurious},
+                       {"merge_px", options.merge_px},
+                       {"drop_frames", options.drop_frames},
+                       {"marker_diameter_mm", options.marker_diameter_mm},
+                       {"seed", options.seed},
+                       {"truth", "truth.trc"},
+                       {"visibility", "visibility.tsv"}};
+
+  SessionWriter writer;
+  writer.Create(dir, info);
+  const std::filesystem::path root(dir);
+  SaveRigJson(rig, (root / info.calibration).string());
+  WriteTrc(motion, (root / "truth.trc").string());
+  VisibilityWriter visibility;
+  visibility.Open((root / "visibility.tsv").string(), motion.names);
+
+  FaultyProjector projector(rig, motion.NumMarkers(), options);
+  ProjectSessionStats stats;
+  std::vector<int> cameras_seeing;
+  const size_t markers = motion.NumMarkers();
+  for (size_t f = 0; f < motion.NumFrames(); ++f) {
+    const uint64_t frame_number = motion.frame_numbers[f];
+    const uint64_t trigger_ns =
+        kSimEpochNs + static_cast<uint64_t>(std::llround(static_cast<double>(frame_number) * 1e9 / motion.rate_hz));
+    const Eigen::Vector3d* points = markers > 0 ? &motion.points[f * markers] : nullptr;
+    const std::vector<CameraFrame> frames = projector.Project(frame_number, trigger_ns, points, &cameras_seeing);
+    for (const CameraFrame& frame : frames) {
+      writer.Write(frame);
+      stats.blobs += frame.blobs.size();
+      for (const Blob& blob : frame.blobs) stats.merged_blobs += (blob.flags & kBlobMerged) ? 1 : 0;
+    }
+    ++stats.frames;
+    stats.camera_frames += frames.size();
+    stats.dropped_camera_frames += rig.cameras.size() - frames.size();
+    for (size_t m = 0; m < markers; ++m) {
+      if (!motion.Has(f, m)) continue;
+      ++stats.present;
+      stats.reconstructible += cameras_seeing[m] >= 2 ? 1 : 0;
+    }
+    visibility.WriteFrame(frame_number, cameras_seeing);
+    if (progress) progress(f + 1, motion.NumFrames());
+  }
+  visibility.Close();
+  writer.info().dropped_camera_frames = stats.dropped_camera_frames;
+  writer.info().extra["sim"]["blobs"] = stats.blobs;
+  writer.info().extra["sim"]["merged_blobs"] = stats.merged_blobs;
+  writer.Finish();
+  return stats;
+}
+
+}  // namespace mocap

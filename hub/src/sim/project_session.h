@@ -1,0 +1,36 @@
+// `sim project` as a library call: projects a motion through a rig with faults and writes a
+// session directory exactly as `record` would (raw log + session.json through SessionWriter),
+// plus truth.trc, calibration.json and visibility.tsv for evaluation.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "geometry/camera.h"
+#include "io/marker_trajectories.h"
+#include "sim/projector.h"
+
+namespace mocap {
+
+struct ProjectSessionStats {
+  uint64_t frames = 0;
+  uint64_t camera_frames = 0;
+  uint64_t dropped_camera_frames = 0;
+  uint64_t blobs = 0;
+  uint64_t merged_blobs = 0;
+  // Marker-frames seen by at least two cameras (reconstructible), out of present marker-frames.
+  uint64_t reconstructible = 0;
+  uint64_t present = 0;
+};
+
+// Simulated sessions start their trigger clock here (2023-11-14), a plausible wall-clock epoch.
+constexpr uint64_t kSimEpochNs = 1700000000000000000ull;
+
+// progress(done, total) is called after each frame when given. Throws std::runtime_error on
+// file errors and std::invalid_argument on bad options.
+ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& rig, const ProjectOptions& options,
+                                   const std::string& dir,
+                                   const std::function<void(size_t, size_t)>& progress = nullptr);
+
+}  // namespace mocap

@@ -1,0 +1,177 @@
+// End-to-end test of `sim project`'s library call: write a session, read it back through the
+// ingest SessionReader, and check the blobs are the projections of the truth (within the wire's
+// 1/64 px quantisation, or within the requested noise).
+#include "sim/project_session.h"
+
+#include <filesystem>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "ingest/session.h"
+#include "io/calibration_json.h"
+#include "io/trc.h"
+#include "io/visibility.h"
+#include "sim/ring_rig.h"
+#include "sim/synthetic_motion.h"
+
+namespace mocap {
+namespace {
+
+struct Readback {
+  size_t frame_sets = 0;
+  size_t camera_frames = 0;
+  double worst_px = 0.0;     // largest distance projection -> nearest blob
+  double sum_squares = 0.0;  // of those distances
+  size_t samples = 0;
+};
+
+Readback ReadBack(const std::string& dir, const MarkerTrajectories& motion, const Rig& rig) {
+  Readback result;
+  SessionReader reader;
+  reader.Open(dir);
+  EXPECT_TRUE(reader.warnings().empty());
+  EXPECT_EQ(reader.Info().rate_hz, motion.rate_hz);
+  EXPECT_EQ(reader.Info().source, "sim project");
+  std::map<uint64_t, size_t> frame_index;
+  for (size_t f = 0; f < motion.NumFrames(); ++f) frame_index[motion.frame_numbers[f]] = f;
+  FrameSet set;
+  while (reader.Next(&set)) {
+    ++result.frame_sets;
+    const auto it = frame_index.find(set.frame_number);
+    EXPECT_NE(it, frame_index.end()) << set.frame_number;
+    if (it == frame_index.end()) continue;
+    for (const CameraFrame& frame : set.cameras) {
+      ++result.camera_frames;
+      const Camera* camera = rig.Find(frame.camera_id);
+      EXPECT_NE(camera, nullptr);
+      if (camera == nullptr) continue;
+      EXPECT_EQ(frame.trigger_time_ns,
+                kSimEpochNs + static_cast<uint64_t>(std::llround(set.frame_number * 1e9 / motion.rate_hz)));
+      for (size_t m = 0; m < motion.NumMarkers(); ++m) {
+        Eigen::Vector2d pixel;
+        if (!camera->ProjectToPixel(motion.At(it->second, m), &pixel)) continue;
+        double best = 1e300;
+        for (const Blob& blob : frame.blobs) best = std::min(best, (blob.pixel - pixel).norm());
+        result.worst_px = std::max(result.worst_px, best);
+        result.sum_squares += best * best;
+        ++result.samples;
+      }
+    }
+  }
+  return result;
+}
+
+class ProjectSessionTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    SyntheticMotionOptions motion_options;
+    motion_options.frames = 90;
+    motion_options.markers = 15;
+    motion_options.first_frame = 500;
+    motion = MakeSyntheticMotion(motion_options);
+    RingRigOptions rig_options;
+    rig_options.cameras = 5;
+    rig = MakeRingRig(ComputeMotionVolume(motion), rig_options);
+    dir = testing::TempDir() + "/sim_session_" + testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::filesystem::remove_all(dir);
+  }
+
+  MarkerTrajectories motion;
+  Rig rig;
+  std::string dir;
+};
+
+TEST_F(ProjectSessionTest, BlobsReadBackAsProjections) {
+  ProjectOptions options;
+  options.merge_px = 0.0;
+  size_t progress_calls = 0;
+  const ProjectSessionStats stats =
+      ProjectSession(motion, rig, options, dir, [&](size_t done, size_t total) {
+        ++progress_calls;
+        EXPECT_EQ(total, 90u);
+        EXPECT_EQ(done, progress_calls);
+      });
+  EXPECT_EQ(progress_calls, 90u);
+  EXPECT_EQ(stats.frames, 90u);
+  EXPECT_EQ(stats.camera_frames, 450u);
+  EXPECT_EQ(stats.blobs, 450u * 15u);
+  EXPECT_EQ(stats.reconstructible, stats.present);
+
+  const Readback back = ReadBack(dir, motion, rig);
+  EXPECT_EQ(back.frame_sets, 90u);
+  EXPECT_EQ(back.camera_frames, 450u);
+  EXPECT_EQ(back.samples, 450u * 15u);
+  EXPECT_LE(back.worst_px, 0.5 / 64.0 * std::sqrt(2.0) + 1e-9);
+
+  // The files beside the log: the truth, the rig and the visibility.
+  const MarkerTrajectories truth = ReadTrc(dir + "/truth.trc");
+  EXPECT_EQ(truth.frame_numbers, motion.frame_numbers);
+  EXPECT_EQ(truth.names, motion.names);
+  const Rig saved = LoadRigJson(dir + "/calibration.json");
+  ASSERT_EQ(saved.cameras.size(), 5u);
+  EXPECT_EQ(saved.cameras[2].translation, rig.cameras[2].translation);
+  const MarkerVisibility visibility = ReadVisibility(dir + "/visibility.tsv");
+  EXPECT_EQ(visibility.frame_numbers, motion.frame_numbers);
+  for (uint16_t count : visibility.counts) EXPECT_EQ(count, 5);
+  const SessionInfo info = LoadSessionInfo(dir);
+  EXPECT_EQ(info.camera_ids, (std::vector<uint32_t>{1, 2, 3, 4, 5}));
+  EXPECT_EQ(info.frame_sets, 90u);
+  EXPECT_EQ(info.camera_frames, 450u);
+}
+
+TEST_F(ProjectSessionTest, FaultsReachTheSession) {
+  ProjectOptions options;
+  options.noise_px = 0.2;
+  options.drop_frames = 0.1;
+  options.occlusion = 0.05;
+  options.spurious = 2;
+  options.seed = 5;
+  const ProjectSessionStats stats = ProjectSession(motion, rig, options, dir);
+  EXPECT_GT(stats.dropped_camera_frames, 20u);
+  EXPECT_LT(stats.dropped_camera_frames, 80u);
+  EXPECT_EQ(stats.camera_frames + stats.dropped_camera_frames, 450u);
+  EXPECT_LT(stats.reconstructible, stats.present);
+
+  const Readback back = ReadBack(dir, motion, rig);
+  EXPECT_EQ(back.camera_frames, stats.camera_frames);
+  EXPECT_EQ(LoadSessionInfo(dir).dropped_camera_frames, stats.dropped_camera_frames);
+  // Visibility counts cameras that delivered a blob, so it is at most the delivered frames.
+  const MarkerVisibility visibility = ReadVisibility(dir + "/visibility.tsv");
+  size_t below_two = 0;
+  for (uint16_t count : visibility.counts) below_two += count < 2;
+  EXPECT_EQ(below_two, stats.present - stats.reconstructible);
+  EXPECT_GT(back.samples, 0u);
+  EXPECT_GT(back.worst_px, 1.0);  // occlusion hides some markers from some cameras
+}
+
+TEST_F(ProjectSessionTest, SameSeedSameSession) {
+  ProjectOptions options;
+  options.noise_px = 0.2;
+  options.spurious = 3;
+  options.occlusion = 0.1;
+  options.seed = 9;
+  ProjectSession(motion, rig, options, dir + "_a");
+  ProjectSession(motion, rig, options, dir + "_b");
+  SessionReader a, b;
+  a.Open(dir + "_a");
+  b.Open(dir + "_b");
+  FrameSet set_a, set_b;
+  size_t blobs = 0;
+  while (a.Next(&set_a)) {
+    ASSERT_TRUE(b.Next(&set_b));
+    ASSERT_EQ(set_a.cameras.size(), set_b.cameras.size());
+    for (size_t c = 0; c < set_a.cameras.size(); ++c) {
+      ASSERT_EQ(set_a.cameras[c].blobs.size(), set_b.cameras[c].blobs.size());
+      for (size_t k = 0; k < set_a.cameras[c].blobs.size(); ++k) {
+        EXPECT_EQ(set_a.cameras[c].blobs[k].pixel, set_b.cameras[c].blobs[k].pixel);
+        ++blobs;
+      }
+    }
+  }
+  EXPECT_FALSE(b.Next(&set_b));
+  EXPECT_GT(blobs, 1000u);
+}
+
+}  // namespace
+}  // namespace mocap

@@ -1,0 +1,227 @@
+// Fault model of the simulator. Occlusion is a two-state Markov chain per (camera, marker) whose
+// stationary probability is --occlusion and mean sojourn --occlusion-frames.
+#include "sim/projector.h"
+
+#include "io/marker_trajectories.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace mocap {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Spot {
+  Eigen::Vector2d pixel;
+  double radius = 0.0;
+  double depth = 0.0;
+  size_t marker = 0;
+};
+
+// First normalized radius where r * (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing.
+double MonotonicRadius(const std::array<double, 5>& d) {
+  const double step = 1e-3;
+  for (double r = step; r < 4.0; r += step) {
+    const double r2 = r * r;
+    if (1.0 + r2 * (3.0 * d[0] + r2 * (5.0 * d[1] + r2 * 7.0 * d[4])) <= 0.0) return r - step;
+  }
+  return 4.0;
+}
+
+int FindRoot(std::vector<int>& parent, int i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+void CheckProbability(double value, const char* name) {
+  if (!(value >= 0.0 && value <= 1.0)) throw std::invalid_argument(std::string(name) + " must be in [0, 1]");
+}
+
+}  // namespace
+
+void ProjectOptions::Check() const {
+  if (!(noise_px >= 0.0 && noise_px <= 100.0)) throw std::invalid_argument("--noise-px must be 0..100");
+  CheckProbability(occlusion, "--occlusion");
+  if (occlusion >= 1.0) throw std::invalid_argument("--occlusion must be below 1");
+  if (!(occlusion_frames >= 1.0 && occlusion_frames <= 1e6)) {
+    throw std::invalid_argument("--occlusion-frames must be 1..1e6");
+  }
+  if (!(spurious >= 0.0 && spurious <= 1000.0)) throw std::invalid_argument("--spurious must be 0..1000");
+  if (!(merge_px <= 1000.0) || std::isnan(merge_px)) throw std::invalid_argument("--merge-px must be at most 1000");
+  CheckProbability(drop_frames, "--drop-frames");
+  if (!(marker_diameter_mm > 0.0 && marker_diameter_mm <= 200.0)) {
+    throw std::invalid_argument("--marker-mm must be in (0, 200]");
+  }
+}
+
+FaultyProjector::FaultyProjector(const Rig& rig, size_t num_markers, const ProjectOptions& options)
+    : rig_(rig), num_markers_(num_markers), options_(options) {
+  options_.Check();
+  occlusion_end_ = 1.0 / options_.occlusion_frames;
+  // Stationary probability p = start / (start + end).
+  occlusion_start_ = std::min(1.0, options_.occlusion * occlusion_end_ / (1.0 - options_.occlusion));
+  const int static_spots = static_cast<int>(std::floor(options_.spurious / 2.0));
+  for (size_t i = 0; i < rig_.cameras.size(); ++i) {
+    const Camera& camera = rig_.cameras[i];
+    CameraState state;
+    // One stream per camera: adding a camera or a fault elsewhere does not reshuffle this one.
+    std::seed_seq seq{static_cast<uint32_t>(options_.seed), static_cast<uint32_t>(options_.seed >> 32),
+                      camera.id, 0x51u};
+    state.rng.seed(seq);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    state.valid_radius = MonotonicRadius(camera.intrinsics.distortion);
+    state.occluded.resize(num_markers_);
+    for (size_t m = 0; m < num_markers_; ++m) state.occluded[m] = unit(state.rng) < options_.occlusion;
+    for (int s = 0; s < static_spots; ++s) {
+      state.static_spots.emplace_back(unit(state.rng) * camera.intrinsics.width,
+                                      unit(state.rng) * camera.intrinsics.height);
+    }
+    states_.push_back(std::move(state));
+  }
+}
+
+double FaultyProjector::BlobRadiusPx(const Camera& camera, double depth_mm) const {
+  const double focal = 0.5 * (camera.intrinsics.fx + camera.intrinsics.fy);
+  // A centroid needs at least one lit pixel.
+  return std::max(0.5 * focal * options_.marker_diameter_mm / depth_mm, 0.5);
+}
+
+std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_t trigger_time_ns,
+                                                  const Eigen::Vector3d* points,
+                                                  std::vector<int>* cameras_seeing) {
+  cameras_seeing->assign(num_markers_, 0);
+  std::vector<CameraFrame> frames;
+  for (size_t i = 0; i < rig_.cameras.size(); ++i) {
+    CameraFrame frame;
+    if (!ProjectCamera(i, frame_number, points, cameras_seeing, &frame)) continue;
+    frame.trigger_time_ns = trigger_time_ns;
+    // Exposure start to readout on a small global-shutter sensor, then detection on the node.
+    frame.capture_time_ns = trigger_time_ns + 150000;
+    frame.send_time_ns = frame.capture_time_ns + 1500000;
+    frames.push_back(std::move(frame));
+  }
+  return frames;
+}
+
+bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
+                                    std::vector<int>* cameras_seeing, CameraFrame* out) {
+  const Camera& camera = rig_.cameras[index];
+  CameraState& state = states_[index];
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+
+  // The occlusion chains advance every frame, dropped or not, so they stay continuous in time.
+  if (options_.occlusion > 0.0) {
+    for (size_t m = 0; m < num_markers_; ++m) {
+      const double u = unit(state.rng);
+      state.occluded[m] = state.occluded[m] ? (u >= occlusion_end_) : (u < occlusion_start_);
+    }
+  }
+  const bool dropped = options_.drop_frames > 0.0 && unit(state.rng) < options_.drop_frames;
+
+  std::vector<Spot> spots;
+  for (size_t m = 0; m < num_markers_; ++m) {
+    if (MarkerTrajectories::IsGap(points[m]) || state.occluded[m]) continue;
+    const Eigen::Vector3d point_in_cam = camera.PointInCamera(points[m]);
+    const double depth = point_in_cam.z();
+    Eigen::Vector2d pixel;
+    if (!camera.ProjectToPixel(points[m], &pixel) || !camera.InImage(pixel)) continue;
+    // Barrel distortion folds far-off-axis points back into the image; a real lens never shows
+    // them there, so points beyond the model's monotonic range are not seen.
+    if ((point_in_cam.head<2>() / depth).norm() > state.valid_radius) continue;
+    spots.push_back({pixel, BlobRadiusPx(camera, depth), depth, m});
+  }
+
+  // Blobs that overlap in the image become one (transitively), as thresholding would see them.
+  std::vector<int> parent(spots.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (size_t a = 0; a < spots.size(); ++a) {
+    for (size_t b = a + 1; b < spots.size(); ++b) {
+      const double limit = options_.merge_px >= 0.0 ? options_.merge_px : spots[a].radius + spots[b].radius;
+      if ((spots[a].pixel - spots[b].pixel).norm() < limit) parent[FindRoot(parent, a)] = FindRoot(parent, b);
+    }
+  }
+
+  if (dropped) return false;
+  // Markers seen only count for frames that reach the hub.
+  for (const Spot& spot : spots) ++(*cameras_seeing)[spot.marker];
+  CameraFrame& frame = *out;
+  frame.camera_id = camera.id;
+  frame.frame_number = frame_number;
+  frame.width = static_cast<uint32_t>(camera.intrinsics.width);
+  frame.height = static_cast<uint32_t>(camera.intrinsics.height);
+
+  const auto add_noise = [&](Eigen::Vector2d pixel) {
+    if (options_.noise_px > 0.0) pixel += options_.noise_px * Eigen::Vector2d(gauss(state.rng), gauss(state.rng));
+    return pixel;
+  };
+  const auto clamp_to_image = [&](Eigen::Vector2d pixel) {
+    pixel.x() = std::clamp(pixel.x(), 0.0, camera.intrinsics.width - 1e-3);
+    pixel.y() = std::clamp(pixel.y(), 0.0, camera.intrinsics.height - 1e-3);
+    return pixel;
+  };
+
+  for (size_t root = 0; root < spots.size(); ++root) {
+    if (FindRoot(parent, root) != static_cast<int>(root)) continue;
+    double area = 0.0;
+    Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
+    double nearest = 1e300;
+    int members = 0;
+    for (size_t s = 0; s < spots.size(); ++s) {
+      if (FindRoot(parent, s) != static_cast<int>(root)) continue;
+      const double spot_area = kPi * spots[s].radius * spots[s].radius;
+      area += spot_area;
+      weighted += spot_area * spots[s].pixel;
+      nearest = std::min(nearest, spots[s].depth);
+      ++members;
+    }
+    Blob blob;
+    blob.pixel = clamp_to_image(add_noise(weighted / area));
+    blob.area = static_cast<uint32_t>(std::max(1.0, std::round(area)));
+    // Retro-reflector return falls with the square of distance (ring light at the lens).
+    const double brightness = std::clamp(std::pow(2500.0 / nearest, 2.0), 0.15, 2.0);
+    blob.peak = static_cast<uint32_t>(std::min(255.0, std::round(60.0 + 180.0 * brightness)));
+    blob.mean = static_cast<uint32_t>(std::round(0.7 * blob.peak));
+    if (blob.peak >= 255) blob.flags |= kBlobSaturated;
+    if (members > 1) blob.flags |= kBlobMerged;
+    const double radius = std::sqrt(area / kPi);
+    if (blob.pixel.x() < radius || blob.pixel.y() < radius || blob.pixel.x() > camera.intrinsics.width - radius ||
+        blob.pixel.y() > camera.intrinsics.height - radius) {
+      blob.flags |= kBlobBorder;
+    }
+    frame.blobs.push_back(blob);
+  }
+
+  // False blobs: static reflections keep their place, flicker appears anywhere for one frame.
+  const auto add_spurious = [&](const Eigen::Vector2d& pixel) {
+    Blob blob;
+    blob.pixel = clamp_to_image(add_noise(pixel));
+    blob.area = 1 + static_cast<uint32_t>(unit(state.rng) * 12.0);
+    blob.peak = 80 + static_cast<uint32_t>(unit(state.rng) * 175.0);
+    blob.mean = static_cast<uint32_t>(0.7 * blob.peak);
+    frame.blobs.push_back(blob);
+  };
+  for (const Eigen::Vector2d& spot : state.static_spots) add_spurious(spot);
+  const double flicker_mean = options_.spurious - static_cast<double>(state.static_spots.size());
+  if (flicker_mean > 0.0) {
+    std::poisson_distribution<int> flicker(flicker_mean);
+    const int count = flicker(state.rng);
+    for (int k = 0; k < count; ++k) {
+      add_spurious(Eigen::Vector2d(unit(state.rng) * camera.intrinsics.width, unit(state.rng) * camera.intrinsics.height));
+    }
+  }
+
+  // Detectors report blobs in scanline order, which carries no marker identity.
+  std::sort(frame.blobs.begin(), frame.blobs.end(), [](const Blob& a, const Blob& b) {
+    return a.pixel.y() != b.pixel.y() ? a.pixel.y() < b.pixel.y() : a.pixel.x() < b.pixel.x();
+  });
+  return true;
+}
+
+}  // namespace mocap

@@ -1,0 +1,65 @@
+// Turns 3D marker positions into what each camera would report: 2D blobs with the faults of a
+// real system (centroid noise, lasting occlusion, merged blobs, static and flickering false
+// blobs, dropped frames). Seeded per camera, so a failing case replays exactly.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "ingest/camera_frame.h"
+
+namespace mocap {
+
+struct ProjectOptions {
+  double noise_px = 0.0;          // centroid noise sigma per axis
+  double occlusion = 0.0;         // probability a marker is hidden from one camera at a frame
+  double occlusion_frames = 5.0;  // mean length of one occlusion, frames
+  double spurious = 0.0;          // false blobs per camera per frame (half static, half flicker)
+  // Blobs closer than this merge into one at their (area-weighted) mean. Negative = realistic:
+  // two blobs merge when they touch, i.e. centres closer than the sum of their radii.
+  double merge_px = -1.0;
+  double drop_frames = 0.0;       // probability that a camera's whole frame is lost
+  double marker_diameter_mm = 14.0;
+  uint64_t seed = 1;
+
+  // Throws std::invalid_argument naming the bad option.
+  void Check() const;
+};
+
+class FaultyProjector {
+ public:
+  FaultyProjector(const Rig& rig, size_t num_markers, const ProjectOptions& options);
+
+  // One frame: `points` holds num_markers positions (NaN = marker absent). Returns the frames of
+  // the cameras that did not drop this frame, blobs in scanline order. cameras_seeing (resized
+  // to num_markers) counts, per marker, the cameras in which it makes (part of) a blob.
+  std::vector<CameraFrame> Project(uint64_t frame_number, uint64_t trigger_time_ns,
+                                   const Eigen::Vector3d* points, std::vector<int>* cameras_seeing);
+
+  // Radius in pixels of a marker's blob at this depth in front of the camera.
+  double BlobRadiusPx(const Camera& camera, double depth_mm) const;
+
+ private:
+  struct CameraState {
+    std::mt19937_64 rng;
+    std::vector<char> occluded;
+    std::vector<Eigen::Vector2d> static_spots;
+    // Normalized radius beyond which the radial lens model folds back (no real lens images it).
+    double valid_radius = 0.0;
+  };
+
+  // False when the camera drops this frame.
+  bool ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
+                     std::vector<int>* cameras_seeing, CameraFrame* frame);
+
+  const Rig& rig_;
+  size_t num_markers_;
+  ProjectOptions options_;
+  double occlusion_start_ = 0.0;  // per-frame probability a visible marker becomes occluded
+  double occlusion_end_ = 1.0;    // per-frame probability an occlusion ends
+  std::vector<CameraState> states_;
+};
+
+}  // namespace mocap
