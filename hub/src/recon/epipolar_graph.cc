@@ -1,0 +1,132 @@
+// Graph construction (all camera pairs, all active observation pairs) and clique growth.
+#include "recon/epipolar_graph.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace mocap {
+
+bool ClosestPointsOfRays(const Eigen::Vector3d& center_a, const Eigen::Vector3d& direction_a,
+                         const Eigen::Vector3d& center_b, const Eigen::Vector3d& direction_b,
+                         RayPair* pair) {
+  // Seed 000 (4.3): the segment between the closest points is perpendicular to both rays.
+  const Eigen::Vector3d w0 = center_a - center_b;
+  const double b = direction_a.dot(direction_b);
+  const double d = direction_a.dot(w0);
+  const double e = direction_b.dot(w0);
+  const double denominator = 1.0 - b * b;  // unit directions: a = c = 1
+  if (denominator < 1e-12) return false;
+  const double s = (b * e - d) / denominator;
+  const double t = (e - b * d) / denominator;
+  const Eigen::Vector3d on_a = center_a + s * direction_a;
+  const Eigen::Vector3d on_b = center_b + t * direction_b;
+  pair->distance = (on_a - on_b).norm();
+  pair->midpoint = 0.5 * (on_a + on_b);
+  pair->depth_a = s;
+  pair->depth_b = t;
+  return true;
+}
+
+void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
+                          const EpipolarGraphOptions& options, const std::vector<char>& active) {
+  const int n = views.NumObservations();
+  adjacency_.assign(n, {});
+  num_edges_ = 0;
+  const int num_cameras = rig.NumCameras();
+  const auto is_active = [&](int i) { return active.empty() || active[i] != 0; };
+  RayPair pair;
+  for (int ca = 0; ca < num_cameras; ++ca) {
+    const Eigen::Vector3d& center_a = rig.camera(ca).center_in_world;
+    for (int cb = ca + 1; cb < num_cameras; ++cb) {
+      const Eigen::Vector3d& center_b = rig.camera(cb).center_in_world;
+      for (int i = views.camera_begin[ca]; i < views.camera_begin[ca + 1]; ++i) {
+        if (!is_active(i)) continue;
+        const Eigen::Vector3d& ray_a = views.observations[i].ray_in_world;
+        for (int j = views.camera_begin[cb]; j < views.camera_begin[cb + 1]; ++j) {
+          if (!is_active(j)) continue;
+          if (!ClosestPointsOfRays(center_a, ray_a, center_b, views.observations[j].ray_in_world,
+                                   &pair)) {
+            continue;
+          }
+          if (pair.distance > options.max_ray_distance_mm || pair.depth_a < options.min_depth_mm ||
+              pair.depth_b < options.min_depth_mm) {
+            continue;
+          }
+          const float distance = static_cast<float>(pair.distance);
+          adjacency_[i].push_back({j, distance});
+          adjacency_[j].push_back({i, distance});
+          ++num_edges_;
+        }
+      }
+    }
+  }
+  // Camera-major loops already add neighbours of i in increasing index for cameras after i's,
+  // but neighbours from earlier cameras arrive interleaved: sort once for binary search.
+  for (auto& neighbours : adjacency_) {
+    std::sort(neighbours.begin(), neighbours.end(),
+              [](const GraphEdge& x, const GraphEdge& y) { return x.other < y.other; });
+  }
+}
+
+float EpipolarGraph::EdgeDistance(int a, int b) const {
+  const std::vector<GraphEdge>& neighbours = adjacency_[a];
+  const auto it = std::lower_bound(neighbours.begin(), neighbours.end(), b,
+                                   [](const GraphEdge& edge, int node) { return edge.other < node; });
+  if (it == neighbours.end() || it->other != b) return -1.0f;
+  return it->distance_mm;
+}
+
+std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& rig,
+                                                              const FrameViews& views) const {
+  std::set<std::vector<int>> unique;
+  const int n = NumNodes();
+  const int num_cameras = rig.NumCameras();
+  std::vector<int> best_in_camera(num_cameras);
+  std::vector<double> best_distance(num_cameras);
+  RayPair pair;
+  for (int a = 0; a < n; ++a) {
+    for (const GraphEdge& edge : adjacency_[a]) {
+      const int b = edge.other;
+      if (b < a) continue;
+      const Observation& oa = views.observations[a];
+      const Observation& ob = views.observations[b];
+      if (!ClosestPointsOfRays(rig.camera(oa.camera).center_in_world, oa.ray_in_world,
+                               rig.camera(ob.camera).center_in_world, ob.ray_in_world, &pair)) {
+        continue;
+      }
+      // Common neighbours of a and b, the closest to the pair's 3D point per camera.
+      std::fill(best_in_camera.begin(), best_in_camera.end(), -1);
+      for (const GraphEdge& candidate : adjacency_[a]) {
+        const int k = candidate.other;
+        const Observation& ok = views.observations[k];
+        if (ok.camera == ob.camera || EdgeDistance(b, k) < 0.0f) continue;
+        const Eigen::Vector3d to_point = pair.midpoint - rig.camera(ok.camera).center_in_world;
+        const double off_ray = (to_point - to_point.dot(ok.ray_in_world) * ok.ray_in_world).norm();
+        if (best_in_camera[ok.camera] < 0 || off_ray < best_distance[ok.camera]) {
+          best_in_camera[ok.camera] = k;
+          best_distance[ok.camera] = off_ray;
+        }
+      }
+      // Add the common neighbours nearest first, each only if adjacent to all members so far.
+      std::vector<std::pair<double, int>> order;
+      for (int c = 0; c < num_cameras; ++c) {
+        if (best_in_camera[c] >= 0) order.emplace_back(best_distance[c], best_in_camera[c]);
+      }
+      std::sort(order.begin(), order.end());
+      std::vector<int> clique = {a, b};
+      for (const auto& [distance, k] : order) {
+        bool adjacent_to_all = true;
+        for (size_t m = 2; m < clique.size() && adjacent_to_all; ++m) {
+          adjacent_to_all = EdgeDistance(clique[m], k) >= 0.0f;
+        }
+        if (adjacent_to_all) clique.push_back(k);
+      }
+      std::sort(clique.begin(), clique.end());
+      unique.insert(std::move(clique));
+    }
+  }
+  return {unique.begin(), unique.end()};
+}
+
+}  // namespace mocap

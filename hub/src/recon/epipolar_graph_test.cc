@@ -1,0 +1,73 @@
+// Ray closest points and the k-partite graph: true correspondences are edges, cliques form.
+#include "recon/epipolar_graph.h"
+
+#include <gtest/gtest.h>
+
+#include "recon/testing/synthetic_scene.h"
+
+namespace mocap {
+namespace {
+
+TEST(ClosestPointsOfRays, SkewLines) {
+  RayPair pair;
+  // x axis, and a line parallel to y through (5, 0, 3): closest points (5,0,0) and (5,0,3).
+  ASSERT_TRUE(ClosestPointsOfRays(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                  Eigen::Vector3d(5, -2, 3), Eigen::Vector3d(0, 1, 0), &pair));
+  EXPECT_NEAR(pair.distance, 3.0, 1e-12);
+  EXPECT_NEAR((pair.midpoint - Eigen::Vector3d(5, 0, 1.5)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(pair.depth_a, 5.0, 1e-12);
+  EXPECT_NEAR(pair.depth_b, 2.0, 1e-12);
+  EXPECT_FALSE(ClosestPointsOfRays(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                   Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 0, 0), &pair));
+}
+
+TEST(EpipolarGraph, TrueCorrespondencesAreEdgesAndFormCliques) {
+  const Rig rig = testing::MakeRingRig(6, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  testing::SyntheticMotion motion(20, 4, 7);
+  testing::ProjectionFaults faults;
+  faults.noise_px = 0.2;
+  testing::FrameProjector projector(rig, faults, 8);
+  FrameSet frame_set;
+  testing::BlobTruth truth;
+  projector.Project(0, motion.At(0.0), &frame_set, &truth);
+  FrameViews views;
+  BuildFrameViews(model, frame_set, &views);
+  EpipolarGraph graph;
+  graph.Build(model, views, EpipolarGraphOptions());
+  const auto marker_of = [&](int node) {
+    const Observation& obs = views.observations[node];
+    return truth[obs.camera][obs.blob];
+  };
+  int true_pairs = 0;
+  for (int a = 0; a < graph.NumNodes(); ++a) {
+    for (int b = a + 1; b < graph.NumNodes(); ++b) {
+      if (views.observations[a].camera == views.observations[b].camera) continue;
+      if (marker_of(a) != marker_of(b)) continue;
+      ++true_pairs;
+      EXPECT_GE(graph.EdgeDistance(a, b), 0.0f) << "missing true edge " << a << "-" << b;
+      EXPECT_EQ(graph.EdgeDistance(a, b), graph.EdgeDistance(b, a));
+    }
+  }
+  EXPECT_GT(true_pairs, 100);
+  // The graph is k-partite: no edge inside a camera.
+  for (int a = 0; a < graph.NumNodes(); ++a) {
+    for (const GraphEdge& edge : graph.Neighbours(a)) {
+      EXPECT_NE(views.observations[a].camera, views.observations[edge.other].camera);
+    }
+  }
+  // Every marker seen by all six cameras has its full clique among the candidates.
+  const auto cliques = graph.CandidateCliques(model, views);
+  for (int marker = 0; marker < motion.NumMarkers(); ++marker) {
+    std::vector<int> members;
+    for (int node = 0; node < graph.NumNodes(); ++node) {
+      if (marker_of(node) == marker) members.push_back(node);
+    }
+    if (members.size() < 6) continue;
+    EXPECT_NE(std::find(cliques.begin(), cliques.end(), members), cliques.end())
+        << "marker " << marker;
+  }
+}
+
+}  // namespace
+}  // namespace mocap

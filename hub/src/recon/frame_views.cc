@@ -1,0 +1,71 @@
+// Per-camera caches and per-frame undistortion of blobs into observations.
+#include "recon/frame_views.h"
+
+#include <Eigen/Geometry>
+
+namespace mocap {
+
+RigModel::RigModel(const Rig& rig) {
+  cameras_.reserve(rig.cameras.size());
+  for (const Camera& camera : rig.cameras) {
+    CameraModel model;
+    model.camera = &camera;
+    model.cam_from_world_rotation = camera.rotation;
+    model.cam_from_world_translation = camera.translation;
+    model.center_in_world = camera.CenterInWorld();
+    model.focal_px = 0.5 * (camera.intrinsics.fx + camera.intrinsics.fy);
+    index_of_id_[camera.id] = static_cast<int>(cameras_.size());
+    cameras_.push_back(model);
+  }
+}
+
+int RigModel::IndexOf(uint32_t camera_id) const {
+  const auto it = index_of_id_.find(camera_id);
+  return it == index_of_id_.end() ? -1 : it->second;
+}
+
+void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views) {
+  views->frame_number = frame_set.frame_number;
+  views->observations.clear();
+  views->skipped_unknown_cameras = 0;
+  const int num_cameras = rig.NumCameras();
+  views->camera_begin.assign(num_cameras + 1, 0);
+
+  // Counting pass first so observations can be laid out grouped by camera index even when the
+  // frame set lists cameras in arrival order.
+  std::vector<int> frame_of_camera(num_cameras, -1);
+  for (int f = 0; f < static_cast<int>(frame_set.cameras.size()); ++f) {
+    const int index = rig.IndexOf(frame_set.cameras[f].camera_id);
+    if (index < 0) {
+      ++views->skipped_unknown_cameras;
+      continue;
+    }
+    frame_of_camera[index] = f;
+  }
+  int total = 0;
+  for (int c = 0; c < num_cameras; ++c) {
+    views->camera_begin[c] = total;
+    if (frame_of_camera[c] >= 0) {
+      total += static_cast<int>(frame_set.cameras[frame_of_camera[c]].blobs.size());
+    }
+  }
+  views->camera_begin[num_cameras] = total;
+  views->observations.resize(total);
+
+  for (int c = 0; c < num_cameras; ++c) {
+    if (frame_of_camera[c] < 0) continue;
+    const CameraModel& model = rig.camera(c);
+    const std::vector<Blob>& blobs = frame_set.cameras[frame_of_camera[c]].blobs;
+    for (int b = 0; b < static_cast<int>(blobs.size()); ++b) {
+      Observation& obs = views->observations[views->camera_begin[c] + b];
+      obs.camera = c;
+      obs.blob = b;
+      obs.flags = blobs[b].flags;
+      obs.normalized = model.camera->UndistortPixel(blobs[b].pixel);
+      obs.ray_in_world =
+          (model.cam_from_world_rotation.transpose() * obs.normalized.homogeneous()).normalized();
+    }
+  }
+}
+
+}  // namespace mocap

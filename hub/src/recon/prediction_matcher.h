@@ -1,0 +1,41 @@
+// Temporal shortcut of seed 001 section 3: each tracked marker's predicted 3D position is
+// reprojected into every camera and takes the nearest blob within a gate; when those blobs
+// triangulate consistently near the prediction, the marker is reconstructed without the graph.
+// Blobs left over go to the full matcher.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "recon/matcher.h"
+
+namespace mocap {
+
+struct PointPrediction {
+  int track_id = -1;
+  Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
+  // Radius (mm) within which the marker is expected; scales the image gate with depth.
+  double gate_mm = 20.0;
+};
+
+class PredictionMatcher {
+ public:
+  PredictionMatcher(const PredictionMatchOptions& options,
+                    const TriangulationOptions& triangulation_options)
+      : options_(options), triangulation_options_(triangulation_options) {}
+
+  // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
+  // Predictions are served in the given order: put the most trusted tracks first.
+  void Match(const RigModel& rig, const FrameViews& views,
+             const std::vector<PointPrediction>& predictions, UseCounts* used,
+             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
+
+ private:
+  PredictionMatchOptions options_;
+  TriangulationOptions triangulation_options_;
+  // Per camera, observation indices sorted by normalized x, for range queries.
+  std::vector<std::vector<int>> sorted_by_x_;
+};
+
+}  // namespace mocap

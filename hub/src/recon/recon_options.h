@@ -1,0 +1,79 @@
+// Tunable settings of the reconstruction layer, each an options struct with defaults and Check().
+// Error policy of recon: Check() throws std::invalid_argument naming the bad field (a programming
+// or CLI input error); processing never throws on data and returns what it could reconstruct.
+#pragma once
+
+#include <string>
+
+namespace mocap {
+
+struct TriangulationOptions {
+  int min_views = 2;
+  // A view whose refined reprojection error exceeds this is an outlier (merged blob, wrong
+  // match); with three or more views the worst one is dropped and the point re-solved.
+  double max_reprojection_px = 1.5;
+  int refine_iterations = 4;
+  // Points must lie at least this far in front of every camera that sees them.
+  double min_depth_mm = 50.0;
+
+  void Check() const;
+};
+
+struct EpipolarGraphOptions {
+  // Two blobs of different cameras are linked when their rays pass closer than this.
+  double max_ray_distance_mm = 8.0;
+  // Ray closest points nearer to a camera than this are behind/at it: not a marker.
+  double min_depth_mm = 50.0;
+
+  void Check() const;
+};
+
+struct RelaxationOptions {
+  int max_iterations = 60;
+  // Stop when no label probability changes by more than this in one iteration.
+  double tolerance = 1e-4;
+
+  void Check() const;
+};
+
+struct ClusteringOptions {
+  // Seed 000: rays whose closest points are nearer than this belong to one marker (mm).
+  double max_ray_distance_mm = 30.0;
+
+  void Check() const;
+};
+
+struct PredictionMatchOptions {
+  // Search radius around a prediction reprojected into an image, in pixels: at least this, and
+  // more when the predicted point is uncertain (its 3D gate projected at its depth).
+  double min_gate_px = 3.0;
+  double max_gate_px = 40.0;
+  // The point triangulated from the gathered blobs must land this close to the prediction,
+  // relative to the prediction's own 3D gate.
+  double max_shift_factor = 1.5;
+
+  void Check() const;
+};
+
+enum class MatcherType { kRelaxation, kClustering, kGreedy };
+
+// "relaxation" | "clustering" | "greedy"; FromString throws std::invalid_argument on others.
+std::string MatcherTypeToString(MatcherType type);
+MatcherType MatcherTypeFromString(const std::string& name);
+
+struct ReconstructorOptions {
+  MatcherType matcher = MatcherType::kRelaxation;
+  bool use_predictions = true;
+  // A marker no track predicted needs this many views: two rays always meet somewhere, so a
+  // two-view point of spurious blobs is indistinguishable from a marker within one frame.
+  int min_views_without_prediction = 3;
+  TriangulationOptions triangulation;
+  EpipolarGraphOptions graph;
+  RelaxationOptions relaxation;
+  ClusteringOptions clustering;
+  PredictionMatchOptions prediction;
+
+  void Check() const;
+};
+
+}  // namespace mocap

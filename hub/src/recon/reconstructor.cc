@@ -1,0 +1,42 @@
+// The per-frame reconstruction pipeline.
+#include "recon/reconstructor.h"
+
+namespace mocap {
+
+Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options)
+    : rig_(rig),
+      options_((options.Check(), options)),
+      matcher_(CreateMatcher(options)),
+      prediction_matcher_(options.prediction, options.triangulation) {}
+
+void Reconstructor::Process(const FrameSet& frame_set,
+                            const std::vector<PointPrediction>& predictions,
+                            std::vector<ReconstructedPoint>* points) {
+  BuildFrameViews(rig_, frame_set, &views_);
+  used_.assign(views_.NumObservations(), 0);
+  triangulated_.clear();
+  track_ids_.clear();
+  if (options_.use_predictions && !predictions.empty()) {
+    prediction_matcher_.Match(rig_, views_, predictions, &used_, &triangulated_, &track_ids_);
+  }
+  const size_t from_predictions = triangulated_.size();
+  matcher_->Match(rig_, views_, &used_, &triangulated_);
+
+  points->clear();
+  points->reserve(triangulated_.size());
+  for (size_t i = 0; i < triangulated_.size(); ++i) {
+    ReconstructedPoint out;
+    out.point_in_world = triangulated_[i].point_in_world;
+    out.num_views = static_cast<int>(triangulated_[i].observations.size());
+    out.rms_px = triangulated_[i].rms_px;
+    out.track_hint = i < from_predictions ? track_ids_[i] : -1;
+    points->push_back(out);
+    stats_.outlier_views_rejected += static_cast<long long>(triangulated_[i].rejected.size());
+  }
+  ++stats_.frames;
+  stats_.points += static_cast<long long>(triangulated_.size());
+  stats_.points_from_predictions += static_cast<long long>(from_predictions);
+  if (views_.skipped_unknown_cameras > 0) stats_.unknown_camera_frames += views_.skipped_unknown_cameras;
+}
+
+}  // namespace mocap

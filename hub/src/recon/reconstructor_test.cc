@@ -1,0 +1,76 @@
+// The whole per-frame pipeline: predictions serve most markers, leftovers go to the matcher.
+#include "recon/reconstructor.h"
+
+#include <gtest/gtest.h>
+
+#include "recon/testing/synthetic_scene.h"
+
+namespace mocap {
+namespace {
+
+TEST(Reconstructor, PredictionsServeTrackedMarkers) {
+  const Rig rig = testing::MakeRingRig(8, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
+  testing::SyntheticMotion motion(30, 3, 21);
+  testing::ProjectionFaults faults;
+  faults.noise_px = 0.2;
+  faults.spurious = 2;
+  testing::FrameProjector projector(rig, faults, 22);
+  Reconstructor reconstructor(rig, ReconstructorOptions());
+  FrameSet frame_set;
+  testing::BlobTruth truth;
+  const auto markers = motion.At(0.5);
+  projector.Project(0, markers, &frame_set, &truth);
+
+  // Predictions a few mm off the truth for the first 20 markers.
+  std::vector<PointPrediction> predictions;
+  for (int m = 0; m < 20; ++m) {
+    PointPrediction prediction;
+    prediction.track_id = 100 + m;
+    prediction.point_in_world = markers[m] + Eigen::Vector3d(3.0, -2.0, 1.0);
+    prediction.gate_mm = 10.0;
+    predictions.push_back(prediction);
+  }
+  std::vector<ReconstructedPoint> points;
+  reconstructor.Process(frame_set, predictions, &points);
+  ASSERT_EQ(points.size(), markers.size());
+  int hinted = 0;
+  for (const ReconstructedPoint& point : points) {
+    if (point.track_hint >= 0) {
+      ++hinted;
+      EXPECT_LT((point.point_in_world - markers[point.track_hint - 100]).norm(), 1.5);
+    }
+  }
+  EXPECT_EQ(hinted, 20);
+  EXPECT_EQ(reconstructor.stats().points_from_predictions, 20);
+}
+
+TEST(Reconstructor, FarPredictionIsNotForcedOntoOtherBlobs) {
+  const Rig rig = testing::MakeRingRig(8, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
+  testing::SyntheticMotion motion(10, 5, 31);
+  testing::FrameProjector projector(rig, testing::ProjectionFaults(), 32);
+  Reconstructor reconstructor(rig, ReconstructorOptions());
+  FrameSet frame_set;
+  testing::BlobTruth truth;
+  const auto markers = motion.At(0.0);
+  projector.Project(0, markers, &frame_set, &truth);
+  PointPrediction nowhere;
+  nowhere.track_id = 7;
+  nowhere.point_in_world = Eigen::Vector3d(2000.0, 2000.0, 3000.0);
+  std::vector<ReconstructedPoint> points;
+  reconstructor.Process(frame_set, {nowhere}, &points);
+  EXPECT_EQ(points.size(), markers.size());
+  for (const ReconstructedPoint& point : points) EXPECT_EQ(point.track_hint, -1);
+}
+
+TEST(ReconstructorOptions, CheckRejectsBadValues) {
+  ReconstructorOptions options;
+  EXPECT_NO_THROW(options.Check());
+  options.graph.max_ray_distance_mm = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = ReconstructorOptions();
+  options.triangulation.min_views = 1;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mocap

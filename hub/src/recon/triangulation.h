@@ -1,0 +1,42 @@
+// Multi-view triangulation of one marker from undistorted observations: linear (DLT with the
+// point's homogeneous coordinate fixed to 1), then Gauss-Newton on the reprojection error in
+// pixels, then residual checks that drop one outlier view at a time while three or more remain.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "recon/frame_views.h"
+#include "recon/recon_options.h"
+
+namespace mocap {
+
+struct TriangulatedPoint {
+  Eigen::Vector3d point_in_world = Eigen::Vector3d::Zero();
+  std::vector<int> observations;  // indices into FrameViews::observations, the views kept
+  std::vector<int> rejected;      // views dropped as outliers
+  double rms_px = 0.0;
+  double max_px = 0.0;
+};
+
+// Linear estimate; false when the views are degenerate (parallel rays, fewer than 2 views).
+bool TriangulateLinear(const RigModel& rig, const FrameViews& views,
+                       const std::vector<int>& observations, Eigen::Vector3d* point_in_world);
+
+// Gauss-Newton refinement of reprojection error (px), in place; returns false when a view ends
+// behind its camera or the solve breaks down.
+bool RefinePoint(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
+                 int iterations, Eigen::Vector3d* point_in_world);
+
+// Per-view reprojection errors in px, same order as `observations`.
+void ReprojectionErrors(const RigModel& rig, const FrameViews& views,
+                        const std::vector<int>& observations, const Eigen::Vector3d& point_in_world,
+                        std::vector<double>* errors_px);
+
+// The full pipeline with outlier rejection. False when fewer than options.min_views consistent
+// views remain.
+bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
+                       const TriangulationOptions& options, TriangulatedPoint* result);
+
+}  // namespace mocap
