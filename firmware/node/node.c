@@ -333,9 +333,13 @@ static void send_status(struct mn_node *n, int64_t now)
                  (unsigned long long)c.frames_sent, (unsigned long long)c.frames_dropped);
     n->interval_start_ns = now;
     n->interval_frames = n->detect_ns_sum = n->detect_ns_max = n->detect_count = 0;
-    /* Follow chrony's slewing of the realtime clock (a few us at most between refreshes). */
-    n->grid.real_minus_mono_ns = mn_clock_real_minus_mono_ns();
-    mn_pairing_set_grid(n->pairing, &n->grid);
+    /* Follow chrony's slewing of the realtime clock; changes below a microsecond are sampling
+     * noise and would only jitter the time stamps we send. */
+    int64_t offset = mn_clock_real_minus_mono_ns();
+    if (llabs(offset - n->grid.real_minus_mono_ns) > 1000) {
+        n->grid.real_minus_mono_ns = offset;
+        mn_pairing_set_grid(n->pairing, &n->grid);
+    }
 }
 
 static void set_identify_led(struct mn_node *n, bool on)

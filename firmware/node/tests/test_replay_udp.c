@@ -227,9 +227,11 @@ static void paced_replay_with_control(void **state)
         if (!f->seen)
             fail_msg("frame %u of %llu missing", k, (unsigned long long)st.frames_sent);
         check_markers(f, k % RECORDED, SPOTS, 0.1);
+        /* On the 200 Hz grid; the realtime stamps follow the node's clock-offset refresh,
+         * which may move them by its sampling noise (tens of us under qemu). */
         if (k > 0)
             assert_true(llabs((long long)(f->capture_time_ns - rx.frames[k - 1].capture_time_ns) -
-                              5000000) <= 1);
+                              5000000) <= 50000);
     }
     assert_int_equal(st.frames_dropped, 0);
 
