@@ -1,0 +1,165 @@
+// Tests of the eval metrics on small hand-made cases whose answers are known.
+#include "eval/marker_accuracy.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace mocap {
+namespace {
+
+// Truth: `markers` markers 100 mm apart on x, moving 1 mm per frame on y.
+MarkerTrajectories Truth(size_t markers, size_t frames) {
+  MarkerTrajectories truth;
+  truth.rate_hz = 100.0;
+  for (size_t m = 0; m < markers; ++m) truth.names.push_back(DefaultMarkerName(m));
+  for (size_t f = 0; f < frames; ++f) {
+    truth.AddFrame(f);
+    for (size_t m = 0; m < markers; ++m) truth.At(f, m) = Eigen::Vector3d(100.0 * m, 1.0 * f, 1000.0);
+  }
+  return truth;
+}
+
+TEST(MarkerAccuracyTest, PerfectResult) {
+  const MarkerTrajectories truth = Truth(3, 10);
+  const MarkerEvalReport report = EvaluateMarkers(truth, truth, nullptr);
+  EXPECT_EQ(report.frames, 10u);
+  EXPECT_EQ(report.matched, 30u);
+  EXPECT_EQ(report.rmse_mm, 0.0);
+  EXPECT_EQ(report.ghosts, 0u);
+  EXPECT_EQ(report.missing, 0u);
+  EXPECT_EQ(report.trajectories, 3u);
+  EXPECT_EQ(report.fragmentation, 1.0);
+  EXPECT_EQ(report.swaps, 0u);
+}
+
+TEST(MarkerAccuracyTest, ErrorsGhostsAndMissing) {
+  const MarkerTrajectories truth = Truth(2, 20);
+  MarkerTrajectories result = truth;
+  result.names.push_back("ghost");
+  result.points.clear();
+  result.frame_numbers.clear();
+  for (size_t f = 0; f < 20; ++f) {
+    result.AddFrame(f);
+    // Marker 0 off by 1 mm (3 mm on the last frame), marker 1 off by 25 mm (beyond the gate) on
+    // frame 5 only, and a ghost on even frames.
+    result.At(f, 0) = truth.At(f, 0) + Eigen::Vector3d(0, 0, f == 19 ? 3.0 : 1.0);
+    result.At(f, 1) = truth.At(f, 1) + Eigen::Vector3d(f == 5 ? 25.0 : 0.0, 0, 0);
+    if (f % 2 == 0) result.At(f, 2) = Eigen::Vector3d(5000, 0, 0);
+  }
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_EQ(report.matched, 39u);
+  EXPECT_EQ(report.ghosts, 10u + 1u);
+  EXPECT_DOUBLE_EQ(report.ghosts_per_frame, 11.0 / 20.0);
+  EXPECT_EQ(report.missing, 1u);
+  EXPECT_DOUBLE_EQ(report.missing_per_frame, 1.0 / 20.0);
+  EXPECT_NEAR(report.rmse_mm, std::sqrt((19.0 * 1.0 + 9.0) / 39.0), 1e-12);
+  EXPECT_NEAR(report.max_error_mm, 3.0, 1e-12);
+  EXPECT_NEAR(report.p95_error_mm, 1.0, 1e-12);
+  EXPECT_EQ(report.trajectories, 3u);
+  EXPECT_DOUBLE_EQ(report.fragmentation, 1.5);
+}
+
+TEST(MarkerAccuracyTest, MatchingIsGloballyOptimal) {
+  // Truth A at x=0, B at x=10; output points at x=4 and x=-12. Nearest-first would pair 4 with A
+  // (4 mm) and leave -12 to B (22 mm, beyond the gate: a ghost and a missing marker); the optimal
+  // matching pairs 4 with B (6 mm) and -12 with A (12 mm).
+  MarkerTrajectories truth;
+  truth.rate_hz = 10;
+  truth.names = {"A", "B"};
+  truth.AddFrame(0);
+  truth.At(0, 0) = Eigen::Vector3d(0, 0, 0.5);
+  truth.At(0, 1) = Eigen::Vector3d(10, 0, 0.5);
+  MarkerTrajectories result;
+  result.rate_hz = 10;
+  result.names = {"P", "Q"};
+  result.AddFrame(0);
+  result.At(0, 0) = Eigen::Vector3d(4, 0, 0.5);
+  result.At(0, 1) = Eigen::Vector3d(-12, 0, 0.5);
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_EQ(report.matched, 2u);
+  EXPECT_EQ(report.ghosts, 0u);
+  EXPECT_EQ(report.missing, 0u);
+  EXPECT_NEAR(report.rmse_mm, std::sqrt((36.0 + 144.0) / 2.0), 1e-12);
+}
+
+TEST(MarkerAccuracyTest, SwapsAndFragmentation) {
+  const MarkerTrajectories truth = Truth(2, 10);
+  MarkerTrajectories result;
+  result.rate_hz = 100;
+  result.names = {"a", "b", "c"};
+  for (size_t f = 0; f < 10; ++f) {
+    result.AddFrame(f);
+    // Column a follows marker 0, then marker 1 from frame 6 (one swap); marker 0 continues in
+    // column c from frame 6 (a new fragment); column b follows marker 1 until frame 5.
+    if (f < 6) {
+      result.At(f, 0) = truth.At(f, 0);
+      result.At(f, 1) = truth.At(f, 1);
+    } else {
+      result.At(f, 0) = truth.At(f, 1);
+      result.At(f, 2) = truth.At(f, 0);
+    }
+  }
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_EQ(report.swaps, 1u);
+  EXPECT_EQ(report.trajectories, 3u);
+  EXPECT_DOUBLE_EQ(report.fragmentation, 1.5);
+  EXPECT_EQ(report.missing, 0u);
+  EXPECT_EQ(report.ghosts, 0u);
+}
+
+TEST(MarkerAccuracyTest, VisibilityDecidesWhatIsMissing) {
+  const MarkerTrajectories truth = Truth(2, 4);
+  MarkerTrajectories result = truth;
+  for (size_t f = 0; f < 4; ++f) result.At(f, 1) = MarkerTrajectories::Gap();
+  MarkerVisibility visibility;
+  visibility.names = truth.names;
+  visibility.frame_numbers = {0, 1, 2, 3};
+  // Marker 1 is seen by only one camera on frames 0-2, by three on frame 3.
+  visibility.counts = {4, 1, 4, 1, 4, 1, 4, 3};
+  EXPECT_EQ(EvaluateMarkers(truth, result, nullptr).missing, 4u);
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, &visibility);
+  EXPECT_TRUE(report.visibility_used);
+  EXPECT_EQ(report.missing, 1u);
+  EXPECT_EQ(report.expected_points, 5u);
+  visibility.names = {"x", "y"};
+  EXPECT_THROW(EvaluateMarkers(truth, result, &visibility), std::invalid_argument);
+}
+
+TEST(MarkerAccuracyTest, FramesAlignByTime) {
+  const MarkerTrajectories truth = Truth(1, 10);  // 100 Hz, frames 0..9
+  MarkerTrajectories result;
+  result.rate_hz = 200.0;
+  result.names = {"r"};
+  // At 200 Hz, frame 2k is truth frame k; odd frames have no truth instant; frames 4..7 of the
+  // truth have no result row at all (missing).
+  for (uint64_t k : {0, 1, 2, 3, 8, 9}) {
+    const size_t f = result.AddFrame(2 * k);
+    result.At(f, 0) = truth.At(k, 0);
+  }
+  const size_t odd = result.AddFrame(21);
+  result.At(odd, 0) = Eigen::Vector3d(0, 0, 0);
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_EQ(report.result_frames, 6u);
+  EXPECT_EQ(report.unaligned_result_frames, 1u);
+  EXPECT_EQ(report.matched, 6u);
+  EXPECT_EQ(report.missing, 4u);
+  EXPECT_EQ(report.rmse_mm, 0.0);
+  EXPECT_EQ(report.ghosts, 0u);
+}
+
+TEST(MarkerAccuracyTest, JsonHasTheDesignNames) {
+  const MarkerTrajectories truth = Truth(2, 3);
+  const nlohmann::json json = EvaluateMarkers(truth, truth, nullptr).ToJson();
+  for (const char* key : {"rmse_mm", "ghosts_per_frame", "missing_per_frame", "trajectories", "fragmentation",
+                          "swaps", "max_error_mm", "p95_error_mm"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_EQ(json["trajectories"], 2);
+  EXPECT_FALSE(EvaluateMarkers(truth, truth, nullptr).ToText().empty());
+}
+
+}  // namespace
+}  // namespace mocap
