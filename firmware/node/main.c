@@ -1,6 +1,8 @@
 /* mocap-node: parse the config and flags, start the node, run its poll loop until a bound is
  * reached or SIGTERM/SIGINT arrives (through a signalfd, so signals are one more descriptor of
- * the same loop). Exit status: 0 done, 1 bad configuration or start failure, 2 run-time failure. */
+ * the same loop). Exit status: 0 done; 1 bad configuration (restarting cannot help: the unit's
+ * RestartPreventExitStatus); 2 run-time failure; 3 could not start (camera or GPIO missing,
+ * network down: worth restarting). */
 #include <errno.h>
 #include <signal.h>
 #include <stdio.h>
@@ -34,12 +36,12 @@ int main(int argc, char **argv)
     sigaddset(&mask, SIGINT);
     if (sigprocmask(SIG_BLOCK, &mask, NULL) < 0) {
         mn_log_err("sigprocmask: %s", strerror(errno));
-        return 1;
+        return 2;
     }
     int sfd = signalfd(-1, &mask, SFD_NONBLOCK | SFD_CLOEXEC);
     if (sfd < 0) {
         mn_log_err("signalfd: %s", strerror(errno));
-        return 1;
+        return 2;
     }
     /* The hub going away must not kill us through SIGPIPE-like paths; UDP has none, but a
      * future stream socket would. */
@@ -49,7 +51,7 @@ int main(int argc, char **argv)
     if (node == NULL) {
         mn_log_err("cannot start: %s", err);
         close(sfd);
-        return 1;
+        return 3;
     }
     mn_node_set_stop_fd(node, sfd);
     mn_notify_ready();
