@@ -43,9 +43,6 @@ int main(int argc, char **argv)
         mn_log_err("signalfd: %s", strerror(errno));
         return 2;
     }
-    /* The hub going away must not kill us through SIGPIPE-like paths; UDP has none, but a
-     * future stream socket would. */
-    signal(SIGPIPE, SIG_IGN);
 
     struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
     if (node == NULL) {

@@ -537,9 +537,11 @@ static void start_preview(struct mn_node *n, const struct mn_frame *f, uint64_t 
 {
     struct preview_state *p = &n->preview;
     p->requested = false;
+    /* Thresholded previews show what the detector sees: in auto mode, its latest estimate. */
+    uint8_t t = n->auto_threshold ? mn_detector_stats(n->detector)->threshold
+                                  : (uint8_t)n->threshold;
     if (mn_preview_render(f->pixels, f->width, f->height, f->stride, p->downscale,
-                          p->thresholded, (uint8_t)n->threshold, p->image, p->cap, &p->w,
-                          &p->h) < 0) {
+                          p->thresholded, t, p->image, p->cap, &p->w, &p->h) < 0) {
         mn_log_warn("preview: cannot render %ux%u / %u", f->width, f->height, p->downscale);
         return;
     }
