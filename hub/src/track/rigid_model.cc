@@ -1,0 +1,127 @@
+// Rigid-pair links and sphere-intersection prediction.
+#include "track/rigid_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace mocap {
+
+RigidModel::RigidModel(const RigidModelOptions& options) : options_(options) { options_.Check(); }
+
+void RigidModel::EnsureCapacity(int slot) {
+  if (slot < capacity_) return;
+  const int capacity = std::max(slot + 1, capacity_ * 2);
+  std::vector<RigidLink> grown(static_cast<size_t>(capacity) * capacity);
+  for (int a = 0; a < capacity_; ++a) {
+    for (int b = a + 1; b < capacity_; ++b) {
+      grown[static_cast<size_t>(a) * capacity + b] = links_[Index(a, b)];
+    }
+  }
+  links_.swap(grown);
+  capacity_ = capacity;
+}
+
+void RigidModel::ResetSlot(int slot) {
+  if (slot >= capacity_) return;
+  for (int other = 0; other < capacity_; ++other) {
+    if (other != slot) At(slot, other) = RigidLink();
+  }
+}
+
+void RigidModel::Update(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& positions) {
+  for (int slot : slots) EnsureCapacity(slot);
+  const double max_variance = options_.max_std_mm * options_.max_std_mm;
+  for (size_t i = 0; i < slots.size(); ++i) {
+    for (size_t j = i + 1; j < slots.size(); ++j) {
+      RigidLink& link = At(slots[i], slots[j]);
+      if (link.broken) continue;
+      const double distance = (positions[i] - positions[j]).norm();
+      if (link.samples == 0) {
+        if (distance > options_.max_link_distance_mm) continue;
+      } else if (std::abs(distance - link.mean) > options_.max_deviation_mm) {
+        link.broken = true;
+        continue;
+      }
+      ++link.samples;
+      const double delta = distance - link.mean;
+      link.mean += delta / link.samples;
+      link.m2 += delta * (distance - link.mean);
+      if (link.samples >= 5 && link.Variance() > max_variance) link.broken = true;
+    }
+  }
+}
+
+bool RigidModel::Predict(int slot, const Eigen::Vector3d& prior, const std::vector<char>& measured,
+                         const std::vector<Eigen::Vector3d>& position_of_slot,
+                         Eigen::Vector3d* predicted) const {
+  if (slot >= capacity_) return false;
+  struct Candidate {
+    int other;
+    const RigidLink* link;
+  };
+  std::vector<Candidate> candidates;
+  const int limit = std::min(capacity_, static_cast<int>(measured.size()));
+  for (int other = 0; other < limit; ++other) {
+    if (other == slot || !measured[other]) continue;
+    const RigidLink& link = links_[Index(slot, other)];
+    if (link.broken || link.samples < options_.min_samples) continue;
+    candidates.push_back({other, &link});
+  }
+  if (static_cast<int>(candidates.size()) < options_.min_links_used) return false;
+  // Seed: the longest-kept, steadiest links first.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.link->samples != b.link->samples) return a.link->samples > b.link->samples;
+    return a.link->Variance() < b.link->Variance();
+  });
+  candidates.resize(std::min<size_t>(candidates.size(), options_.max_links_used));
+
+  // min sum (|p - c_i| - d_i)^2 + damping |p - prior|^2 by Gauss-Newton from the prior; the small
+  // damping only picks, among the exact solutions, the one nearest the prior.
+  const double damping = 1e-3;
+  Eigen::Vector3d p = prior;
+  double sum_squares = 0.0;
+  for (int iteration = 0; iteration < 15; ++iteration) {
+    Eigen::Matrix3d normal = damping * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d gradient = damping * (p - prior);
+    sum_squares = 0.0;
+    for (const Candidate& c : candidates) {
+      const Eigen::Vector3d offset = p - position_of_slot[c.other];
+      const double length = offset.norm();
+      if (length < 1e-9) return false;
+      const Eigen::Vector3d direction = offset / length;
+      const double residual = length - c.link->mean;
+      sum_squares += residual * residual;
+      normal.noalias() += direction * direction.transpose();
+      gradient.noalias() += direction * residual;
+    }
+    const Eigen::Vector3d step = normal.ldlt().solve(gradient);
+    if (!step.allFinite()) return false;
+    p -= step;
+    if (step.squaredNorm() < 1e-6) break;
+  }
+  // Spheres that do not meet (the links no longer describe this pose) give no prediction.
+  if (std::sqrt(sum_squares / candidates.size()) > options_.max_deviation_mm) return false;
+  *predicted = p;
+  return true;
+}
+
+const RigidLink* RigidModel::Link(int a, int b) const {
+  if (a >= capacity_ || b >= capacity_ || a == b) return nullptr;
+  const RigidLink& link = links_[Index(a, b)];
+  return link.samples > 0 || link.broken ? &link : nullptr;
+}
+
+int RigidModel::NumActiveLinks() const {
+  int count = 0;
+  for (int a = 0; a < capacity_; ++a) {
+    for (int b = a + 1; b < capacity_; ++b) {
+      const RigidLink& link = links_[Index(a, b)];
+      if (link.samples > 0 && !link.broken) ++count;
+    }
+  }
+  return count;
+}
+
+}  // namespace mocap

@@ -1,0 +1,55 @@
+// The dynamic model of seed 001 section 5: links between pairs of tracked markers carrying the
+// running mean and variance of their distance (eqs. 17-18, as Welford's update), broken for good
+// when a distance strays from the mean or the spread grows (the pair is not rigid). A missing
+// marker is placed at the given distances from its measured linked markers, the point nearest to
+// its Kalman prediction: on the sphere (one link), on the spheres' circle (two, as in the seed),
+// or at their intersection (three or more), solved as one damped least-squares problem.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "track/track_options.h"
+
+namespace mocap {
+
+struct RigidLink {
+  int samples = 0;
+  double mean = 0.0;
+  double m2 = 0.0;  // sum of squared deviations (Welford)
+  bool broken = false;
+
+  double Variance() const { return samples > 1 ? m2 / (samples - 1) : 0.0; }
+};
+
+class RigidModel {
+ public:
+  explicit RigidModel(const RigidModelOptions& options);
+
+  // Slots are small integers naming tracks; a slot reset forgets all its links (its track ended
+  // and the slot will name another).
+  void ResetSlot(int slot);
+  // Adds the distances between all markers measured this frame.
+  void Update(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& positions);
+  // Predicts slot's position from linked slots with measured[s] set this frame.
+  bool Predict(int slot, const Eigen::Vector3d& prior, const std::vector<char>& measured,
+               const std::vector<Eigen::Vector3d>& position_of_slot, Eigen::Vector3d* predicted) const;
+
+  // nullptr when a and b never were linked.
+  const RigidLink* Link(int a, int b) const;
+  int NumActiveLinks() const;
+
+ private:
+  void EnsureCapacity(int slot);
+  RigidLink& At(int a, int b) { return links_[Index(a, b)]; }
+  size_t Index(int a, int b) const {
+    return a < b ? static_cast<size_t>(a) * capacity_ + b : static_cast<size_t>(b) * capacity_ + a;
+  }
+
+  RigidModelOptions options_;
+  int capacity_ = 0;
+  std::vector<RigidLink> links_;  // capacity_ x capacity_, upper triangle used
+};
+
+}  // namespace mocap

@@ -1,0 +1,59 @@
+// Option checks and enum converters of the tracking layer.
+#include "track/track_options.h"
+
+#include <stdexcept>
+
+namespace mocap {
+namespace {
+
+void Require(bool condition, const char* message) {
+  if (!condition) throw std::invalid_argument(message);
+}
+
+}  // namespace
+
+void KalmanOptions::Check() const {
+  Require(acceleration_noise > 0.0, "kalman.acceleration_noise must be > 0");
+  Require(measurement_noise_mm > 0.0, "kalman.measurement_noise_mm must be > 0");
+  Require(initial_velocity_std > 0.0, "kalman.initial_velocity_std must be > 0");
+}
+
+std::string AssignmentMethodToString(AssignmentMethod method) {
+  return method == AssignmentMethod::kGreedy ? "greedy" : "optimal";
+}
+
+AssignmentMethod AssignmentMethodFromString(const std::string& name) {
+  if (name == "greedy") return AssignmentMethod::kGreedy;
+  if (name == "optimal") return AssignmentMethod::kOptimal;
+  throw std::invalid_argument("unknown assignment '" + name + "' (expected greedy or optimal)");
+}
+
+void RigidModelOptions::Check() const {
+  Require(max_link_distance_mm > 0.0, "rigid.max_link_distance_mm must be > 0");
+  Require(max_deviation_mm > 0.0, "rigid.max_deviation_mm must be > 0");
+  Require(max_std_mm > 0.0, "rigid.max_std_mm must be > 0");
+  Require(min_samples >= 2, "rigid.min_samples must be >= 2");
+  Require(min_links_used >= 1, "rigid.min_links_used must be >= 1");
+  Require(max_links_used >= min_links_used, "rigid.max_links_used must be >= min_links_used");
+}
+
+void TrackerOptions::Check() const {
+  Require(rate_hz > 0.0, "tracker.rate_hz must be > 0");
+  kalman.Check();
+  Require(gate_sigmas > 0.0, "tracker.gate_sigmas must be > 0");
+  Require(min_gate_mm > 0.0 && max_gate_mm >= min_gate_mm,
+          "tracker gates: need 0 < min_gate_mm <= max_gate_mm");
+  Require(birth_frames >= 1, "tracker.birth_frames must be >= 1");
+  Require(birth_min_views >= 2, "tracker.birth_min_views must be >= 2");
+  Require(max_predicted_s >= 0.0 && coast_s >= 0.0 && reacquire_s >= 0.0,
+          "tracker durations must be >= 0");
+  Require(reacquire_gate_mm > 0.0, "tracker.reacquire_gate_mm must be > 0");
+  rigid.Check();
+}
+
+void GapFillOptions::Check() const {
+  Require(max_spline_gap >= 0, "gap_fill.max_spline_gap must be >= 0");
+  Require(window_frames >= max_spline_gap + 2, "gap_fill.window_frames must be >= max_spline_gap + 2");
+}
+
+}  // namespace mocap

@@ -1,0 +1,75 @@
+// Tunable settings of the tracking layer, options structs with defaults and Check().
+// Error policy of track: Check() throws std::invalid_argument naming the bad field; processing
+// never throws on data (points that fit no track start tentative tracks or are dropped).
+#pragma once
+
+#include <string>
+
+namespace mocap {
+
+struct KalmanOptions {
+  // White-noise acceleration (mm/s^2, one sigma): human limbs reach a few g.
+  double acceleration_noise = 30000.0;
+  double measurement_noise_mm = 0.5;
+  double initial_velocity_std = 3000.0;  // mm/s, for a track born without a velocity
+
+  void Check() const;
+};
+
+enum class AssignmentMethod { kGreedy, kOptimal };
+// "greedy" | "optimal"; FromString throws std::invalid_argument on others.
+std::string AssignmentMethodToString(AssignmentMethod method);
+AssignmentMethod AssignmentMethodFromString(const std::string& name);
+
+struct RigidModelOptions {
+  // Pairs farther apart than this at first sight are never linked (different body parts).
+  double max_link_distance_mm = 600.0;
+  // Seed 001 section 5.1: a link breaks when a distance strays this far from its mean ...
+  double max_deviation_mm = 15.0;
+  // ... or when the distances' standard deviation grows past this.
+  double max_std_mm = 6.0;
+  // Samples before a link is trusted for predicting a missing marker.
+  int min_samples = 20;
+  // Links (longest-lived, steadiest first) used for one prediction.
+  int max_links_used = 4;
+  // Fewer links than this and no prediction is made.
+  int min_links_used = 2;
+
+  void Check() const;
+};
+
+struct TrackerOptions {
+  double rate_hz = 100.0;
+  KalmanOptions kalman;
+  AssignmentMethod assignment = AssignmentMethod::kOptimal;
+  // Gate around a prediction: this many innovation sigmas, clamped to [min, max] mm.
+  double gate_sigmas = 5.0;
+  double min_gate_mm = 10.0;
+  double max_gate_mm = 120.0;
+  // A new track is output once it has been measured in this many consecutive frames, each
+  // time with at least birth_min_views views.
+  int birth_frames = 3;
+  int birth_min_views = 3;
+  // A confirmed track without measurement continues on rigid-model predictions for at most
+  // this long (s) and coasts on its Kalman prediction (not output) for at most coast_s before
+  // it is lost; a lost track can be re-acquired within reacquire_s by a new point near its
+  // predicted (or last) position.
+  double max_predicted_s = 1.0;
+  double coast_s = 0.1;
+  double reacquire_s = 3.0;
+  double reacquire_gate_mm = 50.0;
+  RigidModelOptions rigid;
+
+  void Check() const;
+};
+
+struct GapFillOptions {
+  // Gaps up to this many frames between two measured samples become a cubic Hermite spline.
+  int max_spline_gap = 12;
+  // Frames held back before output: bounds both memory and the longest gap filled in place.
+  int window_frames = 64;
+
+  void Check() const;
+};
+
+}  // namespace mocap

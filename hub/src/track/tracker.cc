@@ -1,0 +1,262 @@
+// Track life cycle: tentative -> active <-> lost -> free.
+#include "track/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "track/assignment.h"
+
+namespace mocap {
+
+Tracker::Tracker(const TrackerOptions& options)
+    : options_((options.Check(), options)), rigid_(options.rigid) {}
+
+int Tracker::NewTrack(uint64_t frame_number, const Eigen::Vector3d& position) {
+  int slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<int>(tracks_.size());
+    tracks_.emplace_back();
+  }
+  Track& track = tracks_[slot];
+  track = Track();
+  track.state = State::kTentative;
+  track.filter = ConstantVelocityKalman(position, options_.kalman);
+  track.filter_frame = frame_number;
+  track.last_measured = frame_number;
+  track.reference = position;
+  return slot;
+}
+
+void Tracker::FreeTrack(int slot) {
+  if (tracks_[slot].state == State::kActive || tracks_[slot].state == State::kLost) ++stats_.deaths;
+  tracks_[slot] = Track();
+  rigid_.ResetSlot(slot);
+  free_slots_.push_back(slot);
+}
+
+double Tracker::GateOf(const Track& track) const {
+  return std::clamp(options_.gate_sigmas * track.filter.InnovationStd(options_.kalman.measurement_noise_mm),
+                    options_.min_gate_mm, options_.max_gate_mm);
+}
+
+TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const {
+  TrackSample sample;
+  sample.marker = track.marker;
+  sample.frame_number = frame_number;
+  sample.position = track.filter.position();
+  sample.velocity_per_frame = track.filter.velocity() / options_.rate_hz;
+  sample.kind = kind;
+  return sample;
+}
+
+const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
+  predictions_.clear();
+  std::vector<std::pair<int, int>> order;  // (-age, slot)
+  for (int slot = 0; slot < static_cast<int>(tracks_.size()); ++slot) {
+    Track& track = tracks_[slot];
+    if (track.state == State::kFree) continue;
+    if (frame_number > track.filter_frame) {
+      track.filter.Predict(static_cast<double>(frame_number - track.filter_frame) / options_.rate_hz);
+      track.filter_frame = frame_number;
+    }
+    if (track.state == State::kActive || track.state == State::kTentative) {
+      order.emplace_back(-track.age, slot);
+    }
+  }
+  std::sort(order.begin(), order.end());
+  for (const auto& [negative_age, slot] : order) {
+    PointPrediction prediction;
+    prediction.track_id = slot;
+    prediction.point_in_world = tracks_[slot].filter.position();
+    prediction.gate_mm = GateOf(tracks_[slot]);
+    predictions_.push_back(prediction);
+  }
+  predicted_frame_ = frame_number;
+  predicted_ = true;
+  return predictions_;
+}
+
+void Tracker::AssignByDistance(const std::vector<int>& slots,
+                               const std::vector<Eigen::Vector3d>& centres,
+                               const std::vector<double>& gates,
+                               const std::vector<ReconstructedPoint>& points,
+                               std::vector<int>* point_of_slot, std::vector<char>* point_taken) {
+  std::vector<int> free_points;
+  for (int p = 0; p < static_cast<int>(points.size()); ++p) {
+    if (!(*point_taken)[p]) free_points.push_back(p);
+  }
+  if (slots.empty() || free_points.empty()) return;
+  Eigen::MatrixXd cost(slots.size(), free_points.size());
+  for (size_t r = 0; r < slots.size(); ++r) {
+    for (size_t c = 0; c < free_points.size(); ++c) {
+      cost(r, c) = (points[free_points[c]].point_in_world - centres[r]).norm();
+    }
+  }
+  const std::vector<int> column_of_row = Assign(options_.assignment, cost, gates);
+  for (size_t r = 0; r < slots.size(); ++r) {
+    if (column_of_row[r] < 0) continue;
+    const int p = free_points[column_of_row[r]];
+    (*point_of_slot)[slots[r]] = p;
+    (*point_taken)[p] = 1;
+  }
+}
+
+void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
+                     std::vector<TrackSample>* samples) {
+  if (!predicted_ || predicted_frame_ != frame_number) Predict(frame_number);
+  predicted_ = false;
+  const int num_slots = static_cast<int>(tracks_.size());
+  std::vector<int> point_of_slot(num_slots, -1);
+  std::vector<char> point_taken(points.size(), 0);
+
+  // 1. Points found through a track's own prediction.
+  for (int p = 0; p < static_cast<int>(points.size()); ++p) {
+    const int slot = points[p].track_hint;
+    if (slot < 0 || slot >= num_slots || point_of_slot[slot] >= 0) continue;
+    if (tracks_[slot].state != State::kActive && tracks_[slot].state != State::kTentative) continue;
+    point_of_slot[slot] = p;
+    point_taken[p] = 1;
+  }
+  // 2. The other points against the remaining predictions.
+  std::vector<int> slots;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<double> gates;
+  for (int slot = 0; slot < num_slots; ++slot) {
+    const Track& track = tracks_[slot];
+    if ((track.state == State::kActive || track.state == State::kTentative) &&
+        point_of_slot[slot] < 0) {
+      slots.push_back(slot);
+      centres.push_back(track.filter.position());
+      gates.push_back(GateOf(track));
+    }
+  }
+  AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
+
+  // 3. Rigid-model predictions for confirmed tracks still without a point, from the markers
+  // measured so far this frame.
+  std::vector<char> measured(num_slots, 0);
+  std::vector<Eigen::Vector3d> position_of_slot(num_slots, Eigen::Vector3d::Zero());
+  for (int slot = 0; slot < num_slots; ++slot) {
+    if (point_of_slot[slot] >= 0 && tracks_[slot].state == State::kActive) {
+      measured[slot] = 1;
+      position_of_slot[slot] = points[point_of_slot[slot]].point_in_world;
+    }
+  }
+  std::vector<char> has_rigid(num_slots, 0);
+  std::vector<Eigen::Vector3d> rigid_position(num_slots);
+  for (int slot = 0; slot < num_slots; ++slot) {
+    Track& track = tracks_[slot];
+    if (point_of_slot[slot] >= 0) continue;
+    if (track.state != State::kActive && track.state != State::kLost) continue;
+    const Eigen::Vector3d prior =
+        track.state == State::kActive ? track.filter.position() : track.reference;
+    if (rigid_.Predict(slot, prior, measured, position_of_slot, &rigid_position[slot])) {
+      has_rigid[slot] = 1;
+      track.reference = rigid_position[slot];
+    }
+  }
+  // 4. Lost tracks look for their marker near where it should be.
+  slots.clear();
+  centres.clear();
+  gates.clear();
+  for (int slot = 0; slot < num_slots; ++slot) {
+    if (tracks_[slot].state == State::kLost) {
+      slots.push_back(slot);
+      centres.push_back(tracks_[slot].reference);
+      gates.push_back(options_.reacquire_gate_mm);
+    }
+  }
+  AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
+
+  // 5. Measurement updates.
+  const double noise = options_.kalman.measurement_noise_mm;
+  std::vector<int> rigid_slots;
+  std::vector<Eigen::Vector3d> rigid_positions;
+  for (int slot = 0; slot < num_slots; ++slot) {
+    Track& track = tracks_[slot];
+    const int p = point_of_slot[slot];
+    if (p < 0) continue;
+    const Eigen::Vector3d& point = points[p].point_in_world;
+    if (track.state == State::kLost) {
+      // The coasted velocity is stale after a long loss: restart the filter at the point.
+      track.filter = ConstantVelocityKalman(point, options_.kalman);
+      track.filter_frame = frame_number;
+      track.state = State::kActive;
+      ++stats_.reacquisitions;
+    } else {
+      track.filter.Update(point, noise);
+    }
+    track.last_measured = frame_number;
+    track.reference = track.filter.position();
+    ++track.hits;
+    ++track.age;
+    if (track.state == State::kTentative) {
+      track.history.emplace_back(frame_number, track.filter.position());
+      if (track.hits >= options_.birth_frames) {
+        track.state = State::kActive;
+        track.marker = next_marker_++;
+        ++stats_.births;
+        for (const auto& [frame, position] : track.history) {
+          TrackSample sample = SampleOf(track, frame, SampleKind::kMeasured);
+          sample.position = position;
+          samples->push_back(sample);
+        }
+        track.history.clear();
+        track.history.shrink_to_fit();
+      }
+      continue;
+    }
+    samples->push_back(SampleOf(track, frame_number, SampleKind::kMeasured));
+    rigid_slots.push_back(slot);
+    rigid_positions.push_back(point);
+  }
+  rigid_.Update(rigid_slots, rigid_positions);
+
+  // 6. Tracks without a point this frame.
+  const uint64_t max_predicted = static_cast<uint64_t>(std::lround(options_.max_predicted_s * options_.rate_hz));
+  const uint64_t coast = static_cast<uint64_t>(std::lround(options_.coast_s * options_.rate_hz));
+  const uint64_t reacquire = static_cast<uint64_t>(std::lround(options_.reacquire_s * options_.rate_hz));
+  for (int slot = 0; slot < num_slots; ++slot) {
+    Track& track = tracks_[slot];
+    if (track.state == State::kFree || point_of_slot[slot] >= 0) continue;
+    const uint64_t missing = frame_number - track.last_measured;
+    if (track.state == State::kTentative) {
+      FreeTrack(slot);
+      continue;
+    }
+    if (track.state == State::kActive) {
+      track.hits = 0;
+      if (has_rigid[slot] && missing <= max_predicted) {
+        // Seed 001 section 5.2: the model's position stands in for the measurement.
+        track.filter.Update(rigid_position[slot], 3.0 * noise);
+        samples->push_back(SampleOf(track, frame_number, SampleKind::kPredicted));
+        ++stats_.predicted_samples;
+      } else if (missing > coast) {
+        track.state = State::kLost;
+      }
+      continue;
+    }
+    if (missing > reacquire) FreeTrack(slot);
+  }
+  // Tracks created last so that this frame's loops did not see them.
+  for (int p = 0; p < static_cast<int>(points.size()); ++p) {
+    if (point_taken[p] || points[p].num_views < options_.birth_min_views) continue;
+    const int slot = NewTrack(frame_number, points[p].point_in_world);
+    Track& track = tracks_[slot];
+    track.hits = 1;
+    track.age = 1;
+    track.history.emplace_back(frame_number, points[p].point_in_world);
+    if (track.hits >= options_.birth_frames) {
+      track.state = State::kActive;
+      track.marker = next_marker_++;
+      ++stats_.births;
+      track.history.clear();
+      samples->push_back(SampleOf(track, frame_number, SampleKind::kMeasured));
+    }
+  }
+}
+
+}  // namespace mocap

@@ -1,0 +1,88 @@
+// Frame-by-frame tracking of reconstructed points into labelled markers (seed 001 sections 4-5):
+// every track's Kalman filter predicts the frame; points found through a track's own prediction
+// go straight to it, the rest are assigned to predictions under a gate (greedy or optimal);
+// markers without a point continue on the rigid-pair model's prediction, coast, then wait lost
+// for re-acquisition so that an id survives an occlusion; new tracks are output only once
+// confirmed, with their first frames back-filled.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "recon/prediction_matcher.h"
+#include "recon/reconstructor.h"
+#include "track/kalman.h"
+#include "track/rigid_model.h"
+#include "track/track_options.h"
+
+namespace mocap {
+
+enum class SampleKind : uint8_t { kMeasured, kPredicted, kFilled };
+
+struct TrackSample {
+  int marker = 0;  // output column, 0-based, stable for the track's life
+  uint64_t frame_number = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_per_frame = Eigen::Vector3d::Zero();
+  SampleKind kind = SampleKind::kMeasured;
+};
+
+struct TrackerStats {
+  long long births = 0;          // tracks confirmed
+  long long reacquisitions = 0;  // lost tracks that found their marker again
+  long long predicted_samples = 0;
+  long long deaths = 0;
+};
+
+class Tracker {
+ public:
+  // Checks the options (std::invalid_argument).
+  explicit Tracker(const TrackerOptions& options);
+
+  // Advances every track to frame_number and returns the predictions, most trusted first, for
+  // Reconstructor::Process. Frame numbers must increase.
+  const std::vector<PointPrediction>& Predict(uint64_t frame_number);
+  // Assigns the frame's points and appends output samples (confirmed tracks only; a track
+  // confirmed now also yields its earlier frames).
+  void Update(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
+              std::vector<TrackSample>* samples);
+
+  int NumMarkers() const { return next_marker_; }
+  const TrackerStats& stats() const { return stats_; }
+
+ private:
+  enum class State { kFree, kTentative, kActive, kLost };
+  struct Track {
+    State state = State::kFree;
+    int marker = -1;
+    ConstantVelocityKalman filter;
+    uint64_t filter_frame = 0;
+    uint64_t last_measured = 0;
+    int hits = 0;
+    int age = 0;  // frames measured in total, orders predictions by trust
+    Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // where a lost track is looked for
+    std::vector<std::pair<uint64_t, Eigen::Vector3d>> history;  // tentative frames
+  };
+
+  int NewTrack(uint64_t frame_number, const Eigen::Vector3d& position);
+  void FreeTrack(int slot);
+  double GateOf(const Track& track) const;
+  TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
+  void AssignByDistance(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& centres,
+                        const std::vector<double>& gates, const std::vector<ReconstructedPoint>& points,
+                        std::vector<int>* point_of_slot, std::vector<char>* point_taken);
+
+  TrackerOptions options_;
+  std::vector<Track> tracks_;
+  std::vector<int> free_slots_;
+  RigidModel rigid_;
+  int next_marker_ = 0;
+  uint64_t predicted_frame_ = 0;
+  bool predicted_ = false;
+  std::vector<PointPrediction> predictions_;
+  TrackerStats stats_;
+};
+
+}  // namespace mocap

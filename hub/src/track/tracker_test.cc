@@ -1,0 +1,175 @@
+// Reconstruction + tracking + gap filling on self-made motions: accuracy, no ghosts, few
+// trajectories, ids that survive a full occlusion; plus the rigid-model stand-in.
+#include "track/tracker.h"
+
+#include <functional>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "recon/reconstructor.h"
+#include "recon/testing/synthetic_scene.h"
+#include "track/gap_filler.h"
+
+namespace mocap {
+namespace {
+
+struct RunResult {
+  std::map<uint64_t, std::vector<TrackSample>> rows;
+  std::vector<std::vector<Eigen::Vector3d>> truth;
+  int markers_output = 0;
+};
+
+// hide(frame, marker) removes a marker's blobs from every camera.
+RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFaults& faults,
+              const std::function<bool(int, int)>& hide, TrackerOptions tracker_options = {}) {
+  const Rig rig = testing::MakeRingRig(8, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
+  testing::SyntheticMotion motion(24, 4, 41);
+  testing::FrameProjector projector(rig, faults, 42);
+  Reconstructor reconstructor(rig, ReconstructorOptions());
+  tracker_options.rate_hz = rate_hz;
+  Tracker tracker(tracker_options);
+  RunResult result;
+  GapFiller filler(GapFillOptions(), [&](uint64_t frame, const std::vector<TrackSample>& row) {
+    result.rows[frame] = row;
+  });
+  FrameSet frame_set;
+  testing::BlobTruth blob_truth;
+  std::vector<ReconstructedPoint> points;
+  std::vector<TrackSample> samples;
+  for (int f = 0; f < frames; ++f) {
+    const auto markers = motion.At(f / rate_hz);
+    result.truth.push_back(markers);
+    projector.Project(f, markers, &frame_set, &blob_truth);
+    for (CameraFrame& camera : frame_set.cameras) {
+      const int c = static_cast<int>(camera.camera_id) - 1;
+      std::vector<Blob> kept;
+      for (size_t b = 0; b < camera.blobs.size(); ++b) {
+        const int m = blob_truth[c][b];
+        if (m < 0 || !hide(f, m)) kept.push_back(camera.blobs[b]);
+      }
+      camera.blobs = kept;
+    }
+    reconstructor.Process(frame_set, tracker.Predict(f), &points);
+    samples.clear();
+    tracker.Update(f, points, &samples);
+    filler.Add(f, samples);
+  }
+  filler.Finish();
+  result.markers_output = tracker.NumMarkers();
+  return result;
+}
+
+struct Metrics {
+  double rmse = 0.0;
+  int ghosts = 0;
+  int missing = 0;
+  int swaps = 0;
+};
+
+// Each output sample to its nearest truth marker within 20 mm (markers are > 40 mm apart).
+Metrics Evaluate(const RunResult& run, int first_frame) {
+  Metrics metrics;
+  double sum_squares = 0.0;
+  int matched = 0;
+  std::map<int, int> truth_of_marker;
+  for (const auto& [frame, row] : run.rows) {
+    if (static_cast<int>(frame) < first_frame) continue;
+    const auto& truth = run.truth[frame];
+    std::vector<bool> found(truth.size(), false);
+    for (const TrackSample& sample : row) {
+      int best = -1;
+      double best_distance = 20.0;
+      for (size_t t = 0; t < truth.size(); ++t) {
+        const double d = (sample.position - truth[t]).norm();
+        if (d < best_distance) {
+          best_distance = d;
+          best = static_cast<int>(t);
+        }
+      }
+      if (best < 0 || found[best]) {
+        ++metrics.ghosts;
+        continue;
+      }
+      found[best] = true;
+      sum_squares += best_distance * best_distance;
+      ++matched;
+      auto it = truth_of_marker.find(sample.marker);
+      if (it != truth_of_marker.end() && it->second != best) ++metrics.swaps;
+      truth_of_marker[sample.marker] = best;
+    }
+    for (bool f : found) metrics.missing += f ? 0 : 1;
+  }
+  metrics.rmse = std::sqrt(sum_squares / std::max(1, matched));
+  return metrics;
+}
+
+TEST(Tracker, NoisyMotionWithFaultsGivesCleanTrajectories) {
+  testing::ProjectionFaults faults;
+  faults.noise_px = 0.2;
+  faults.occlusion = 0.05;
+  faults.occlusion_frames = 5;
+  faults.spurious = 2;
+  faults.drop_frames = 0.002;
+  const RunResult run = RunPipeline(400, 120.0, faults, [](int, int) { return false; });
+  const Metrics metrics = Evaluate(run, 5);
+  EXPECT_LT(metrics.rmse, 1.0);
+  EXPECT_LE(metrics.ghosts, 4);      // 0.01 per frame
+  EXPECT_LE(metrics.missing, 2);     // 0.005 per frame
+  EXPECT_EQ(metrics.swaps, 0);
+  EXPECT_LE(run.markers_output, 28);  // 1.2 x 24 markers
+  EXPECT_GE(run.markers_output, 24);
+}
+
+TEST(Tracker, IdSurvivesFullOcclusionThroughRigidModel) {
+  const int hidden = 5;
+  const RunResult run = RunPipeline(300, 120.0, testing::ProjectionFaults(),
+                            [&](int frame, int marker) { return marker == hidden && frame >= 150 && frame < 190; });
+  EXPECT_EQ(run.markers_output, 24);
+  // The hidden marker keeps its id: its column holds rigid-model positions near the truth.
+  int column = -1;
+  for (const TrackSample& s : run.rows.at(140)) {
+    if ((s.position - run.truth[140][hidden]).norm() < 5.0) column = s.marker;
+  }
+  ASSERT_GE(column, 0);
+  int predicted = 0;
+  for (int frame = 150; frame < 190; ++frame) {
+    for (const TrackSample& s : run.rows.at(frame)) {
+      if (s.marker != column) continue;
+      ++predicted;
+      EXPECT_LT((s.position - run.truth[frame][hidden]).norm(), 10.0) << frame;
+    }
+  }
+  EXPECT_GE(predicted, 35);
+  for (const TrackSample& s : run.rows.at(200)) {
+    if (s.marker == column) {
+      EXPECT_LT((s.position - run.truth[200][hidden]).norm(), 2.0);
+    }
+  }
+}
+
+TEST(Tracker, GreedyAssignmentAlsoTracks) {
+  TrackerOptions options;
+  options.assignment = AssignmentMethod::kGreedy;
+  testing::ProjectionFaults faults;
+  faults.noise_px = 0.2;
+  const RunResult run = RunPipeline(200, 120.0, faults, [](int, int) { return false; }, options);
+  const Metrics metrics = Evaluate(run, 5);
+  EXPECT_EQ(run.markers_output, 24);
+  EXPECT_EQ(metrics.ghosts, 0);
+  EXPECT_EQ(metrics.swaps, 0);
+}
+
+TEST(TrackerOptions, CheckRejectsBadValues) {
+  TrackerOptions options;
+  EXPECT_NO_THROW(options.Check());
+  options.rate_hz = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = TrackerOptions();
+  options.rigid.min_links_used = 5;
+  options.rigid.max_links_used = 4;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mocap
