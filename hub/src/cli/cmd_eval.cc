@@ -1,0 +1,71 @@
+// `eval`: reconstruction accuracy of a result TRC against the truth TRC (DESIGN.md metrics).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "eval/marker_accuracy.h"
+#include "io/trc.h"
+#include "io/visibility.h"
+
+namespace mocap {
+namespace {
+
+struct EvalArgs {
+  std::string truth;
+  std::string result;
+  std::string session;
+  std::string visibility;
+  bool json = false;
+  MarkerEvalOptions options;
+};
+
+void RunEval(const EvalArgs& args) {
+  args.options.Check();
+  const MarkerTrajectories truth = ReadTrc(args.truth);
+  const MarkerTrajectories result = ReadTrc(args.result);
+  std::string visibility_path = args.visibility;
+  if (visibility_path.empty() && !args.session.empty()) {
+    visibility_path = (std::filesystem::path(args.session) / "visibility.tsv").string();
+    if (!std::filesystem::exists(visibility_path)) {
+      throw std::runtime_error(args.session + ": session has no visibility.tsv (not a simulated session?)");
+    }
+  }
+  std::optional<MarkerVisibility> visibility;
+  if (!visibility_path.empty()) visibility = ReadVisibility(visibility_path);
+  MarkerEvalReport report;
+  try {
+    report = EvaluateMarkers(truth, result, visibility ? &*visibility : nullptr, args.options);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(std::string("cannot compare ") + args.truth + " and " + args.result + ": " +
+                             error.what());
+  }
+  if (args.json) {
+    std::printf("%s\n", report.ToJson().dump().c_str());
+  } else {
+    std::fputs(report.ToText().c_str(), stdout);
+  }
+}
+
+}  // namespace
+
+void AddEvalCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("eval", "Accuracy of reconstructed markers against the truth");
+  auto args = std::make_shared<EvalArgs>();
+  command->add_option("--truth", args->truth, "Ground-truth TRC (e.g. SESSION/truth.trc)")->required();
+  command->add_option("--result", args->result, "Reconstructed TRC")->required();
+  CLI::Option* session = command->add_option(
+      "--session", args->session, "Simulated session: count as missing only markers >= 2 cameras saw");
+  command->add_option("--visibility", args->visibility, "visibility.tsv to use instead of --session's")
+      ->excludes(session);
+  command->add_option("--gate-mm", args->options.gate_mm, "Matching gate, mm")->capture_default_str();
+  command->add_flag("--json", args->json, "Print one JSON object on stdout");
+  command->callback([args] { RunEval(*args); });
+}
+
+}  // namespace mocap

@@ -1,0 +1,154 @@
+// `sim rig` and `sim project`: virtual rigs around a motion and simulated sessions with faults.
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/progress.h"
+#include "io/calibration_json.h"
+#include "io/trc.h"
+#include "sim/project_session.h"
+#include "sim/ring_rig.h"
+
+namespace mocap {
+namespace {
+
+constexpr const char* kSimDescription = "Simulator: virtual rigs, projected sessions with realistic faults";
+
+int ParseUpAxis(const std::string& up) {
+  if (up == "auto") return -1;
+  if (up == "x" || up == "X") return 0;
+  if (up == "y" || up == "Y") return 1;
+  if (up == "z" || up == "Z") return 2;
+  throw std::invalid_argument("--up must be x, y, z or auto");
+}
+
+struct SimRigArgs {
+  std::string motion;
+  std::string output;
+  std::string up = "auto";
+  bool no_distortion = false;
+  bool json = false;
+  RingRigOptions rig;
+};
+
+void RunSimRig(const SimRigArgs& args) {
+  RingRigOptions options = args.rig;
+  options.lens_distortion = !args.no_distortion;
+  options.Check();
+  const MarkerTrajectories motion = ReadTrc(args.motion);
+  const MotionVolume volume = ComputeMotionVolume(motion, ParseUpAxis(args.up));
+  const Rig rig = MakeRingRig(volume, options);
+  SaveRigJson(rig, args.output);
+  const char axes[] = "xyz";
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json({{"rig", args.output},
+                                        {"cameras", rig.cameras.size()},
+                                        {"up", std::string(1, axes[volume.up_axis])},
+                                        {"volume_min", {volume.min.x(), volume.min.y(), volume.min.z()}},
+                                        {"volume_max", {volume.max.x(), volume.max.y(), volume.max.z()}}})
+                            .dump()
+                            .c_str());
+  } else {
+    const Eigen::Vector3d size = volume.max - volume.min;
+    std::printf("%s: %zu cameras around a %.0f x %.0f x %.0f mm volume, up = %c%s\n", args.output.c_str(),
+                rig.cameras.size(), size.x(), size.y(), size.z(), axes[volume.up_axis],
+                args.up == "auto" ? " (detected)" : "");
+  }
+}
+
+struct SimProjectArgs {
+  std::string motion;
+  std::string rig;
+  std::string output;
+  bool json = false;
+  ProjectOptions project;
+};
+
+void RunSimProject(const SimProjectArgs& args) {
+  args.project.Check();
+  const MarkerTrajectories motion = ReadTrc(args.motion);
+  const Rig rig = LoadRigJson(args.rig);
+  if (motion.NumFrames() == 0) throw std::runtime_error(args.motion + ": no frames");
+  ProgressBar progress("sim project", motion.NumFrames());
+  const ProjectSessionStats stats = ProjectSession(motion, rig, args.project, args.output,
+                                                   [&](size_t done, size_t) { progress.Update(done); });
+  progress.Finish();
+  const double reconstructible = stats.present > 0 ? static_cast<double>(stats.reconstructible) / stats.present : 0.0;
+  if (args.json) {
+    std::printf("%s\n", nlohmann::json({{"session", args.output},
+                                        {"frames", stats.frames},
+                                        {"camera_frames", stats.camera_frames},
+                                        {"dropped_camera_frames", stats.dropped_camera_frames},
+                                        {"blobs", stats.blobs},
+                                        {"merged_blobs", stats.merged_blobs},
+                                        {"reconstructible_fraction", reconstructible}})
+                            .dump()
+                            .c_str());
+  } else {
+    std::printf("%s: %llu frames, %llu camera frames (%llu dropped), %llu blobs (%llu merged), "
+                "%.2f%% of marker positions seen by >= 2 cameras\n",
+                args.output.c_str(), static_cast<unsigned long long>(stats.frames),
+                static_cast<unsigned long long>(stats.camera_frames),
+                static_cast<unsigned long long>(stats.dropped_camera_frames),
+                static_cast<unsigned long long>(stats.blobs), static_cast<unsigned long long>(stats.merged_blobs),
+                100.0 * reconstructible);
+  }
+}
+
+}  // namespace
+
+void AddSimRigCommand(CLI::App& app) {
+  CLI::App& sim = CommandGroup(app, "sim", kSimDescription);
+  CLI::App* command = sim.add_subcommand("rig", "Place a ring of cameras around a motion's volume");
+  auto args = std::make_shared<SimRigArgs>();
+  command->add_option("--motion", args->motion, "Motion (TRC) whose volume the cameras must see")->required();
+  command->add_option("--cameras", args->rig.cameras, "Number of cameras")->required();
+  command->add_option("-o,--output", args->output, "Rig file to write (calibration JSON)")->required();
+  command->add_option("--width", args->rig.width, "Image width, px")->capture_default_str();
+  command->add_option("--height", args->rig.height, "Image height, px")->capture_default_str();
+  command->add_option("--fov-deg", args->rig.fov_deg, "Horizontal field of view, degrees")->capture_default_str();
+  command->add_option("--up", args->up, "Vertical axis of the motion: x, y, z or auto (detected)")
+      ->capture_default_str();
+  command->add_option("--seed", args->rig.seed, "Seed of placement and lens differences")->capture_default_str();
+  command->add_option("--mount-above-mm", args->rig.mount_above_mm, "Camera height above the volume's top, mm")
+      ->capture_default_str();
+  command->add_option("--margin", args->rig.margin, "Distance factor beyond a tight fit (>= 1)")
+      ->capture_default_str();
+  command->add_flag("--no-distortion", args->no_distortion, "Ideal pinhole lenses");
+  command->add_flag("--json", args->json, "Print a JSON summary on stdout");
+  command->callback([args] { RunSimRig(*args); });
+}
+
+void AddSimProjectCommand(CLI::App& app) {
+  CLI::App& sim = CommandGroup(app, "sim", kSimDescription);
+  CLI::App* command = sim.add_subcommand("project", "Project a motion through a rig into a session with faults");
+  auto args = std::make_shared<SimProjectArgs>();
+  ProjectOptions& p = args->project;
+  command->add_option("--motion", args->motion, "Motion (TRC): the ground truth")->required();
+  command->add_option("--rig", args->rig, "Rig / calibration JSON")->required();
+  command->add_option("-o,--output", args->output, "Session directory to write")->required();
+  command->add_option("--noise-px", p.noise_px, "Centroid noise sigma, px")->capture_default_str();
+  command->add_option("--occlusion", p.occlusion, "Probability a marker is hidden from one camera at a frame")
+      ->capture_default_str();
+  command->add_option("--occlusion-frames", p.occlusion_frames, "Mean length of an occlusion, frames")
+      ->capture_default_str();
+  command->add_option("--spurious", p.spurious, "False blobs per camera per frame (half static, half flicker)")
+      ->capture_default_str();
+  command->add_option("--merge-px", p.merge_px,
+                      "Blobs closer than this merge; negative (default) = when they touch, from blob size")
+      ->capture_default_str();
+  command->add_option("--drop-frames", p.drop_frames, "Probability a camera's whole frame is lost")
+      ->capture_default_str();
+  command->add_option("--marker-mm", p.marker_diameter_mm, "Marker diameter (sets blob size), mm")
+      ->capture_default_str();
+  command->add_option("--seed", p.seed, "Seed of every fault")->capture_default_str();
+  command->add_flag("--json", args->json, "Print a JSON summary on stdout");
+  command->callback([args] { RunSimProject(*args); });
+}
+
+}  // namespace mocap

@@ -1,0 +1,57 @@
+// mocap-hub: one executable, a table of sub-commands (COLMAP-style). Every failure ends as one
+// line on stderr and a non-zero exit status; --help works on every level.
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+
+namespace {
+
+struct CommandEntry {
+  const char* name;
+  void (*add)(CLI::App&);
+};
+
+// One line per command; the order is the order of `mocap-hub --help`.
+const CommandEntry kCommands[] = {
+    {"sim rig", mocap::AddSimRigCommand},
+    {"sim project", mocap::AddSimProjectCommand},
+    {"eval", mocap::AddEvalCommand},
+    {"reconstruct", mocap::AddReconstructCommand},
+    {"bench", mocap::AddBenchCommand},
+};
+
+}  // namespace
+
+namespace mocap {
+
+CLI::App& CommandGroup(CLI::App& app, const std::string& name, const std::string& description) {
+  for (CLI::App* existing : app.get_subcommands({})) {
+    if (existing->get_name() == name) return *existing;
+  }
+  CLI::App* group = app.add_subcommand(name, description);
+  group->require_subcommand(1);
+  return *group;
+}
+
+}  // namespace mocap
+
+int main(int argc, char** argv) {
+  CLI::App app{"mocap-hub: record, reconstruct, simulate and evaluate optical marker motion capture"};
+  app.require_subcommand(1);
+  for (const CommandEntry& command : kCommands) command.add(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
+    std::fprintf(stderr, "mocap-hub: error: %s (see --help)\n", error.what());
+    return error.get_exit_code();
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "mocap-hub: error: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,144 @@
+// End-to-end tests of mocap-hub: the sim -> eval pipeline on a self-made motion, and one-line
+// errors with a non-zero status for bad input.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/trc.h"
+#include "sim/synthetic_motion.h"
+
+namespace mocap {
+namespace {
+
+struct HubRun {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+HubRun Hub(const std::string& args) {
+  const std::string dir = testing::TempDir();
+  const std::string command = std::string("'") + MOCAP_HUB_EXE + "' " + args + " > " + dir + "/hub_out.txt 2> " +
+                              dir + "/hub_err.txt";
+  HubRun run;
+  const int raw = std::system(command.c_str());
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  run.out = ReadAll(dir + "/hub_out.txt");
+  run.err = ReadAll(dir + "/hub_err.txt");
+  return run;
+}
+
+// A failure is exactly one line on stderr, naming the cause, with a non-zero status.
+void ExpectOneLineError(const HubRun& run, const std::string& cause) {
+  EXPECT_NE(run.status, 0);
+  EXPECT_EQ(run.err.rfind("mocap-hub: error: ", 0), 0u) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_NE(run.err.find(cause), std::string::npos) << run.err;
+}
+
+class MocapHubTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir = testing::TempDir() + "/hub_cli";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    SyntheticMotionOptions options;
+    options.frames = 60;
+    options.markers = 12;
+    options.up_axis = 1;
+    WriteTrc(MakeSyntheticMotion(options), dir + "/motion.trc");
+  }
+  std::string dir;
+};
+
+TEST_F(MocapHubTest, SimRigProjectAndEval) {
+  HubRun rig = Hub("sim rig --motion " + dir + "/motion.trc --cameras 6 --seed 3 -o " + dir + "/rig.json --json");
+  ASSERT_EQ(rig.status, 0) << rig.err;
+  const nlohmann::json rig_summary = nlohmann::json::parse(rig.out);
+  EXPECT_EQ(rig_summary["cameras"], 6);
+  EXPECT_EQ(rig_summary["up"], "y");
+
+  HubRun project = Hub("sim project --motion " + dir + "/motion.trc --rig " + dir + "/rig.json -o " + dir +
+                    "/session --noise-px 0.1 --occlusion 0.05 --spurious 2 --drop-frames 0.01 --seed 4 --json");
+  ASSERT_EQ(project.status, 0) << project.err;
+  EXPECT_TRUE(project.err.empty()) << "no progress bar when stderr is not a terminal";
+  const nlohmann::json summary = nlohmann::json::parse(project.out);
+  EXPECT_EQ(summary["frames"], 60);
+  for (const char* file : {"raw.mlog", "session.json", "truth.trc", "calibration.json", "visibility.tsv"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/session/" + file)) << file;
+  }
+
+  // The truth against itself: perfect. Against a copy with one marker removed: missing counts.
+  HubRun self = Hub("eval --truth " + dir + "/session/truth.trc --result " + dir + "/motion.trc --session " + dir +
+                 "/session --json");
+  ASSERT_EQ(self.status, 0) << self.err;
+  const nlohmann::json perfect = nlohmann::json::parse(self.out);
+  EXPECT_EQ(perfect["rmse_mm"], 0.0);
+  EXPECT_EQ(perfect["ghosts_per_frame"], 0.0);
+  EXPECT_EQ(perfect["missing_per_frame"], 0.0);
+  EXPECT_EQ(perfect["trajectories"], 12);
+  EXPECT_EQ(perfect["visibility_used"], true);
+
+  MarkerTrajectories partial = ReadTrc(dir + "/motion.trc");
+  for (size_t f = 0; f < partial.NumFrames(); ++f) partial.At(f, 3) = MarkerTrajectories::Gap();
+  WriteTrc(partial, dir + "/partial.trc");
+  HubRun missing = Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/partial.trc --json");
+  ASSERT_EQ(missing.status, 0) << missing.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(missing.out)["missing_per_frame"].get<double>(), 1.0);
+
+  HubRun text = Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/partial.trc");
+  EXPECT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("missing_per_frame"), std::string::npos);
+}
+
+TEST_F(MocapHubTest, OneLineErrors) {
+  ExpectOneLineError(Hub(""), "");
+  ExpectOneLineError(Hub("frobnicate"), "frobnicate");
+  ExpectOneLineError(Hub("sim rig --motion /nonexistent.trc --cameras 4 -o " + dir + "/r.json"),
+                     "/nonexistent.trc: cannot open");
+  ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc -o " + dir + "/r.json"), "--cameras");
+  ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras 1 -o " + dir + "/r.json"),
+                     "--cameras must be");
+  ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras 4 --up w -o " + dir + "/r.json"),
+                     "--up must be");
+  ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras abc -o " + dir + "/r.json"), "abc");
+  std::ofstream(dir + "/broken.trc") << "PathFileType\t4\nDataRate\n60\nFrame#\tTime\tA\t\t\n1\t0\t1\tx\t3\n";
+  ExpectOneLineError(Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/broken.trc"),
+                     "broken.trc: line 5: malformed coordinate");
+  ExpectOneLineError(Hub("sim project --motion " + dir + "/motion.trc --rig " + dir + "/nope.json -o " + dir +
+                         "/s"),
+                     "nope.json: cannot open");
+  ASSERT_EQ(Hub("sim rig --motion " + dir + "/motion.trc --cameras 4 -o " + dir + "/r.json").status, 0);
+  ExpectOneLineError(Hub("sim project --motion " + dir + "/motion.trc --rig " + dir + "/r.json -o " + dir +
+                         "/s --occlusion 2"),
+                     "--occlusion must be");
+  ExpectOneLineError(Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/motion.trc --session " + dir),
+                     "no visibility.tsv");
+}
+
+TEST_F(MocapHubTest, HelpSucceeds) {
+  const HubRun help = Hub("--help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("sim"), std::string::npos);
+  EXPECT_NE(help.out.find("eval"), std::string::npos);
+  const HubRun sim_help = Hub("sim project --help");
+  EXPECT_EQ(sim_help.status, 0);
+  EXPECT_NE(sim_help.out.find("--occlusion-frames"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mocap
