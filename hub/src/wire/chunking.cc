@@ -38,13 +38,24 @@ std::vector<v1::Packet> SplitMarkerFrame(const v1::MarkerFrame& frame) {
   return packets;
 }
 
+void ChunkAssembler::RememberCompleted(const Key& key) {
+  completed_.insert(key);
+  completed_order_.push_back(key);
+  if (completed_order_.size() > max_pending_) {
+    completed_.erase(completed_order_.front());
+    completed_order_.pop_front();
+  }
+}
+
 ChunkAssembler::Outcome ChunkAssembler::Add(const v1::MarkerFrame& chunk, v1::MarkerFrame* frame) {
+  const Key key{chunk.frame_number(), chunk.node_id()};
+  if (completed_.count(key)) return Outcome::kDuplicate;
   if (chunk.chunk_count() == 1) {
     *frame = chunk;
+    RememberCompleted(key);
     return Outcome::kComplete;
   }
   Outcome outcome = Outcome::kIncomplete;
-  const Key key{chunk.frame_number(), chunk.node_id()};
   auto it = pending_.find(key);
   if (it == pending_.end()) {
     if (pending_.size() >= max_pending_) {
@@ -72,6 +83,7 @@ ChunkAssembler::Outcome ChunkAssembler::Add(const v1::MarkerFrame& chunk, v1::Ma
   for (const v1::MarkerFrame& part : partial.chunks)
     for (const v1::Marker& m : part.markers()) *frame->add_markers() = m;
   pending_.erase(it);
+  RememberCompleted(key);
   return Outcome::kComplete;
 }
 

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -21,7 +23,7 @@ class ChunkAssembler {
   enum class Outcome {
     kIncomplete,    // stored; more chunks to come
     kComplete,      // *frame holds every marker, chunk fields reset to a single chunk
-    kDuplicate,     // this chunk was already received: dropped
+    kDuplicate,     // this chunk (or its whole frame) was already received: dropped
     kInconsistent,  // header disagrees with earlier chunks of the same frame: dropped
     kOverflow,      // too many partial frames pending: the oldest was discarded to make room
   };
@@ -43,8 +45,14 @@ class ChunkAssembler {
   };
   using Key = std::pair<uint64_t, uint32_t>;  // (frame number, node id)
 
+  void RememberCompleted(const Key& key);
+
   size_t max_pending_;
   std::map<Key, Partial> pending_;
+  // Recently completed frames, so that a chunk re-sent after completion counts as a duplicate
+  // instead of opening a partial frame that can never complete.
+  std::set<Key> completed_;
+  std::deque<Key> completed_order_;
 };
 
 }  // namespace mocap::wire

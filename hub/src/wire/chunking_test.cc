@@ -78,6 +78,19 @@ TEST(Chunking, DuplicateChunkIsDroppedAndInconsistentChunkRejected) {
   EXPECT_EQ(out.markers_size(), 100);
 }
 
+TEST(Chunking, ChunkResentAfterCompletionIsADuplicate) {
+  auto packets = SplitMarkerFrame(Frame(1, 9, 60));
+  ChunkAssembler assembler;
+  v1::MarkerFrame out;
+  EXPECT_EQ(assembler.Add(packets[0].marker_frame(), &out), ChunkAssembler::Outcome::kIncomplete);
+  EXPECT_EQ(assembler.Add(packets[1].marker_frame(), &out), ChunkAssembler::Outcome::kComplete);
+  EXPECT_EQ(assembler.Add(packets[0].marker_frame(), &out), ChunkAssembler::Outcome::kDuplicate);
+  EXPECT_EQ(assembler.pending(), 0u);
+  auto single = SplitMarkerFrame(Frame(1, 10, 3));
+  EXPECT_EQ(assembler.Add(single[0].marker_frame(), &out), ChunkAssembler::Outcome::kComplete);
+  EXPECT_EQ(assembler.Add(single[0].marker_frame(), &out), ChunkAssembler::Outcome::kDuplicate);
+}
+
 TEST(Chunking, LostChunkLeavesPartialUntilDiscarded) {
   ChunkAssembler assembler(4);
   v1::MarkerFrame out;

@@ -1,0 +1,62 @@
+// Live assembly of camera frames into frame sets. A set is handed out as soon as every expected
+// camera has delivered, or when its deadline passes (late and missing cameras never block the
+// stream); frames that arrive after their set left are counted as late and dropped.
+// Triggered mode keys sets by the nodes' global frame number. Free-run mode (no trigger wire)
+// groups frames whose capture times lie within a tolerance and numbers the set by its time.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ingest/camera_frame.h"
+
+namespace mocap {
+
+struct FrameSetAssemblerOptions {
+  uint64_t deadline_ns = 20'000'000;       // how long a set waits for missing cameras
+  bool free_run = false;
+  double rate_hz = 0.0;                   // free run: frame numbering, tolerance default
+  uint64_t epoch_ns = 0;                  // free run: time of frame 0
+  uint64_t free_run_tolerance_ns = 0;     // 0 = a third of the frame period
+  size_t max_open_sets = 256;             // beyond this the oldest set is handed out early
+
+  // Empty when usable, otherwise why not.
+  std::string Check() const;
+};
+
+class FrameSetAssembler {
+ public:
+  FrameSetAssembler(FrameSetAssemblerOptions options, std::vector<uint32_t> expected_cameras);
+
+  // Adds a camera frame received at now_ns. Returns false when it was dropped as late or as a
+  // duplicate of a camera already in its set.
+  bool Add(CameraFrame frame, uint64_t now_ns);
+  // Sets that are complete or past their deadline at now_ns, in frame-number order.
+  std::vector<FrameSet> Collect(uint64_t now_ns);
+  // Everything still open (end of recording).
+  std::vector<FrameSet> Flush();
+
+  uint64_t late_frames() const { return late_; }
+  uint64_t duplicate_frames() const { return duplicates_; }
+  uint64_t incomplete_sets() const { return incomplete_; }
+
+ private:
+  struct Open {
+    FrameSet set;
+    uint64_t first_arrival_ns = 0;
+    uint64_t reference_time_ns = 0;  // free run: capture time of the first frame
+  };
+  uint64_t KeyFor(const CameraFrame& frame) const;
+
+  FrameSetAssemblerOptions options_;
+  std::set<uint32_t> expected_;
+  std::map<uint64_t, Open> open_;
+  bool emitted_any_ = false;
+  uint64_t last_emitted_ = 0;
+  uint64_t late_ = 0, duplicates_ = 0, incomplete_ = 0;
+};
+
+}  // namespace mocap

@@ -1,0 +1,132 @@
+// Live recording loop (see recorder.h).
+#include "ingest/recorder.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "ingest/frame_codec.h"
+#include "wire/limits.h"
+#include "wire/packet.h"
+
+namespace mocap {
+
+std::string RecorderOptions::Check() const {
+  if (cameras.empty()) return "no cameras: the calibration names none";
+  if (!(rate_hz > 0.0 && rate_hz <= 2000.0)) return "rate must be within (0, 2000] Hz";
+  if (duration_s < 0.0) return "duration must not be negative";
+  try {
+    ParseHostPort(listen);
+    if (!announce.empty()) ParseHostPort(announce);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return assembly.Check();
+}
+
+Recorder::Recorder(RecorderOptions options) : options_(std::move(options)), assembler_(options_.assembly, options_.cameras) {
+  const std::string problem = options_.Check();
+  if (!problem.empty()) throw std::invalid_argument(problem);
+  for (uint32_t id : options_.cameras) stats_.nodes[id];
+}
+
+void Recorder::Bind() {
+  socket_.Bind(ParseHostPort(options_.listen));
+  if (!options_.announce.empty()) {
+    announce_to_ = ParseHostPort(options_.announce);
+    socket_.EnableBroadcast();
+  }
+}
+
+void Recorder::Announce(uint64_t now_ns) {
+  if (!announce_to_ || now_ns < next_announce_ns_) return;
+  next_announce_ns_ = now_ns + 1'000'000'000ull;
+  v1::Packet p;
+  p.set_version(wire::kProtocolVersion);
+  auto* a = p.mutable_hub_announce();
+  a->set_port(port());
+  a->set_epoch_ns(options_.epoch_ns);
+  a->set_rate_millihz(static_cast<uint32_t>(options_.rate_hz * 1000.0 + 0.5));
+  socket_.SendTo(*announce_to_, wire::Encode(p));
+}
+
+void Recorder::HandleDatagram(const Datagram& d, SessionWriter* session) {
+  const wire::DecodeResult decoded = wire::Decode(d.bytes.data(), d.bytes.size());
+  if (!decoded.ok) {
+    if (stats_.malformed++ == 0) {
+      stats_.first_malformed_reason = decoded.reason;
+      stats_.first_malformed_source = d.FromString();
+    }
+    return;
+  }
+  uint32_t node = 0;
+  if (decoded.packet.has_marker_frame()) node = decoded.packet.marker_frame().node_id();
+  else if (decoded.packet.has_node_status()) node = decoded.packet.node_status().node_id();
+  else if (decoded.packet.has_preview_chunk()) node = decoded.packet.preview_chunk().node_id();
+  auto known = stats_.nodes.find(node);
+  if (known == stats_.nodes.end()) {
+    ++stats_.unknown_nodes[node];
+    return;
+  }
+  NodeStats& ns = known->second;
+  ++ns.datagrams;
+  session->AppendDatagram(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
+  if (decoded.packet.has_node_status()) {
+    ++ns.status_packets;
+    ns.has_status = true;
+    ns.last_status = decoded.packet.node_status();
+    return;
+  }
+  if (!decoded.packet.has_marker_frame()) return;
+  v1::MarkerFrame whole;
+  switch (chunks_.Add(decoded.packet.marker_frame(), &whole)) {
+    case wire::ChunkAssembler::Outcome::kDuplicate: ++ns.duplicate_chunks; return;
+    case wire::ChunkAssembler::Outcome::kInconsistent: ++ns.inconsistent_chunks; return;
+    case wire::ChunkAssembler::Outcome::kIncomplete:
+    case wire::ChunkAssembler::Outcome::kOverflow: return;
+    case wire::ChunkAssembler::Outcome::kComplete: break;
+  }
+  stats_.CountFrame(node, whole.frame_number());
+  if (!assembler_.Add(FromMarkerFrame(whole, d.receive_time_ns), d.receive_time_ns)) ++ns.late_frames;
+}
+
+void Recorder::Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set) {
+  for (FrameSet& set : sets) {
+    if (options_.max_frames && frame_sets_ >= options_.max_frames) return;
+    ++frame_sets_;
+    if (on_set) on_set(set);
+  }
+}
+
+void Recorder::Run(SessionWriter* session, const std::function<void(const FrameSet&)>& on_set,
+                   const std::atomic<bool>* stop) {
+  const uint64_t start = RealtimeNowNs();
+  const uint64_t end = options_.duration_s > 0 ? start + uint64_t(options_.duration_s * 1e9) : 0;
+  uint64_t last_datagram = 0, last_flush = start;
+  Datagram d;
+  while (!(stop && stop->load())) {
+    const uint64_t now = RealtimeNowNs();
+    if (end && now >= end) break;
+    if (options_.max_frames && frame_sets_ >= options_.max_frames) break;
+    if (options_.idle_timeout_s > 0 && last_datagram &&
+        now > last_datagram + uint64_t(options_.idle_timeout_s * 1e9))
+      break;
+    Announce(now);
+    // Drain everything queued, then hand out what is complete or overdue.
+    while (socket_.Receive(&d, 2)) {
+      last_datagram = RealtimeNowNs();
+      HandleDatagram(d, session);
+    }
+    const uint64_t after = RealtimeNowNs();
+    Emit(assembler_.Collect(after), on_set);
+    // Raw log: flushed at least every 50 ms so a crash loses little.
+    if (after > last_flush + 50'000'000ull) {
+      session->Flush();
+      last_flush = after;
+    }
+  }
+  Emit(assembler_.Flush(), on_set);
+  chunks_.DiscardBefore(~0ull);
+  session->Flush();
+}
+
+}  // namespace mocap

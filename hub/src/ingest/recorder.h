@@ -1,0 +1,63 @@
+// A live recording: receives datagrams, validates them, logs every good one as received into the
+// session, reassembles chunks and assembles frame sets with a deadline, and hands each set to the
+// caller (reconstruction, TRC streaming). Bad input is counted per node, never fatal.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ingest/frame_set_assembler.h"
+#include "ingest/ingest_stats.h"
+#include "ingest/session.h"
+#include "ingest/udp_socket.h"
+#include "wire/chunking.h"
+
+namespace mocap {
+
+struct RecorderOptions {
+  std::string listen = "0.0.0.0:30000";
+  std::vector<uint32_t> cameras;      // node ids expected (from the calibration)
+  double rate_hz = 240.0;
+  uint64_t epoch_ns = 0;              // published to nodes in HubAnnounce
+  std::string announce;               // broadcast HOST:PORT for HubAnnounce; empty = none
+  double duration_s = 0.0;            // 0 = no time limit
+  uint64_t max_frames = 0;            // frame sets; 0 = no limit
+  double idle_timeout_s = 0.0;        // stop after this long without datagrams once data came; 0 = never
+  FrameSetAssemblerOptions assembly;
+
+  std::string Check() const;
+};
+
+class Recorder {
+ public:
+  explicit Recorder(RecorderOptions options);
+  // Binds the socket (so tests can learn the port before nodes start).
+  void Bind();
+  uint16_t port() const { return socket_.port(); }
+  // Receives until a limit is reached or *stop turns true; every set goes to on_set.
+  void Run(SessionWriter* session, const std::function<void(const FrameSet&)>& on_set,
+           const std::atomic<bool>* stop);
+  const IngestStats& stats() const { return stats_; }
+  uint64_t frame_sets() const { return frame_sets_; }
+  const FrameSetAssembler& assembler() const { return assembler_; }
+
+ private:
+  void HandleDatagram(const Datagram& d, SessionWriter* session);
+  void Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set);
+  void Announce(uint64_t now_ns);
+
+  RecorderOptions options_;
+  UdpSocket socket_;
+  std::optional<HostPort> announce_to_;
+  wire::ChunkAssembler chunks_;
+  FrameSetAssembler assembler_;
+  IngestStats stats_;
+  uint64_t frame_sets_ = 0;
+  uint64_t next_announce_ns_ = 0;
+};
+
+}  // namespace mocap

@@ -1,0 +1,142 @@
+// UDP socket wrapper (see udp_socket.h). Kernel receive timestamps (SO_TIMESTAMPNS) make the
+// latency figures independent of how quickly the hub's loop gets to the datagram.
+#include "ingest/udp_socket.h"
+
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+#include <stdexcept>
+
+namespace mocap {
+
+HostPort ParseHostPort(const std::string& text) {
+  const size_t colon = text.rfind(':');
+  if (colon == std::string::npos) throw std::invalid_argument("address '" + text + "' is not HOST:PORT");
+  HostPort hp;
+  hp.host = text.substr(0, colon);
+  if (hp.host == "*") hp.host.clear();
+  const std::string port = text.substr(colon + 1);
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(port.c_str(), &end, 10);
+  if (port.empty() || *end != '\0' || errno != 0 || value < 0 || value > 65535)
+    throw std::invalid_argument("address '" + text + "': port must be 0-65535");
+  hp.port = static_cast<uint16_t>(value);
+  return hp;
+}
+
+namespace {
+
+sockaddr_in Resolve(const HostPort& hp) {
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(hp.port);
+  if (hp.host.empty()) {
+    addr.sin_addr.s_addr = htonl(INADDR_ANY);
+    return addr;
+  }
+  if (inet_pton(AF_INET, hp.host.c_str(), &addr.sin_addr) == 1) return addr;
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* result = nullptr;
+  const int rc = getaddrinfo(hp.host.c_str(), nullptr, &hints, &result);
+  if (rc != 0 || !result) throw std::runtime_error("cannot resolve '" + hp.host + "': " + gai_strerror(rc));
+  addr.sin_addr = reinterpret_cast<sockaddr_in*>(result->ai_addr)->sin_addr;
+  freeaddrinfo(result);
+  return addr;
+}
+
+}  // namespace
+
+uint64_t RealtimeNowNs() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return uint64_t(ts.tv_sec) * 1'000'000'000ull + uint64_t(ts.tv_nsec);
+}
+
+std::string Datagram::FromString() const {
+  char buf[INET_ADDRSTRLEN] = "?";
+  inet_ntop(AF_INET, &from.sin_addr, buf, sizeof buf);
+  return std::string(buf) + ":" + std::to_string(ntohs(from.sin_port));
+}
+
+UdpSocket::~UdpSocket() {
+  if (fd_ >= 0) close(fd_);
+}
+
+void UdpSocket::Bind(const HostPort& address) {
+  const std::string where = (address.host.empty() ? "*" : address.host) + ":" + std::to_string(address.port);
+  fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  if (fd_ < 0) throw std::runtime_error("socket: " + std::string(std::strerror(errno)));
+  const int one = 1;
+  setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);
+  // A deep receive buffer absorbs bursts from many nodes while the hub is busy with a frame.
+  const int rcvbuf = 8 * 1024 * 1024;
+  setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
+  const sockaddr_in addr = Resolve(address);
+  if (bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)
+    throw std::runtime_error("cannot listen on " + where + ": " + std::strerror(errno));
+}
+
+void UdpSocket::EnableBroadcast() {
+  const int one = 1;
+  if (setsockopt(fd_, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0)
+    throw std::runtime_error("cannot enable broadcast: " + std::string(std::strerror(errno)));
+}
+
+uint16_t UdpSocket::port() const {
+  sockaddr_in addr{};
+  socklen_t len = sizeof addr;
+  if (getsockname(fd_, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return 0;
+  return ntohs(addr.sin_port);
+}
+
+bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
+  pollfd pfd{fd_, POLLIN, 0};
+  const int ready = poll(&pfd, 1, timeout_ms);
+  if (ready <= 0) {
+    if (ready < 0 && errno != EINTR) throw std::runtime_error("poll: " + std::string(std::strerror(errno)));
+    return false;
+  }
+  d->bytes.resize(65536);
+  iovec iov{d->bytes.data(), d->bytes.size()};
+  alignas(cmsghdr) char control[256];
+  msghdr msg{};
+  msg.msg_name = &d->from;
+  msg.msg_namelen = sizeof d->from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control;
+  msg.msg_controllen = sizeof control;
+  const ssize_t n = recvmsg(fd_, &msg, MSG_DONTWAIT);
+  if (n < 0) {
+    if (errno == EAGAIN || errno == EINTR) return false;
+    throw std::runtime_error("recvmsg: " + std::string(std::strerror(errno)));
+  }
+  d->bytes.resize(static_cast<size_t>(n));
+  d->receive_time_ns = 0;
+  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+      timespec ts{};
+      std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+      d->receive_time_ns = uint64_t(ts.tv_sec) * 1'000'000'000ull + uint64_t(ts.tv_nsec);
+    }
+  }
+  if (d->receive_time_ns == 0) d->receive_time_ns = RealtimeNowNs();
+  return true;
+}
+
+bool UdpSocket::SendTo(const HostPort& to, const std::vector<uint8_t>& bytes) {
+  const sockaddr_in addr = Resolve(to);
+  return sendto(fd_, bytes.data(), bytes.size(), MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&addr),
+                sizeof addr) == static_cast<ssize_t>(bytes.size());
+}
+
+}  // namespace mocap

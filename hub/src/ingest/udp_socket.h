@@ -1,0 +1,49 @@
+// A UDP socket for the hub: bind, receive with a timeout and kernel receive time, send.
+// Errors from the OS throw std::runtime_error naming the address and the reason.
+#pragma once
+
+#include <netinet/in.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mocap {
+
+struct HostPort {
+  std::string host;
+  uint16_t port = 0;
+};
+// "HOST:PORT" (HOST may be empty or "*" for any address). Throws std::invalid_argument.
+HostPort ParseHostPort(const std::string& text);
+
+struct Datagram {
+  std::vector<uint8_t> bytes;
+  uint64_t receive_time_ns = 0;  // CLOCK_REALTIME, from the kernel when available
+  sockaddr_in from{};
+  std::string FromString() const;
+};
+
+class UdpSocket {
+ public:
+  UdpSocket() = default;
+  ~UdpSocket();
+  UdpSocket(const UdpSocket&) = delete;
+  UdpSocket& operator=(const UdpSocket&) = delete;
+
+  void Bind(const HostPort& address);
+  void EnableBroadcast();
+  uint16_t port() const;
+  // Waits up to timeout_ms for one datagram; false on timeout or EINTR.
+  bool Receive(Datagram* datagram, int timeout_ms);
+  // Best effort: a full send buffer or an unreachable peer is reported by the return value.
+  bool SendTo(const HostPort& to, const std::vector<uint8_t>& bytes);
+  int fd() const { return fd_; }
+
+ private:
+  int fd_ = -1;
+};
+
+uint64_t RealtimeNowNs();
+
+}  // namespace mocap
