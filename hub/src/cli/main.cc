@@ -17,6 +17,7 @@ struct CommandEntry {
 
 // One line per command; the order is the order of `mocap-hub --help`.
 const CommandEntry kCommands[] = {
+    {"record", mocap::AddRecordCommand},
     {"sim rig", mocap::AddSimRigCommand},
     {"sim project", mocap::AddSimProjectCommand},
     {"eval", mocap::AddEvalCommand},
@@ -43,6 +44,15 @@ int main(int argc, char** argv) {
   CLI::App app{"mocap-hub: record, reconstruct, simulate and evaluate optical marker motion capture"};
   app.require_subcommand(1);
   for (const CommandEntry& command : kCommands) command.add(app);
+  // CLI11 would only say "a subcommand is required" for a misspelt command; name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    for (const CLI::App* command : app.get_subcommands({})) known = known || command->get_name() == argv[1];
+    if (!known) {
+      std::fprintf(stderr, "mocap-hub: error: unknown command '%s' (see --help)\n", argv[1]);
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

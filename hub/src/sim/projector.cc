@@ -161,9 +161,11 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     if (options_.noise_px > 0.0) pixel += options_.noise_px * Eigen::Vector2d(gauss(state.rng), gauss(state.rng));
     return pixel;
   };
+  // Noise can push an edge blob off the sensor; a detector would report it on the last pixel.
+  // The margin survives the wire's 1/256 px rounding.
   const auto clamp_to_image = [&](Eigen::Vector2d pixel) {
-    pixel.x() = std::clamp(pixel.x(), 0.0, camera.intrinsics.width - 1e-3);
-    pixel.y() = std::clamp(pixel.y(), 0.0, camera.intrinsics.height - 1e-3);
+    pixel.x() = std::clamp(pixel.x(), 0.0, camera.intrinsics.width - 1.0 / 128.0);
+    pixel.y() = std::clamp(pixel.y(), 0.0, camera.intrinsics.height - 1.0 / 128.0);
     return pixel;
   };
 
