@@ -59,27 +59,49 @@ static void morph3(const struct patch *p, uint64_t *src, uint64_t *dst, uint64_t
     }
 }
 
-static inline int pbit(const uint64_t *plane, const struct patch *p, uint32_t x, uint32_t y)
+static void clear_range(uint64_t *row, uint32_t x0, uint32_t x1)
 {
-    return (int)((plane[(size_t)y * p->stride + (x >> 6)] >> (x & 63)) & 1u);
+    uint32_t w0 = x0 >> 6, w1 = x1 >> 6;
+    uint64_t lo = ~0ull << (x0 & 63);
+    uint64_t hi = ~0ull >> (63 - (x1 & 63));
+    if (w0 == w1) {
+        row[w0] &= ~(lo & hi);
+        return;
+    }
+    row[w0] &= ~lo;
+    for (uint32_t k = w0 + 1; k < w1; k++)
+        row[k] = 0;
+    row[w1] &= ~hi;
 }
 
-static inline void pclear(uint64_t *plane, const struct patch *p, uint32_t x, uint32_t y)
+/* Takes the run of set bits through bit x out of a patch row (words long), returning its
+ * ends; found a word at a time with count-trailing/leading-zeros. */
+static void take_run(uint64_t *row, size_t words, uint32_t x, uint32_t *a, uint32_t *b)
 {
-    plane[(size_t)y * p->stride + (x >> 6)] &= ~(1ull << (x & 63));
-}
-
-/* Takes the run through (x, y) out of the plane, returning its ends. */
-static void take_run(uint64_t *plane, const struct patch *p, uint32_t x, uint32_t y,
-                     uint32_t *a, uint32_t *b)
-{
-    uint32_t lo = x, hi = x;
-    while (lo > 0 && pbit(plane, p, lo - 1, y))
-        lo--;
-    while (hi + 1 < p->w && pbit(plane, p, hi + 1, y))
-        hi++;
-    for (uint32_t i = lo; i <= hi; i++)
-        pclear(plane, p, i, y);
+    uint32_t k = x >> 6, off = x & 63;
+    /* Rightwards: clear bits above x within the word, then whole words while full. */
+    uint64_t stop = ~(row[k] >> off);
+    uint32_t hi;
+    if (stop != 0 && (uint32_t)__builtin_ctzll(stop) < 64 - off) {
+        hi = x + (uint32_t)__builtin_ctzll(stop) - 1;
+    } else {
+        uint32_t kk = k + 1;
+        while (kk < words && row[kk] == ~0ull)
+            kk++;
+        hi = kk < words ? kk * 64 + (uint32_t)__builtin_ctzll(~row[kk]) - 1 : kk * 64 - 1;
+    }
+    /* Leftwards, the mirror image. */
+    uint64_t lstop = ~(row[k] << (63 - off));
+    uint32_t lo;
+    if (lstop != 0 && (uint32_t)__builtin_clzll(lstop) <= off) {
+        lo = x + 1 - (uint32_t)__builtin_clzll(lstop);
+    } else {
+        uint32_t kk = k;
+        while (kk > 0 && row[kk - 1] == ~0ull)
+            kk--;
+        lo = kk > 0 ? kk * 64 - (uint32_t)__builtin_clzll(~row[kk - 1]) : 0;
+    }
+    clear_range(row, lo, hi);
     *a = lo;
     *b = hi;
 }
@@ -91,7 +113,7 @@ static size_t take_component(struct mn_detector *det, uint64_t *plane, const str
     struct mn_span *spans = det->spans;
     size_t n = 0;
     uint32_t a, b;
-    take_run(plane, p, x, y, &a, &b);
+    take_run(prow(plane, p, y), p->words, x, &a, &b);
     spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, y};
     for (size_t i = 0; i < n; i++) {
         struct mn_span s = spans[i];
@@ -101,14 +123,23 @@ static size_t take_component(struct mn_detector *det, uint64_t *plane, const str
             if ((dir < 0 && s.y == 0) || (dir > 0 && s.y + 1 >= p->h))
                 continue;
             uint32_t ny = s.y + (uint32_t)dir;
-            for (uint32_t nx = lo; nx <= hi; nx++) {
-                if (!pbit(plane, p, nx, ny))
+            uint64_t *row = prow(plane, p, ny);
+            uint32_t nx = lo;
+            while (nx <= hi) {
+                uint32_t k = nx >> 6;
+                uint64_t word = row[k] & (~0ull << (nx & 63));
+                if (!word) {
+                    nx = (k + 1) * 64;
                     continue;
+                }
+                nx = k * 64 + (uint32_t)__builtin_ctzll(word);
+                if (nx > hi)
+                    break;
                 /* The patch holds at most half its pixels as runs, and spans_cap was sized
                  * for that at creation, so this append cannot overflow. */
-                take_run(plane, p, nx, ny, &a, &b);
+                take_run(row, p->words, nx, &a, &b);
                 spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, ny};
-                nx = b + 1;
+                nx = b + 2;
             }
         }
     }

@@ -2,6 +2,7 @@
  * and a scanline seed fill (seed 000, 4.1.2) started only from bright pixels it finds. The
  * fill's span list doubles as its queue, so each span is found, marked and queued once. */
 #include <errno.h>
+#include <string.h>
 
 #include "detect/detect.h"
 #include "detect/detect_internal.h"
@@ -21,14 +22,38 @@ void mn_bits_set_range(uint64_t *row, uint32_t x0, uint32_t x1)
     row[w1] |= hi;
 }
 
-/* Largest value of 64 pixels; written as a plain reduction so that the compiler turns it into
- * byte-wise vector maxima (SSE2 pmaxub, NEON umax) without any intrinsics. */
-static inline uint8_t chunk_max64(const uint8_t *p)
+/* Largest value of n pixels (n a multiple of 64 in the hot path); written as a plain reduction
+ * so that the compiler turns it into byte-wise vector maxima (SSE2 pmaxub, NEON umax) without
+ * intrinsics. */
+static inline uint8_t chunk_max(const uint8_t *p, uint32_t n)
 {
     uint8_t m = 0;
-    for (int i = 0; i < 64; i++)
+    for (uint32_t i = 0; i < n; i++)
         m = p[i] > m ? p[i] : m;
     return m;
+}
+
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "chunk_bits assumes little-endian words (x86-64, arm64 Linux)"
+#endif
+
+/* Bit i set when p[i] > t, for 64 pixels, eight at a time in plain 64-bit arithmetic: byte b
+ * exceeds t exactly when b + (255 - t) carries out of the byte, and that carry is the
+ * majority of the two top bits and the carry into bit 7 from the low seven bits. A multiply
+ * then gathers the eight per-byte flags into eight adjacent bits. */
+static inline uint64_t chunk_bits(const uint8_t *p, uint8_t t)
+{
+    const uint64_t high = 0x8080808080808080ull, low = ~high;
+    const uint64_t k = (uint64_t)(255u - t) * 0x0101010101010101ull;
+    uint64_t bits = 0;
+    for (int i = 0; i < 8; i++) {
+        uint64_t x;
+        memcpy(&x, p + 8 * i, 8);
+        uint64_t carry_in = (x & low) + (k & low);
+        uint64_t carry_out = ((x & k) | ((x | k) & carry_in)) & high;
+        bits |= (((carry_out >> 7) * 0x0102040810204080ull) >> 56) << (8 * i);
+    }
+    return bits;
 }
 
 struct run_ctx {
@@ -37,19 +62,32 @@ struct run_ctx {
     size_t n;
 };
 
-static inline int is_free_fg(const struct mn_detector *det, const struct mn_frame_view *f,
-                             const uint8_t *row, uint32_t x, uint32_t y)
+/* Bitmaps and frame of one fill, copied into locals: stores into the visited bitmap could
+ * alias the detector's own fields, which would force a reload after every store. */
+struct fill_view {
+    const uint8_t *px;
+    size_t stride;
+    uint64_t *visited;
+    const uint64_t *mask; /* NULL without a mask */
+    size_t row_words;
+    uint32_t w, h;
+    uint8_t t;
+};
+
+static inline int is_free_fg(const struct fill_view *v, const uint8_t *row,
+                             const uint64_t *vrow, const uint64_t *mrow, uint32_t x)
 {
-    if (row[x] <= f->t)
+    if (row[x] <= v->t)
         return 0;
-    if (mn_bit_get(det->visited, det->row_words, x, y))
+    if ((vrow[x >> 6] >> (x & 63)) & 1u)
         return 0;
-    return !(det->has_mask && mn_bit_get(det->mask, det->row_words, x, y));
+    return !(mrow && ((mrow[x >> 6] >> (x & 63)) & 1u));
 }
 
-static void mark_span(struct mn_detector *det, uint32_t x0, uint32_t x1, uint32_t y)
+static void mark_span(struct mn_detector *det, uint64_t *vrow, uint32_t x0, uint32_t x1,
+                      uint32_t y)
 {
-    mn_bits_set_range(det->visited + (size_t)y * det->row_words, x0, x1);
+    mn_bits_set_range(vrow, x0, x1);
     uint32_t w0 = x0 >> 6, w1 = x1 >> 6;
     if (w0 < det->dirty_lo[y])
         det->dirty_lo[y] = w0;
@@ -62,61 +100,66 @@ static void mark_span(struct mn_detector *det, uint32_t x0, uint32_t x1, uint32_
 static size_t fill_region(struct mn_detector *det, const struct mn_frame_view *f, uint32_t sx,
                           uint32_t sy, uint32_t bbox[4], int *complete)
 {
+    const struct fill_view v = {f->px, f->stride, det->visited,
+                                det->has_mask ? det->mask : NULL, det->row_words, f->w, f->h,
+                                f->t};
     struct mn_span *spans = det->spans;
+    const size_t cap = det->spans_cap;
     size_t n = 0;
     *complete = 1;
 
-    const uint8_t *row = f->px + (size_t)sy * f->stride;
+    const uint8_t *row = v.px + (size_t)sy * v.stride;
+    uint64_t *vrow = v.visited + (size_t)sy * v.row_words;
+    const uint64_t *mrow = v.mask ? v.mask + (size_t)sy * v.row_words : NULL;
     uint32_t a = sx, b = sx;
-    while (a > 0 && is_free_fg(det, f, row, a - 1, sy))
+    while (a > 0 && is_free_fg(&v, row, vrow, mrow, a - 1))
         a--;
-    while (b + 1 < f->w && is_free_fg(det, f, row, b + 1, sy))
+    while (b + 1 < v.w && is_free_fg(&v, row, vrow, mrow, b + 1))
         b++;
-    mark_span(det, a, b, sy);
+    mark_span(det, vrow, a, b, sy);
     spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, sy};
-    bbox[0] = a;
-    bbox[1] = sy;
-    bbox[2] = b;
-    bbox[3] = sy;
+    uint32_t bx0 = a, bx1 = b, by0 = sy, by1 = sy;
 
     for (size_t i = 0; i < n; i++) {
         struct mn_span s = spans[i];
         uint32_t lo = s.x0 > 0 ? s.x0 - 1u : 0u;
-        uint32_t hi = s.x1 + 1u < f->w ? s.x1 + 1u : f->w - 1u;
+        uint32_t hi = s.x1 + 1u < v.w ? s.x1 + 1u : v.w - 1u;
         for (int dir = -1; dir <= 1; dir += 2) {
-            if ((dir < 0 && s.y == 0) || (dir > 0 && s.y + 1 >= f->h))
+            if ((dir < 0 && s.y == 0) || (dir > 0 && s.y + 1 >= v.h))
                 continue;
             uint32_t ny = s.y + (uint32_t)dir;
-            const uint8_t *nrow = f->px + (size_t)ny * f->stride;
+            const uint8_t *nrow = v.px + (size_t)ny * v.stride;
+            uint64_t *nvrow = v.visited + (size_t)ny * v.row_words;
+            const uint64_t *nmrow = v.mask ? v.mask + (size_t)ny * v.row_words : NULL;
             uint32_t x = lo;
             while (x <= hi) {
-                if (!is_free_fg(det, f, nrow, x, ny)) {
+                if (!is_free_fg(&v, nrow, nvrow, nmrow, x)) {
                     x++;
                     continue;
                 }
                 uint32_t ra = x, rb = x;
-                while (ra > 0 && is_free_fg(det, f, nrow, ra - 1, ny))
+                while (ra > 0 && is_free_fg(&v, nrow, nvrow, nmrow, ra - 1))
                     ra--;
-                while (rb + 1 < f->w && is_free_fg(det, f, nrow, rb + 1, ny))
+                while (rb + 1 < v.w && is_free_fg(&v, nrow, nvrow, nmrow, rb + 1))
                     rb++;
                 x = rb + 2; /* rb + 1 is background or the frame edge */
-                if (n == det->spans_cap) {
+                if (n == cap) {
                     *complete = 0;
                     continue;
                 }
-                mark_span(det, ra, rb, ny);
+                mark_span(det, nvrow, ra, rb, ny);
                 spans[n++] = (struct mn_span){(uint16_t)ra, (uint16_t)rb, ny};
-                if (ra < bbox[0])
-                    bbox[0] = ra;
-                if (rb > bbox[2])
-                    bbox[2] = rb;
-                if (ny < bbox[1])
-                    bbox[1] = ny;
-                if (ny > bbox[3])
-                    bbox[3] = ny;
+                bx0 = ra < bx0 ? ra : bx0;
+                bx1 = rb > bx1 ? rb : bx1;
+                by0 = ny < by0 ? ny : by0;
+                by1 = ny > by1 ? ny : by1;
             }
         }
     }
+    bbox[0] = bx0;
+    bbox[1] = by0;
+    bbox[2] = bx1;
+    bbox[3] = by1;
     return n;
 }
 
@@ -158,14 +201,62 @@ static void process_region(struct mn_detector *det, const struct mn_frame_view *
     mn_detect_morph_region(det, f, n, bbox[0], bbox[1], bbox[2], bbox[3], emit_blob, ctx);
 }
 
+/* The last w % 64 pixels of a row, one by one. */
 static void scan_pixels(struct mn_detector *det, const struct mn_frame_view *f,
                         const uint8_t *row, uint32_t x0, uint32_t x1, uint32_t y,
                         struct run_ctx *ctx)
 {
+    const uint64_t *vrow = det->visited + (size_t)y * det->row_words;
+    const uint64_t *mrow = det->mask + (size_t)y * det->row_words;
     for (uint32_t x = x0; x < x1; x++) {
-        if (is_free_fg(det, f, row, x, y))
-            process_region(det, f, x, y, ctx);
+        if (row[x] <= f->t || ((vrow[x >> 6] >> (x & 63)) & 1u))
+            continue;
+        if (det->has_mask && ((mrow[x >> 6] >> (x & 63)) & 1u))
+            continue;
+        process_region(det, f, x, y, ctx);
     }
+}
+
+/* One 64-pixel chunk starting at x (a multiple of 64, so it is exactly one word of the
+ * visited and mask bitmaps): seeds are bright pixels not yet visited nor masked. */
+static void scan_chunk64(struct mn_detector *det, const struct mn_frame_view *f,
+                         const uint8_t *row, uint32_t x, uint32_t y, struct run_ctx *ctx)
+{
+    const size_t word = (size_t)y * det->row_words + (x >> 6);
+    uint64_t bright = chunk_bits(row + x, f->t);
+    if (det->has_mask)
+        bright &= ~det->mask[word];
+    uint64_t seeds = bright & ~det->visited[word];
+    while (seeds) {
+        uint32_t i = (uint32_t)__builtin_ctzll(seeds);
+        process_region(det, f, x + i, y, ctx);
+        /* The fill may have visited more of this chunk; drop bits up to i as well. */
+        seeds = bright & ~det->visited[word] & (~1ull << i);
+    }
+}
+
+/* One row: 256-pixel blocks are rejected with a single vector maximum (most of a marker
+ * frame is dark), bright blocks are narrowed to 64-pixel chunks, then to seed bits. */
+static void scan_row(struct mn_detector *det, const struct mn_frame_view *f, uint32_t y,
+                     struct run_ctx *ctx)
+{
+    const uint8_t *row = f->px + (size_t)y * f->stride;
+    const uint32_t w = f->w, t = f->t;
+    const uint32_t full256 = w & ~255u, full64 = w & ~63u;
+    uint32_t x = 0;
+    for (; x < full256; x += 256) {
+        if (chunk_max(row + x, 256) <= t)
+            continue;
+        for (uint32_t c = x; c < x + 256; c += 64) {
+            if (chunk_max(row + c, 64) > t)
+                scan_chunk64(det, f, row, c, y, ctx);
+        }
+    }
+    for (; x < full64; x += 64) {
+        if (chunk_max(row + x, 64) > t)
+            scan_chunk64(det, f, row, x, y, ctx);
+    }
+    scan_pixels(det, f, row, full64, w, y, ctx);
 }
 
 static void clear_visited(struct mn_detector *det, uint32_t h)
@@ -197,15 +288,8 @@ int mn_detector_run(struct mn_detector *det, const uint8_t *pixels, uint32_t w, 
     det->stats.threshold = f.t;
 
     struct run_ctx ctx = {out, cap, 0};
-    uint32_t full = w & ~63u;
-    for (uint32_t y = 0; y < h; y++) {
-        const uint8_t *row = pixels + (size_t)y * stride;
-        for (uint32_t x = 0; x < full; x += 64) {
-            if (chunk_max64(row + x) > f.t)
-                scan_pixels(det, &f, row, x, x + 64, y, &ctx);
-        }
-        scan_pixels(det, &f, row, full, w, y, &ctx);
-    }
+    for (uint32_t y = 0; y < h; y++)
+        scan_row(det, &f, y, &ctx);
     clear_visited(det, h);
     *n_out = ctx.n;
     return 0;

@@ -1,0 +1,35 @@
+// The OpenCV pipeline the detector is compared with (threshold, open + close with a 3x3
+// square, connectedComponentsWithStats, intensity-weighted centroids), and the double-precision
+// reference centroids computed from the same components.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "bench/frame_set.h"
+
+namespace mocap {
+
+struct RefCentroid {
+  double x = 0.0, y = 0.0;
+  uint32_t area = 0;
+};
+
+class OpenCvPipeline {
+ public:
+  // Foreground is value > threshold; morph_radius 0 skips the open and close.
+  OpenCvPipeline(int threshold, int morph_radius);
+
+  // Runs the whole pipeline on one frame; centroids in pixel-centre coordinates, weights
+  // value - threshold (0 for pixels the closing added below it), as our detector uses.
+  void Run(const BenchFrame& frame, std::vector<RefCentroid>* out);
+
+ private:
+  int threshold_;
+  int morph_radius_;
+  cv::Mat kernel_, binary_, scratch_, labels_, stats_, centroids_;
+};
+
+}  // namespace mocap
