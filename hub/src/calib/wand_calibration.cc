@@ -1,0 +1,384 @@
+// The wand calibration pipeline. Label resolution works in two regimes: before the first bundle
+// the end markers are matched across cameras by epipolar distance under the initial poses;
+// afterwards each view simply keeps the end order that reprojects better.
+#include "calib/wand_calibration.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "calib/triangulation.h"
+
+namespace mocap {
+namespace {
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// Essential matrix mapping normalized points of camera u to epipolar lines in camera v.
+Eigen::Matrix3d EssentialBetween(const Camera& u, const Camera& v) {
+  const Eigen::Matrix3d r = v.rotation * u.rotation.transpose();
+  const Eigen::Vector3d t = v.translation - r * u.translation;
+  return Skew(t.normalized()) * r;
+}
+
+double Sampson(const Eigen::Matrix3d& e, const Eigen::Vector2d& x1, const Eigen::Vector2d& x2) {
+  const Eigen::Vector3d a(x1.x(), x1.y(), 1.0);
+  const Eigen::Vector3d b(x2.x(), x2.y(), 1.0);
+  const Eigen::Vector3d ea = e * a;
+  const Eigen::Vector3d eb = e.transpose() * b;
+  const double num = b.dot(ea);
+  const double den = ea.x() * ea.x() + ea.y() * ea.y() + eb.x() * eb.x() + eb.y() * eb.y();
+  return den > 0.0 ? num * num / den : 0.0;
+}
+
+// Orders every view's ends consistently with the frame's first view, by epipolar agreement
+// with all views labelled before it.
+void LabelByEpipolar(const std::vector<Camera>& cameras, WandFrame* frame) {
+  auto& views = frame->views;
+  for (size_t i = 1; i < views.size(); ++i) {
+    double straight = 0.0, swapped = 0.0;
+    const size_t last = views[i].normalized.size() - 1;
+    for (size_t j = 0; j < i; ++j) {
+      const Eigen::Matrix3d e = EssentialBetween(cameras[views[j].camera], cameras[views[i].camera]);
+      const auto& a = views[j].normalized;
+      const auto& b = views[i].normalized;
+      for (size_t k = 0; k <= last; ++k) {
+        straight += Sampson(e, a[k], b[k]);
+        swapped += Sampson(e, a[k], b[last - k]);
+      }
+    }
+    if (swapped < straight) views[i].SwapEnds();
+  }
+}
+
+bool TriangulateWand(const std::vector<Camera>& cameras, const WandFrame& frame, const WandGeometry& wand,
+                     WandPose* pose) {
+  const size_t last = wand.MarkerCount() - 1;
+  Eigen::Vector3d ends[2];
+  for (int e = 0; e < 2; ++e) {
+    const size_t k = e == 0 ? 0 : last;
+    std::vector<PointView> views;
+    for (const WandView& view : frame.views) {
+      views.push_back({cameras[view.camera].ProjectionMatrix(), view.normalized[k]});
+    }
+    if (!TriangulateLinear(views, &ends[e])) return false;
+  }
+  const Eigen::Vector3d axis = ends[1] - ends[0];
+  if (!(axis.norm() > 1e-6)) return false;
+  pose->centre = 0.5 * (ends[0] + ends[1]);
+  pose->axis = axis.normalized();
+  return true;
+}
+
+// RMS over the view's markers of the reprojection error per image coordinate.
+double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pose, const WandGeometry& wand,
+                 bool swapped) {
+  const size_t last = view.pixels.size() - 1;
+  double sum = 0.0;
+  for (size_t k = 0; k <= last; ++k) {
+    Eigen::Vector2d projected;
+    if (!camera.ProjectToPixel(pose.Marker(wand, swapped ? last - k : k), &projected)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    sum += (projected - view.pixels[k]).squaredNorm();
+  }
+  return std::sqrt(sum / (2.0 * static_cast<double>(view.pixels.size())));
+}
+
+// Per view: keep the better end order, then drop views above the gate and frames left with
+// fewer than two views. Returns the number of views dropped.
+size_t RelabelAndReject(const std::vector<Camera>& cameras, const WandGeometry& wand, double gate_px,
+                        std::vector<WandFrame>* frames, std::vector<WandPose>* poses) {
+  size_t dropped = 0;
+  std::vector<WandFrame> kept_frames;
+  std::vector<WandPose> kept_poses;
+  for (size_t f = 0; f < frames->size(); ++f) {
+    WandFrame& frame = (*frames)[f];
+    const WandPose& pose = (*poses)[f];
+    std::vector<WandView> kept;
+    for (WandView& view : frame.views) {
+      const Camera& camera = cameras[view.camera];
+      const double straight = ViewRmsPx(camera, view, pose, wand, false);
+      const double swapped = ViewRmsPx(camera, view, pose, wand, true);
+      if (swapped < straight) view.SwapEnds();
+      if (std::min(straight, swapped) <= gate_px) {
+        kept.push_back(std::move(view));
+      } else {
+        ++dropped;
+      }
+    }
+    if (kept.size() < 2) {
+      dropped += kept.size();
+      continue;
+    }
+    frame.views = std::move(kept);
+    kept_frames.push_back(std::move(frame));
+    kept_poses.push_back(pose);
+  }
+  *frames = std::move(kept_frames);
+  *poses = std::move(kept_poses);
+  return dropped;
+}
+
+// Robust residual scale (per coordinate) from the median absolute residual.
+double RobustSigmaPx(const std::vector<Camera>& cameras, const WandGeometry& wand,
+                     const std::vector<WandFrame>& frames, const std::vector<WandPose>& poses) {
+  std::vector<double> magnitudes;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    for (const WandView& view : frames[f].views) {
+      for (size_t k = 0; k < view.pixels.size(); ++k) {
+        Eigen::Vector2d projected;
+        if (!cameras[view.camera].ProjectToPixel(poses[f].Marker(wand, k), &projected)) continue;
+        const Eigen::Vector2d r = projected - view.pixels[k];
+        magnitudes.push_back(std::abs(r.x()));
+        magnitudes.push_back(std::abs(r.y()));
+      }
+    }
+  }
+  if (magnitudes.empty()) return 0.0;
+  const size_t mid = magnitudes.size() / 2;
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + static_cast<long>(mid), magnitudes.end());
+  return 1.4826 * magnitudes[mid];
+}
+
+}  // namespace
+
+void WandCalibrationOptions::Check() const {
+  selection.Check();
+  initialization.Check();
+  bundle.Check();
+  if (!(outlier_min_px > 0.0)) throw std::invalid_argument("outlier_min_px must be > 0");
+  if (!(outlier_sigmas > 0.0)) throw std::invalid_argument("outlier_sigmas must be > 0");
+  if (!(initial_gate_px > 0.0)) throw std::invalid_argument("initial_gate_px must be > 0");
+  if (refinement_passes < 1) throw std::invalid_argument("refinement_passes must be >= 1");
+  if (min_views_per_camera < 1) throw std::invalid_argument("min_views_per_camera must be >= 1");
+  if (!(min_coverage >= 0.0 && min_coverage <= 1.0)) throw std::invalid_argument("min_coverage must be in [0, 1]");
+  if (coverage_grid < 1) throw std::invalid_argument("coverage_grid must be >= 1");
+  if (!(max_camera_rms_px > 0.0)) throw std::invalid_argument("max_camera_rms_px must be > 0");
+}
+
+bool WandCalibrationResult::AllAccepted() const {
+  return std::all_of(cameras.begin(), cameras.end(), [](const CameraCalibrationReport& c) { return c.accepted; });
+}
+
+LengthErrorStats SummarizeLengthErrors(std::vector<double> errors_mm) {
+  LengthErrorStats stats;
+  stats.count = errors_mm.size();
+  if (errors_mm.empty()) return stats;
+  double sum = 0.0, sum_sq = 0.0;
+  std::vector<double> magnitudes;
+  for (double e : errors_mm) {
+    sum += e;
+    sum_sq += e * e;
+    magnitudes.push_back(std::abs(e));
+  }
+  std::sort(magnitudes.begin(), magnitudes.end());
+  const double n = static_cast<double>(errors_mm.size());
+  stats.mean_mm = sum / n;
+  stats.rms_mm = std::sqrt(sum_sq / n);
+  stats.median_abs_mm = magnitudes[magnitudes.size() / 2];
+  stats.p95_abs_mm = magnitudes[std::min(magnitudes.size() - 1, static_cast<size_t>(0.95 * n))];
+  stats.max_abs_mm = magnitudes.back();
+  return stats;
+}
+
+WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, const Rig& intrinsics,
+                                    const WandGeometry& wand, const WandCalibrationOptions& options) {
+  wand.Check();
+  options.Check();
+  const size_t n = intrinsics.cameras.size();
+  WandCalibrationResult result;
+  result.cameras.resize(n);
+  for (size_t i = 0; i < n; ++i) result.cameras[i].id = intrinsics.cameras[i].id;
+
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  auto stage_start = Clock::now();
+  WandSelectionStats selection;
+  std::vector<WandFrame> frames = SelectWandFrames(frame_sets, intrinsics, wand, options.selection, &selection);
+  result.frames_in = selection.frames_in;
+  result.frames_selected = selection.frames_selected;
+  for (size_t i = 0; i < n; ++i) result.cameras[i].views_selected = selection.views_selected[i];
+
+  // Cameras with too few wand views would only destabilise the solve: refuse them up front.
+  std::vector<bool> active(n, true);
+  for (size_t i = 0; i < n; ++i) {
+    if (static_cast<int>(selection.views_selected[i]) < options.min_views_per_camera) {
+      active[i] = false;
+      result.cameras[i].reason = "only " + std::to_string(selection.views_selected[i]) +
+                                 " frames show exactly the wand (need " +
+                                 std::to_string(options.min_views_per_camera) +
+                                 "): wave the wand more in camera " + std::to_string(intrinsics.cameras[i].id) +
+                                 "'s view, away from other bright spots";
+    }
+  }
+  auto drop_inactive = [&](std::vector<WandFrame>* list) {
+    std::vector<WandFrame> kept;
+    for (WandFrame& frame : *list) {
+      frame.views.erase(std::remove_if(frame.views.begin(), frame.views.end(),
+                                       [&](const WandView& v) { return !active[v.camera]; }),
+                        frame.views.end());
+      if (frame.views.size() >= 2) kept.push_back(std::move(frame));
+    }
+    *list = std::move(kept);
+  };
+  drop_inactive(&frames);
+  if (frames.empty()) {
+    throw std::runtime_error("no frame shows the wand (exactly " + std::to_string(wand.MarkerCount()) +
+                             " blobs) in two calibratable cameras: check the wand length, the marker count and "
+                             "that other bright spots are out of view");
+  }
+
+  result.select_seconds = seconds_since(stage_start);
+  stage_start = Clock::now();
+  const WandInitialization init = InitializeWandPoses(frames, intrinsics, wand, options.initialization);
+  std::vector<Camera> cameras = init.cameras;
+  for (size_t i = 0; i < n; ++i) {
+    if (active[i] && !init.posed[i]) {
+      active[i] = false;
+      result.cameras[i].reason = "could not be placed relative to the other cameras (" + init.unposed_reason[i] +
+                                 "): wave the wand where camera " + std::to_string(intrinsics.cameras[i].id) +
+                                 " and its neighbours see it together";
+    }
+  }
+  drop_inactive(&frames);
+
+  // Initial labels and wand poses.
+  std::vector<WandPose> poses;
+  std::vector<WandFrame> labelled;
+  for (WandFrame& frame : frames) {
+    LabelByEpipolar(cameras, &frame);
+    WandPose pose;
+    if (!TriangulateWand(cameras, frame, wand, &pose)) continue;
+    labelled.push_back(std::move(frame));
+    poses.push_back(pose);
+  }
+  frames = std::move(labelled);
+  RelabelAndReject(cameras, wand, options.initial_gate_px, &frames, &poses);
+  // Rejection may leave a camera without views; it then cannot be solved.
+  auto refuse_unseen = [&]() {
+    std::vector<size_t> count(n, 0);
+    for (const WandFrame& frame : frames) {
+      for (const WandView& view : frame.views) ++count[view.camera];
+    }
+    for (size_t i = 0; i < n; ++i) {
+      if (active[i] && count[i] == 0) {
+        active[i] = false;
+        result.cameras[i].reason = "no wand view agrees with the other cameras: check that camera " +
+                                   std::to_string(intrinsics.cameras[i].id) +
+                                   "'s intrinsics belong to it, then wave the wand more in its view";
+      }
+    }
+  };
+  refuse_unseen();
+
+  result.initialize_seconds = seconds_since(stage_start);
+  stage_start = Clock::now();
+  WandBundleOptions bundle = options.bundle;
+  bundle.fixed_camera = init.reference_camera;
+  for (int pass = 0; pass < options.refinement_passes; ++pass) {
+    const WandBundleSummary summary = AdjustWandBundle(frames, wand, bundle, active, &cameras, &poses);
+    result.solver_iterations += summary.iterations;
+    result.solver_message = summary.message;
+    if (!summary.usable) {
+      throw std::runtime_error("bundle adjustment failed (" + summary.message +
+                               "): record the wand again, covering the volume slowly");
+    }
+    const double sigma = RobustSigmaPx(cameras, wand, frames, poses);
+    const double gate = std::max(options.outlier_min_px, options.outlier_sigmas * sigma);
+    const size_t dropped = RelabelAndReject(cameras, wand, gate, &frames, &poses);
+    refuse_unseen();
+    if (dropped == 0 && pass > 0) break;
+    if (pass + 1 == options.refinement_passes && dropped > 0) {
+      const WandBundleSummary last = AdjustWandBundle(frames, wand, bundle, active, &cameras, &poses);
+      result.solver_iterations += last.iterations;
+      result.solver_message = last.message;
+    }
+  }
+  result.bundle_seconds = seconds_since(stage_start);
+  result.frames_used = frames.size();
+  result.reference_camera_id = intrinsics.cameras[init.reference_camera].id;
+
+  // Report: residuals, coverage and independently triangulated wand lengths.
+  const int grid = options.coverage_grid;
+  std::vector<std::vector<bool>> cells(n, std::vector<bool>(static_cast<size_t>(grid * grid), false));
+  std::vector<double> sum_sq(n, 0.0);
+  std::vector<size_t> coordinates(n, 0);
+  std::vector<std::vector<double>> length_errors(n);
+  std::vector<double> all_length_errors;
+  double total_sq = 0.0;
+  size_t total_coordinates = 0;
+  const size_t last = wand.MarkerCount() - 1;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    std::vector<PointView> first, second;
+    for (const WandView& view : frames[f].views) {
+      const Camera& camera = cameras[view.camera];
+      CameraCalibrationReport& report = result.cameras[view.camera];
+      ++report.views_used;
+      for (size_t k = 0; k < view.pixels.size(); ++k) {
+        Eigen::Vector2d projected;
+        camera.ProjectToPixel(poses[f].Marker(wand, k), &projected);
+        const double sq = (projected - view.pixels[k]).squaredNorm();
+        sum_sq[view.camera] += sq;
+        coordinates[view.camera] += 2;
+        total_sq += sq;
+        total_coordinates += 2;
+        const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
+        const int cy = std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
+        cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
+      }
+      // Normalized coordinates again: the intrinsics may have been refined.
+      first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
+      second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
+    }
+    Eigen::Vector3d a, b;
+    if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
+    const double error = (b - a).norm() - wand.LengthMm();
+    all_length_errors.push_back(error);
+    for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
+  }
+  result.wand_length = SummarizeLengthErrors(all_length_errors);
+  result.reprojection_rms_px = total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
+
+  for (size_t i = 0; i < n; ++i) {
+    CameraCalibrationReport& report = result.cameras[i];
+    const std::string id = std::to_string(report.id);
+    report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
+    report.reprojection_rms_px = coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
+    report.wand_length = SummarizeLengthErrors(length_errors[i]);
+    if (!active[i]) continue;  // reason already set
+    char buffer[256];
+    if (static_cast<int>(report.views_used) < options.min_views_per_camera) {
+      report.reason = "only " + std::to_string(report.views_used) + " wand views survived outlier rejection (need " +
+                      std::to_string(options.min_views_per_camera) + "): wave the wand more in camera " + id +
+                      "'s view";
+    } else if (report.coverage < options.min_coverage) {
+      std::snprintf(buffer, sizeof(buffer),
+                    "the wand covered %.0f %% of the image (need %.0f %%): wave it towards the edges and corners "
+                    "of camera %s's view",
+                    100.0 * report.coverage, 100.0 * options.min_coverage, id.c_str());
+      report.reason = buffer;
+    } else if (report.reprojection_rms_px > options.max_camera_rms_px) {
+      std::snprintf(buffer, sizeof(buffer),
+                    "reprojection RMS %.2f px exceeds %.2f px: check camera %s's intrinsics and that it did not "
+                    "move, then record the wand again",
+                    report.reprojection_rms_px, options.max_camera_rms_px, id.c_str());
+      report.reason = buffer;
+    } else {
+      report.accepted = true;
+      result.rig.cameras.push_back(cameras[i]);
+    }
+  }
+  return result;
+}
+
+}  // namespace mocap
