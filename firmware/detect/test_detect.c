@@ -163,6 +163,57 @@ static void test_matches_reference(void **state)
     }
 }
 
+/* Big and small spots, rings with holes and noisy edges, on patches wider than one 64-bit
+ * word: per-blob morphology equals a whole-frame opening and closing (blobs are far apart). */
+static void test_morphology_matches_whole_frame(void **state)
+{
+    (void)state;
+    const uint32_t w = 563, h = 341;
+    struct ts_rng rng = {2024};
+    struct ts_canvas c;
+    ts_canvas_init(&c, w, h, BG);
+    for (uint32_t gy = 0; gy < 3; gy++) {
+        for (uint32_t gx = 0; gx < 5; gx++) {
+            double cx = 55 + gx * 112 + ts_uniform(&rng) * 4, cy = 55 + gy * 112 + ts_uniform(&rng) * 4;
+            double sigma = 1.0 + ts_uniform(&rng) * 20.0;
+            ts_canvas_spot(&c, cx, cy, sigma, 230);
+            if ((gx + gy) % 2 == 0) /* carve a dark hole: a ring for the closing to work on */
+                ts_canvas_spot(&c, cx + 0.3, cy - 0.2, sigma * 0.35, -200);
+        }
+    }
+    uint8_t *px = malloc((size_t)w * h);
+    ts_canvas_to_y8(&c, &rng, 6.0, px, w);
+    for (int radius = 1; radius <= 2; radius++) {
+        struct mn_detect_config cfg;
+        mn_detect_config_default(&cfg);
+        cfg.threshold = 60;
+        cfg.morph_radius = (uint8_t)radius;
+        cfg.min_area = 1;
+        cfg.max_bbox = 200;
+        cfg.merged_roundness = 0.0f;
+        struct mn_detector *det = mn_detector_new(&cfg, w, h);
+        assert_non_null(det);
+        struct mn_blob got[256];
+        struct ts_ref_blob want[256];
+        size_t n = 0;
+        assert_int_equal(mn_detector_run(det, px, w, h, w, got, 256, &n), 0);
+        size_t nr = ts_reference_morph(px, w, h, w, 60, radius, want, 256);
+        assert_int_equal(n, nr);
+        int wide = 0;
+        for (size_t i = 0; i < nr; i++) {
+            int k = nearest(got, n, want[i].x, want[i].y);
+            assert_true(k >= 0);
+            assert_int_equal(got[k].area, want[i].area);
+            assert_true(fabs(got[k].x - want[i].x) < 1e-9 && fabs(got[k].y - want[i].y) < 1e-9);
+            wide += got[k].bbox_w + 2 * radius > 64; /* its patch needs two words per row */
+        }
+        assert_true(wide >= 2); /* patches of more than one word were exercised */
+        mn_detector_free(det);
+    }
+    free(px);
+    ts_canvas_free(&c);
+}
+
 /* Two spots close enough to merge are one blob flagged MERGED at their mean; two spots just
  * apart are two blobs with accurate centroids. */
 static void test_merged_and_touching(void **state)
@@ -548,6 +599,7 @@ int main(void)
         cmocka_unit_test(test_centroids_fixed),
         cmocka_unit_test(test_centroids_auto),
         cmocka_unit_test(test_matches_reference),
+        cmocka_unit_test(test_morphology_matches_whole_frame),
         cmocka_unit_test(test_merged_and_touching),
         cmocka_unit_test(test_opening_splits_neck),
         cmocka_unit_test(test_closing_and_specks),
