@@ -48,6 +48,7 @@ void TrackerOptions::Check() const {
   Require(max_predicted_s >= 0.0 && coast_s >= 0.0 && reacquire_s >= 0.0,
           "tracker durations must be >= 0");
   Require(reacquire_gate_mm > 0.0, "tracker.reacquire_gate_mm must be > 0");
+  Require(wide_gate_mm > 0.0, "tracker.wide_gate_mm must be > 0");
   rigid.Check();
 }
 

@@ -58,6 +58,10 @@ struct TrackerOptions {
   double coast_s = 0.1;
   double reacquire_s = 3.0;
   double reacquire_gate_mm = 50.0;
+  // Seed 001 section 5.2's second, global search: predictions and points left unpaired by the
+  // gated step are paired again (optimal assignment) within this wider radius, around the rigid
+  // model's position when it has one. Catches markers that accelerate hard (a serve's hand).
+  double wide_gate_mm = 250.0;
   RigidModelOptions rigid;
 
   void Check() const;

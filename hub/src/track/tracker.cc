@@ -38,8 +38,28 @@ void Tracker::FreeTrack(int slot) {
 }
 
 double Tracker::GateOf(const Track& track) const {
-  return std::clamp(options_.gate_sigmas * track.filter.InnovationStd(options_.kalman.measurement_noise_mm),
-                    options_.min_gate_mm, options_.max_gate_mm);
+  const double gate =
+      std::clamp(options_.gate_sigmas * track.filter.InnovationStd(options_.kalman.measurement_noise_mm),
+                 options_.min_gate_mm, options_.max_gate_mm);
+  // A track two or three frames old has a velocity from one difference: any glitch in it (a
+  // marker's first frames often jump) would kill the track, so young tracks search wider.
+  return track.state == State::kTentative ? std::max(gate, 3.0 * options_.min_gate_mm) : gate;
+}
+
+void Tracker::Finish(std::vector<TrackSample>* samples) {
+  for (Track& track : tracks_) {
+    if (track.state != State::kTentative) continue;
+    // Measured in every frame since its birth with enough views; only the data ended too soon.
+    track.marker = next_marker_++;
+    ++stats_.births;
+    for (const auto& [frame, position] : track.history) {
+      TrackSample sample = SampleOf(track, frame, SampleKind::kMeasured);
+      sample.position = position;
+      samples->push_back(sample);
+    }
+    track.state = State::kActive;
+    track.history.clear();
+  }
 }
 
 TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const {
@@ -158,14 +178,22 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       track.reference = rigid_position[slot];
     }
   }
-  // 4. Lost tracks look for their marker near where it should be.
+  // 4. The global second search: confirmed tracks still without a point (around the rigid
+  // model's position if any, else their prediction, within the wide gate) and lost tracks
+  // (around where the model or their last sighting puts them) against the points left over.
   slots.clear();
   centres.clear();
   gates.clear();
   for (int slot = 0; slot < num_slots; ++slot) {
-    if (tracks_[slot].state == State::kLost) {
+    const Track& track = tracks_[slot];
+    if (point_of_slot[slot] >= 0) continue;
+    if (track.state == State::kActive) {
       slots.push_back(slot);
-      centres.push_back(tracks_[slot].reference);
+      centres.push_back(has_rigid[slot] ? rigid_position[slot] : track.filter.position());
+      gates.push_back(options_.wide_gate_mm);
+    } else if (track.state == State::kLost) {
+      slots.push_back(slot);
+      centres.push_back(track.reference);
       gates.push_back(options_.reacquire_gate_mm);
     }
   }
@@ -209,7 +237,10 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       }
       continue;
     }
-    samples->push_back(SampleOf(track, frame_number, SampleKind::kMeasured));
+    // The triangulated point itself: the filter's estimate lags a hard-accelerating marker.
+    TrackSample sample = SampleOf(track, frame_number, SampleKind::kMeasured);
+    sample.position = point;
+    samples->push_back(sample);
     rigid_slots.push_back(slot);
     rigid_positions.push_back(point);
   }

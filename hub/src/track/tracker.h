@@ -49,6 +49,10 @@ class Tracker {
   void Update(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
               std::vector<TrackSample>* samples);
 
+  // At the end of the data: tentative tracks that were measured in every frame of their short
+  // life are confirmed and output (a marker that appears in the last frames is still a marker).
+  void Finish(std::vector<TrackSample>* samples);
+
   int NumMarkers() const { return next_marker_; }
   const TrackerStats& stats() const { return stats_; }
 

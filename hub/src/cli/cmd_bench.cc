@@ -1,0 +1,226 @@
+// `bench`: per-frame reconstruct + track time on a simulated session built in memory (default
+// 16 cameras, 60 markers, 240 Hz, the faults), side by side in the same run with the
+// floor: undistorting and triangulating the same frames given the true correspondences. Prints
+// the real-time factor (frame period / mean time per frame, one thread).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "recon/reconstructor.h"
+#include "recon/triangulation.h"
+#include "sim/motion_volume.h"
+#include "sim/projector.h"
+#include "sim/ring_rig.h"
+#include "sim/synthetic_motion.h"
+#include "track/gap_filler.h"
+#include "track/tracker.h"
+
+namespace mocap {
+namespace {
+
+struct BenchArgs {
+  int cameras = 16;
+  int markers = 60;
+  double rate_hz = 240.0;
+  int frames = 2400;
+  std::string matcher = "relaxation";
+  bool no_predictions = false;
+  ProjectOptions faults;
+  bool json = false;
+};
+
+using Clock = std::chrono::steady_clock;
+
+double Microseconds(Clock::duration d) {
+  return std::chrono::duration<double, std::micro>(d).count();
+}
+
+struct Timings {
+  std::vector<double> per_frame_us;
+  double Mean() const {
+    double sum = 0.0;
+    for (double t : per_frame_us) sum += t;
+    return per_frame_us.empty() ? 0.0 : sum / per_frame_us.size();
+  }
+  double Percentile(double q) const {
+    if (per_frame_us.empty()) return 0.0;
+    std::vector<double> sorted = per_frame_us;
+    const size_t k = std::min(sorted.size() - 1, static_cast<size_t>(q * sorted.size()));
+    std::nth_element(sorted.begin(), sorted.begin() + k, sorted.end());
+    return sorted[k];
+  }
+};
+
+// True correspondences of one frame, by blob: for every marker, the blob nearest to its true
+// projection in each camera, within a few pixels (merged blobs serve both markers).
+std::vector<std::vector<std::pair<int, int>>> TrueCorrespondences(
+    const Rig& rig, const std::vector<CameraFrame>& frames, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<std::vector<std::pair<int, int>>> views_of_marker(points.size());
+  for (const CameraFrame& frame : frames) {
+    const Camera* camera = rig.Find(frame.camera_id);
+    const int camera_index = static_cast<int>(camera - rig.cameras.data());
+    for (size_t m = 0; m < points.size(); ++m) {
+      Eigen::Vector2d pixel;
+      if (!points[m].allFinite() || !camera->ProjectToPixel(points[m], &pixel)) continue;
+      int best = -1;
+      double best_distance = 3.0;
+      for (size_t b = 0; b < frame.blobs.size(); ++b) {
+        const double d = (frame.blobs[b].pixel - pixel).norm();
+        if (d < best_distance) {
+          best_distance = d;
+          best = static_cast<int>(b);
+        }
+      }
+      if (best >= 0) views_of_marker[m].emplace_back(camera_index, best);
+    }
+  }
+  return views_of_marker;
+}
+
+void RunBench(BenchArgs args) {
+  if (args.cameras < 2) throw std::invalid_argument("--cameras must be >= 2");
+  if (args.markers < 1) throw std::invalid_argument("--markers must be >= 1");
+  if (args.frames < 10) throw std::invalid_argument("--frames must be >= 10");
+  if (!(args.rate_hz > 0.0)) throw std::invalid_argument("--rate must be > 0");
+  args.faults.Check();
+
+  SyntheticMotionOptions motion_options;
+  motion_options.markers = args.markers;
+  motion_options.frames = args.frames;
+  motion_options.rate_hz = args.rate_hz;
+  const MarkerTrajectories motion = MakeSyntheticMotion(motion_options);
+  RingRigOptions rig_options;
+  rig_options.cameras = args.cameras;
+  const Rig rig = MakeRingRig(ComputeMotionVolume(motion, motion_options.up_axis), rig_options);
+  FaultyProjector projector(rig, motion.NumMarkers(), args.faults);
+
+  ReconstructorOptions recon_options;
+  recon_options.matcher = MatcherTypeFromString(args.matcher);
+  recon_options.use_predictions = !args.no_predictions;
+  Reconstructor reconstructor(rig, recon_options);
+  TrackerOptions tracker_options;
+  tracker_options.rate_hz = args.rate_hz;
+  Tracker tracker(tracker_options);
+  size_t output_samples = 0;
+  GapFiller filler(GapFillOptions(), [&](uint64_t, const std::vector<TrackSample>& row) {
+    output_samples += row.size();
+  });
+  const RigModel floor_rig(rig);
+  FrameViews floor_views;
+  TriangulatedPoint floor_point;
+  std::vector<int> floor_observations;
+
+  Timings pipeline, floor;
+  FrameSet frame_set;
+  std::vector<int> seeing;
+  std::vector<ReconstructedPoint> points;
+  std::vector<TrackSample> samples;
+  std::vector<Eigen::Vector3d> truth(motion.NumMarkers());
+  size_t blobs = 0, floor_points = 0, pipeline_points = 0;
+  for (size_t f = 0; f < motion.NumFrames(); ++f) {
+    const uint64_t frame_number = motion.frame_numbers[f];
+    for (size_t m = 0; m < motion.NumMarkers(); ++m) truth[m] = motion.At(f, m);
+    frame_set.frame_number = frame_number;
+    frame_set.cameras = projector.Project(frame_number, 0, truth.data(), &seeing);
+    for (const CameraFrame& camera : frame_set.cameras) blobs += camera.blobs.size();
+    const auto correspondences = TrueCorrespondences(rig, frame_set.cameras, truth);
+
+    // Floor: the same undistortion, then one robust triangulation per marker, no matching.
+    const Clock::time_point floor_start = Clock::now();
+    BuildFrameViews(floor_rig, frame_set, &floor_views);
+    for (const auto& views : correspondences) {
+      if (views.size() < 2) continue;
+      floor_observations.clear();
+      for (const auto& [camera, blob] : views) {
+        floor_observations.push_back(floor_views.camera_begin[camera] + blob);
+      }
+      if (TriangulateRobust(floor_rig, floor_views, floor_observations, TriangulationOptions(),
+                            &floor_point)) {
+        ++floor_points;
+      }
+    }
+    floor.per_frame_us.push_back(Microseconds(Clock::now() - floor_start));
+
+    const Clock::time_point start = Clock::now();
+    reconstructor.Process(frame_set, tracker.Predict(frame_number), &points);
+    samples.clear();
+    tracker.Update(frame_number, points, &samples);
+    filler.Add(frame_number, samples);
+    pipeline.per_frame_us.push_back(Microseconds(Clock::now() - start));
+    pipeline_points += points.size();
+  }
+  filler.Finish();
+
+  const double period_us = 1e6 / args.rate_hz;
+  const double mean = pipeline.Mean(), floor_mean = floor.Mean();
+  const double frames = static_cast<double>(motion.NumFrames());
+  nlohmann::json report = {
+      {"cameras", args.cameras},
+      {"markers", args.markers},
+      {"rate_hz", args.rate_hz},
+      {"frames", motion.NumFrames()},
+      {"matcher", args.matcher},
+      {"predictions", !args.no_predictions},
+      {"blobs_per_frame", blobs / frames},
+      {"reconstruct_track_us", {{"mean", mean}, {"median", pipeline.Percentile(0.5)}, {"p99", pipeline.Percentile(0.99)}, {"max", pipeline.Percentile(1.0)}}},
+      {"floor_us", {{"mean", floor_mean}, {"median", floor.Percentile(0.5)}, {"p99", floor.Percentile(0.99)}, {"max", floor.Percentile(1.0)}}},
+      {"ratio_to_floor", mean / floor_mean},
+      {"real_time_factor", period_us / mean},
+      {"floor_real_time_factor", period_us / floor_mean},
+      {"points_per_frame", pipeline_points / frames},
+      {"floor_points_per_frame", floor_points / frames},
+      {"output_markers", tracker.NumMarkers()},
+      {"output_samples_per_frame", output_samples / frames},
+  };
+  if (args.json) {
+    std::printf("%s\n", report.dump().c_str());
+    return;
+  }
+  std::printf("bench: %d cameras, %d markers, %.0f Hz, %zu frames (%.1f s), %.1f blobs/frame, matcher %s%s\n",
+              args.cameras, args.markers, args.rate_hz, motion.NumFrames(), frames / args.rate_hz,
+              blobs / frames, args.matcher.c_str(), args.no_predictions ? " (no predictions)" : "");
+  std::printf("%-28s %10s %10s %10s %10s %12s\n", "per frame (us)", "mean", "median", "p99", "max", "real-time x");
+  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "reconstruct + track", mean,
+              pipeline.Percentile(0.5), pipeline.Percentile(0.99), pipeline.Percentile(1.0), period_us / mean);
+  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "floor (true correspondences)", floor_mean,
+              floor.Percentile(0.5), floor.Percentile(0.99), floor.Percentile(1.0), period_us / floor_mean);
+  std::printf("ratio to floor %.2f; points/frame %.2f (floor %.2f); %d output markers\n", mean / floor_mean,
+              pipeline_points / frames, floor_points / frames, tracker.NumMarkers());
+}
+
+}  // namespace
+
+void AddBenchCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("bench", "Time reconstruct + track against the known-correspondence floor");
+  auto args = std::make_shared<BenchArgs>();
+  args->faults.noise_px = 0.2;
+  args->faults.occlusion = 0.05;
+  args->faults.occlusion_frames = 5.0;
+  args->faults.spurious = 2.0;
+  args->faults.drop_frames = 0.002;
+  command->add_option("--cameras", args->cameras, "Cameras in the ring")->capture_default_str();
+  command->add_option("--markers", args->markers, "Markers of the synthetic motion")->capture_default_str();
+  command->add_option("--rate", args->rate_hz, "Frame rate, Hz")->capture_default_str();
+  command->add_option("--frames", args->frames, "Frames to simulate and time")->capture_default_str();
+  command->add_option("--matcher", args->matcher, "Matcher for untracked blobs")
+      ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
+      ->capture_default_str();
+  command->add_flag("--no-predictions", args->no_predictions, "Match every frame from scratch");
+  command->add_option("--noise-px", args->faults.noise_px, "Centroid noise sigma")->capture_default_str();
+  command->add_option("--occlusion", args->faults.occlusion, "Occlusion probability")->capture_default_str();
+  command->add_option("--spurious", args->faults.spurious, "False blobs per camera per frame")->capture_default_str();
+  command->add_option("--drop-frames", args->faults.drop_frames, "Dropped camera frame probability")->capture_default_str();
+  command->add_option("--seed", args->faults.seed, "Fault seed")->capture_default_str();
+  command->add_flag("--json", args->json, "One JSON object on stdout");
+  command->callback([args]() { RunBench(*args); });
+}
+
+}  // namespace mocap

@@ -1,0 +1,133 @@
+// `reconstruct`: a session directory's 2D blobs -> labelled 3D trajectories in a TRC file.
+// Streams: frame sets are reconstructed and tracked as they are read, rows leave the gap
+// filler's bounded window for a spill file, and the TRC is written from it at the end, so memory
+// does not grow with session length.
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "cli/commands.h"
+#include "cli/progress.h"
+#include "ingest/session.h"
+#include "io/calibration_json.h"
+#include "recon/reconstructor.h"
+#include "track/gap_filler.h"
+#include "track/tracker.h"
+#include "track/trc_spill.h"
+
+namespace mocap {
+namespace {
+
+struct ReconstructArgs {
+  std::string session;
+  std::string calibration;
+  std::string output;
+  std::string matcher = "relaxation";
+  std::string assignment = "optimal";
+  bool no_predictions = false;
+  ReconstructorOptions recon;
+  TrackerOptions tracker;
+  GapFillOptions gap_fill;
+};
+
+// Every camera of the session must be in the calibration: reconstructing with a camera's blobs
+// silently ignored would give plausible-looking but thinner results.
+void CheckCalibrationMatches(const SessionInfo& info, const Rig& rig, const ReconstructArgs& args) {
+  for (uint32_t id : info.camera_ids) {
+    if (rig.Find(id) == nullptr) {
+      throw std::runtime_error(args.calibration + ": has no camera " + std::to_string(id) +
+                               " but session " + args.session + " recorded it");
+    }
+  }
+  if (rig.cameras.size() < 2) throw std::runtime_error(args.calibration + ": needs at least 2 cameras");
+}
+
+void RunReconstruct(ReconstructArgs args) {
+  args.recon.matcher = MatcherTypeFromString(args.matcher);
+  args.recon.use_predictions = !args.no_predictions;
+  args.tracker.assignment = AssignmentMethodFromString(args.assignment);
+  const Rig rig = LoadRigJson(args.calibration);
+  SessionReader reader;
+  reader.Open(args.session);
+  const SessionInfo& info = reader.Info();
+  if (!(info.rate_hz > 0.0)) throw std::runtime_error(args.session + ": session.json has no frame rate");
+  CheckCalibrationMatches(info, rig, args);
+  args.tracker.rate_hz = info.rate_hz;
+
+  Reconstructor reconstructor(rig, args.recon);
+  Tracker tracker(args.tracker);
+  TrcSpill spill;
+  spill.Open(args.output, info.rate_hz);
+  GapFiller filler(args.gap_fill, [&spill](uint64_t frame, const std::vector<TrackSample>& row) {
+    spill.AddRow(frame, row);
+  });
+
+  ProgressBar progress("reconstruct", static_cast<size_t>(info.frame_sets));
+  FrameSet frame_set;
+  std::vector<ReconstructedPoint> points;
+  std::vector<TrackSample> samples;
+  size_t done = 0;
+  bool first = true;
+  uint64_t last_frame = 0;
+  while (reader.Next(&frame_set)) {
+    if (!first && frame_set.frame_number <= last_frame) continue;  // reader guarantees order
+    first = false;
+    last_frame = frame_set.frame_number;
+    reconstructor.Process(frame_set, tracker.Predict(frame_set.frame_number), &points);
+    samples.clear();
+    tracker.Update(frame_set.frame_number, points, &samples);
+    filler.Add(frame_set.frame_number, samples);
+    progress.Update(++done);
+  }
+  progress.Finish();
+  if (done == 0) throw std::runtime_error(args.session + ": no frames to reconstruct");
+  samples.clear();
+  tracker.Finish(&samples);
+  filler.Add(last_frame, samples);
+  filler.Finish();
+  spill.Finish(tracker.NumMarkers());
+
+  for (const std::string& warning : reader.warnings()) {
+    std::fprintf(stderr, "mocap-hub: warning: %s\n", warning.c_str());
+  }
+  const ReconstructionStats& rs = reconstructor.stats();
+  const TrackerStats& ts = tracker.stats();
+  std::printf(
+      "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
+      "rejected, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
+      args.output.c_str(), done, tracker.NumMarkers(),
+      static_cast<double>(rs.points) / static_cast<double>(done),
+      rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
+      rs.outlier_views_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
+      args.matcher.c_str());
+}
+
+}  // namespace
+
+void AddReconstructCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand("reconstruct", "2D blobs of a session -> labelled 3D markers (TRC)");
+  auto args = std::make_shared<ReconstructArgs>();
+  command->add_option("session", args->session, "Session directory")->required()->check(CLI::ExistingDirectory);
+  command->add_option("--calibration", args->calibration, "Calibration JSON")->required()->check(CLI::ExistingFile);
+  command->add_option("-o,--output", args->output, "Output TRC file")->required();
+  command->add_option("--matcher", args->matcher, "Correspondences of untracked blobs")
+      ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
+      ->capture_default_str();
+  command->add_option("--assignment", args->assignment, "Predictions to points")
+      ->check(CLI::IsMember({"optimal", "greedy"}))
+      ->capture_default_str();
+  command->add_flag("--no-predictions", args->no_predictions,
+                    "Match every frame from scratch (no reprojected track predictions)");
+  command->add_option("--max-ray-distance-mm", args->recon.graph.max_ray_distance_mm,
+                      "Epipolar graph: rays closer than this are linked")->capture_default_str();
+  command->add_option("--cluster-distance-mm", args->recon.clustering.max_ray_distance_mm,
+                      "Clustering matcher threshold")->capture_default_str();
+  command->add_option("--max-reprojection-px", args->recon.triangulation.max_reprojection_px,
+                      "Views with a larger residual are rejected")->capture_default_str();
+  command->add_option("--max-spline-gap", args->gap_fill.max_spline_gap,
+                      "Longest gap (frames) filled by a spline")->capture_default_str();
+  command->callback([args]() { RunReconstruct(*args); });
+}
+
+}  // namespace mocap
