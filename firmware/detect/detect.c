@@ -108,7 +108,9 @@ struct mn_detector *mn_detector_new(const struct mn_detect_config *cfg, uint32_t
         cap = 16384;
     det->spans_cap = cap;
     det->spans = malloc(cap * sizeof *det->spans);
-    if (!det->spans)
+    det->seed_cap = (MN_SEED_LAG + 1) * det->row_words;
+    det->seeds = malloc(det->seed_cap * sizeof *det->seeds);
+    if (!det->spans || !det->seeds)
         goto fail_free;
     return det;
 
@@ -123,6 +125,7 @@ void mn_detector_free(struct mn_detector *det)
 {
     if (!det)
         return;
+    free(det->seeds);
     free(det->spans);
     for (int i = 0; i < 3; i++)
         free(det->patch[i]);

@@ -17,6 +17,15 @@ struct mn_span {
     uint32_t y;
 };
 
+/* Rows between finding a bright chunk and filling its regions (see detect_run.c). */
+#define MN_SEED_LAG 24u
+
+/* Bright, unmasked pixels of one 64-pixel chunk awaiting their fill. */
+struct mn_seed_chunk {
+    uint32_t y, x;
+    uint64_t bits;
+};
+
 struct mn_detector {
     struct mn_detect_config cfg;
     uint32_t max_w, max_h;
@@ -30,6 +39,8 @@ struct mn_detector {
     uint32_t *dirty_hi;  /* clearing costs the regions' size instead of the frame's */
     struct mn_span *spans;
     size_t spans_cap;
+    struct mn_seed_chunk *seeds; /* ring of MN_SEED_LAG + 1 rows of chunks */
+    size_t seed_cap, seed_head, seed_count;
     uint64_t *patch[3];  /* morphology bit planes, patch_rows x patch_words each */
     size_t patch_words;
     size_t patch_rows;
@@ -50,7 +61,20 @@ static inline int mn_bit_get(const uint64_t *bits, size_t row_words, uint32_t x,
 }
 
 /* Sets bits x0..x1 (inclusive) of one bitmap row. */
-void mn_bits_set_range(uint64_t *row, uint32_t x0, uint32_t x1);
+static inline void mn_bits_set_range(uint64_t *row, uint32_t x0, uint32_t x1)
+{
+    uint32_t w0 = x0 >> 6, w1 = x1 >> 6;
+    uint64_t lo = ~0ull << (x0 & 63);
+    uint64_t hi = ~0ull >> (63 - (x1 & 63));
+    if (w0 == w1) {
+        row[w0] |= lo & hi;
+        return;
+    }
+    row[w0] |= lo;
+    for (uint32_t k = w0 + 1; k < w1; k++)
+        row[k] = ~0ull;
+    row[w1] |= hi;
+}
 
 /* Threshold for this frame from a sampled histogram (auto mode). */
 uint8_t mn_detect_auto_threshold(const struct mn_detector *det, const struct mn_frame_view *f);

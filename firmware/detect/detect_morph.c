@@ -2,8 +2,6 @@
  * bbox plus the radius), never to the whole frame. A (2r+1)^2 square is r passes of 3x3, each a
  * few word-wide shifts and ANDs/ORs. Outside the image counts as neutral (as OpenCV's default
  * border does), so a blob cut by the frame edge is not eroded from that side. */
-#include <string.h>
-
 #include "detect/detect.h"
 #include "detect/detect_internal.h"
 
@@ -57,6 +55,29 @@ static void morph3(const struct patch *p, uint64_t *src, uint64_t *dst, uint64_t
         }
         out[K - 1] &= p->tail;
     }
+}
+
+/* morph3 for patches of one word per row (blobs up to 62 pixels wide at radius 1, nearly all
+ * markers): each row is shifted once and the vertical step rolls over three rows, with no
+ * scratch plane. Written with erode constant at each call so the compiler specialises it. */
+static inline void morph3_one_word(const struct patch *p, const uint64_t *src, uint64_t *dst,
+                                   int erode)
+{
+    const size_t st = p->stride;
+    const uint64_t fill_l = erode && p->edge[0] ? 1u : 0u;
+    const uint64_t fill_r = (erode && p->edge[2] ? 1ull : 0u) << ((p->w - 1) & 63);
+    const uint64_t top = erode && p->edge[1] ? ~0ull : 0u;
+    const uint64_t bottom = erode && p->edge[3] ? ~0ull : 0u;
+#define MN_HROW(x) (erode ? ((x) & (((x) << 1) | fill_l) & (((x) >> 1) | fill_r)) \
+                          : ((x) | ((x) << 1) | ((x) >> 1)))
+    uint64_t prev = top, cur = MN_HROW(src[0]);
+    for (uint32_t r = 0; r < p->h; r++) {
+        uint64_t next = r + 1 < p->h ? MN_HROW(src[(size_t)(r + 1) * st]) : bottom;
+        dst[(size_t)r * st] = (erode ? (prev & cur & next) : (prev | cur | next)) & p->tail;
+        prev = cur;
+        cur = next;
+    }
+#undef MN_HROW
 }
 
 static void clear_range(uint64_t *row, uint32_t x0, uint32_t x1)
@@ -172,8 +193,11 @@ void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view 
     p.edge[3] = y1 + 1 == f->h;
 
     uint64_t *a = det->patch[0], *b = det->patch[1], *tmp = det->patch[2];
-    for (uint32_t row = 0; row < p.h; row++)
-        memset(prow(a, &p, row), 0, p.words * sizeof(uint64_t));
+    for (uint32_t row = 0; row < p.h; row++) {
+        uint64_t *words = prow(a, &p, row);
+        for (size_t k = 0; k < p.words; k++)
+            words[k] = 0;
+    }
     for (size_t i = 0; i < n; i++) {
         const struct mn_span *s = &det->spans[i];
         mn_bits_set_range(prow(a, &p, s->y - p.y0), s->x0 - p.x0, s->x1 - p.x0);
@@ -184,7 +208,14 @@ void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view 
     static const int steps[4] = {1, 0, 0, 1};
     for (int s = 0; s < 4; s++) {
         for (uint32_t i = 0; i < r; i++) {
-            morph3(&p, a, b, tmp, steps[s]);
+            if (p.words == 1) {
+                if (steps[s])
+                    morph3_one_word(&p, a, b, 1);
+                else
+                    morph3_one_word(&p, a, b, 0);
+            } else {
+                morph3(&p, a, b, tmp, steps[s]);
+            }
             uint64_t *swap = a;
             a = b;
             b = swap;
