@@ -31,6 +31,8 @@ HOST_PACKAGES=(
 # arm64 multiarch libraries that the cross-built firmware and its tests link against.
 CROSS_PACKAGES=(
     libnanopb-dev:arm64 libcmocka-dev:arm64 libgpiod-dev:arm64 libsystemd-dev:arm64 zlib1g-dev:arm64
+    # the node's libcamera source, built and linked for the boards it runs on
+    libcamera-dev:arm64
 )
 
 missing() {

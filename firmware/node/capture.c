@@ -5,9 +5,17 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#ifdef MN_HAVE_LIBCAMERA
-#include "node/capture_libcamera.h"
-#endif
+/* The libcamera backend is C++ and drags in libcamera's own dependencies (lttng-ust among
+ * them, which hangs under qemu-user), so it lives in its own library that only the mocap-node
+ * executable links and registers here; tests and tools built without it refuse libcamera:. */
+static const struct mn_capture_ops *libcamera_ops;
+static mn_capture_libcamera_new_fn libcamera_new;
+
+void mn_capture_register_libcamera(const struct mn_capture_ops *ops, mn_capture_libcamera_new_fn fn)
+{
+    libcamera_ops = ops;
+    libcamera_new = fn;
+}
 
 struct mn_capture {
     const struct mn_capture_ops *ops;
@@ -30,16 +38,16 @@ struct mn_capture *mn_capture_open(const struct mn_config *cfg, const struct mn_
                                       &c->width, &c->height, err, errlen);
         break;
     case MN_SOURCE_LIBCAMERA:
-#ifdef MN_HAVE_LIBCAMERA
-        c->ops = &mn_capture_libcamera_ops;
-        c->impl = mn_capture_libcamera_new((unsigned)atoi(cfg->source_arg), cfg->width,
-                                           cfg->height, cfg->buffers, &c->width, &c->height, err,
-                                           errlen);
-#else
-        snprintf(err, errlen, "libcamera:%s: this mocap-node was built without libcamera "
-                              "(install libcamera-dev and rebuild)", cfg->source_arg);
-        errno = ENOTSUP;
-#endif
+        if (libcamera_new == NULL) {
+            snprintf(err, errlen, "libcamera:%s: this program was built without libcamera "
+                                  "(install libcamera-dev and rebuild mocap-node)",
+                     cfg->source_arg);
+            errno = ENOTSUP;
+            break;
+        }
+        c->ops = libcamera_ops;
+        c->impl = libcamera_new((unsigned)atoi(cfg->source_arg), cfg->width, cfg->height,
+                                cfg->buffers, &c->width, &c->height, err, errlen);
         break;
     case MN_SOURCE_REPLAY: {
         struct mn_replay_params rp = {

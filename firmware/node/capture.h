@@ -67,6 +67,13 @@ int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli);
 void mn_capture_max_size(const struct mn_capture *c, uint32_t *width, uint32_t *height);
 
 /* Backends. Each *_new returns its impl or NULL with errno set and the reason in err. */
+typedef void *(*mn_capture_libcamera_new_fn)(unsigned index, uint32_t width, uint32_t height,
+                                             uint32_t buffers, uint32_t *out_width,
+                                             uint32_t *out_height, char *err, size_t errlen);
+/* Makes the libcamera backend (capture_libcamera.h) available to mn_capture_open; main() does
+ * this when mocap-node is built with libcamera. */
+void mn_capture_register_libcamera(const struct mn_capture_ops *ops,
+                                   mn_capture_libcamera_new_fn fn);
 extern const struct mn_capture_ops mn_capture_v4l2_ops;
 extern const struct mn_capture_ops mn_capture_replay_ops;
 void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,

@@ -11,9 +11,14 @@
 #include <unistd.h>
 
 #include "common/log.h"
+#include "node/capture.h"
 #include "node/config.h"
 #include "node/node.h"
 #include "node/notify.h"
+
+#ifdef MN_HAVE_LIBCAMERA
+#include "node/capture_libcamera.h"
+#endif
 
 int main(int argc, char **argv)
 {
@@ -29,6 +34,9 @@ int main(int argc, char **argv)
         break;
     }
     mn_log_set_level(cfg.log_level);
+#ifdef MN_HAVE_LIBCAMERA
+    mn_capture_register_libcamera(&mn_capture_libcamera_ops, mn_capture_libcamera_new);
+#endif
 
     sigset_t mask;
     sigemptyset(&mask);

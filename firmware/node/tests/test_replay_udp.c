@@ -268,6 +268,11 @@ static void bad_sources_refuse_to_start(void **state)
     snprintf(cfg.source_arg, sizeof(cfg.source_arg), "/dev/video-none");
     assert_null(mn_node_new(&cfg, err, sizeof(err)));
     assert_non_null(strstr(err, "/dev/video-none: No such file"));
+    /* Tests do not link the libcamera backend: the source says so instead of pretending. */
+    cfg.source_kind = MN_SOURCE_LIBCAMERA;
+    snprintf(cfg.source_arg, sizeof(cfg.source_arg), "0");
+    assert_null(mn_node_new(&cfg, err, sizeof(err)));
+    assert_non_null(strstr(err, "libcamera:0: this program was built without libcamera"));
 }
 
 int main(void)
