@@ -253,6 +253,59 @@ static void paced_replay_with_control(void **state)
     test_remove_tree(dir);
 }
 
+/* No hub configured: the node finds it by the HubAnnounce broadcast (sent here straight to the
+ * announce port on loopback) and takes the session's epoch and rate from it. */
+static void hub_found_by_announce(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    test_write_recording(dir, 320, 200, 10, 3);
+    uint16_t port, announce_port;
+    int hub = test_hub_socket(&port);
+    int probe = test_hub_socket(&announce_port); /* a free port for the node to listen on */
+    close(probe);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, 0);
+    cfg.hub_host[0] = '\0';
+    cfg.announce_port = announce_port;
+    cfg.replay_loop = true;
+    char err[MN_CONFIG_ERR];
+    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
+    if (node == NULL)
+        fail_msg("node: %s", err);
+    memset(&rx, 0, sizeof(rx));
+    run_for(node, hub, 100);
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    assert_false(st.hub_known);
+    assert_int_equal(rx.marker_datagrams, 0);
+
+    static mocap_v1_Packet p;
+    p = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+    p.version = 1;
+    p.which_body = mocap_v1_Packet_hub_announce_tag;
+    p.body.hub_announce.port = port;
+    p.body.hub_announce.epoch_ns = (uint64_t)mn_clock_real_ns() + 30000000;
+    p.body.hub_announce.rate_millihz = 100000;
+    uint8_t buf[MN_WIRE_MAX_DATAGRAM];
+    size_t len;
+    const char *why;
+    assert_int_equal(mn_wire_encode(&p, buf, sizeof(buf), &len, &why), 0);
+    send_to_node(hub, announce_port, buf, len);
+    run_for(node, hub, 300);
+    mn_node_get_stats(node, &st);
+    assert_true(st.hub_known);
+    assert_int_equal(st.control_rejected, 0);
+    /* Frames since the announced epoch, numbered from 0 on its grid. */
+    assert_true(st.frames_sent >= 10);
+    for (uint32_t k = 0; k < 10; k++)
+        assert_true(rx.frames[k].seen);
+    assert_true(rx.status_datagrams >= 1);
+    mn_node_free(node);
+    close(hub);
+    test_remove_tree(dir);
+}
+
 static void bad_sources_refuse_to_start(void **state)
 {
     (void)state;
@@ -280,6 +333,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(replay_as_fast_as_possible),
         cmocka_unit_test(paced_replay_with_control),
+        cmocka_unit_test(hub_found_by_announce),
         cmocka_unit_test(bad_sources_refuse_to_start),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
