@@ -179,6 +179,7 @@ int lc_start(void *impl)
     }
     c->running = true;
     for (std::unique_ptr<Request> &r : c->requests) {
+        r->reuse(Request::ReuseBuffers); // requests cancelled by a previous stop
         apply_pending_controls(c, r.get());
         if (c->camera->queueRequest(r.get()) < 0) {
             errno = EIO;
