@@ -321,7 +321,15 @@ static void bad_sources_refuse_to_start(void **state)
     snprintf(cfg.source_arg, sizeof(cfg.source_arg), "/dev/video-none");
     assert_null(mn_node_new(&cfg, err, sizeof(err)));
     assert_non_null(strstr(err, "/dev/video-none: No such file"));
+    /* A trigger line that does not exist. */
+    test_node_config(&cfg, "/nonexistent/cam1", 9);
+    cfg.sync_kind = MN_SYNC_GPIO;
+    snprintf(cfg.gpio_chip, sizeof(cfg.gpio_chip), "gpiochip-none");
+    cfg.gpio_line = 4;
+    assert_null(mn_node_new(&cfg, err, sizeof(err)));
+    assert_non_null(strstr(err, "gpio chip 'gpiochip-none'"));
     /* Tests do not link the libcamera backend: the source says so instead of pretending. */
+    cfg.sync_kind = MN_SYNC_NONE;
     cfg.source_kind = MN_SOURCE_LIBCAMERA;
     snprintf(cfg.source_arg, sizeof(cfg.source_arg), "0");
     assert_null(mn_node_new(&cfg, err, sizeof(err)));
