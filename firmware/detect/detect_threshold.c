@@ -6,8 +6,10 @@
 #include "detect/detect.h"
 #include "detect/detect_internal.h"
 
-/* About this many samples: enough for a stable median, cheap next to the full scan. */
-#define MN_AUTO_SAMPLES 16384u
+/* About this many samples: plenty for a median and a MAD. They are whole rows, evenly spaced,
+ * because memory traffic counts cache lines, not pixels: the cost stays a few percent of the
+ * frame scan. */
+#define MN_AUTO_SAMPLES 4096u
 
 static uint32_t hist_quantile(const uint32_t *hist, uint32_t rank)
 {
@@ -23,21 +25,17 @@ static uint32_t hist_quantile(const uint32_t *hist, uint32_t rank)
 uint8_t mn_detect_auto_threshold(const struct mn_detector *det, const struct mn_frame_view *f)
 {
     uint32_t hist[256] = {0};
-    uint64_t pixels = (uint64_t)f->w * f->h;
-    uint32_t step_x = 4;
-    uint64_t per_row = (f->w + step_x - 1) / step_x;
-    uint64_t step_y64 = per_row * f->h / MN_AUTO_SAMPLES;
-    uint32_t step_y = step_y64 < 1 ? 1u : (uint32_t)step_y64;
-    if (pixels < MN_AUTO_SAMPLES * 4u)
-        step_x = 1;
-
+    uint32_t rows = MN_AUTO_SAMPLES / f->w + 1;
+    if (rows > f->h)
+        rows = f->h;
     uint32_t total = 0;
-    for (uint32_t y = step_y / 2; y < f->h; y += step_y) {
+    for (uint32_t i = 0; i < rows; i++) {
+        /* Row centres of rows equal bands. */
+        uint32_t y = (uint32_t)(((uint64_t)2 * i + 1) * f->h / (2u * rows));
         const uint8_t *row = f->px + (size_t)y * f->stride;
-        for (uint32_t x = 0; x < f->w; x += step_x) {
+        for (uint32_t x = 0; x < f->w; x++)
             hist[row[x]]++;
-            total++;
-        }
+        total += f->w;
     }
     uint32_t median = hist_quantile(hist, total / 2);
 
