@@ -118,7 +118,18 @@ static size_t fill_region(struct mn_detector *det, const struct mn_frame_view *f
             const uint64_t *nmrow = v.mask ? v.mask + (size_t)ny * v.row_words : NULL;
             uint32_t x = lo;
             while (x <= hi) {
-                if (!is_free_fg(&v, nrow, nvrow, nmrow, x)) {
+                /* Jump over visited and masked pixels a word at a time: the row a span was
+                 * found from is mostly visited already. */
+                uint64_t taken = nvrow[x >> 6] | (nmrow ? nmrow[x >> 6] : 0u);
+                uint64_t free_bits = ~taken >> (x & 63);
+                if (!free_bits) {
+                    x = (x | 63u) + 1u;
+                    continue;
+                }
+                x += (uint32_t)__builtin_ctzll(free_bits);
+                if (x > hi)
+                    break;
+                if (nrow[x] <= v.t) {
                     x++;
                     continue;
                 }
