@@ -16,6 +16,7 @@
 #include "common/clock.h"
 #include "common/log.h"
 #include "node/capture.h"
+#include "node/pixfmt.h"
 
 #define MAX_BUFFERS 32
 
@@ -277,26 +278,10 @@ static int v4l2_fd(void *impl)
 
 static void convert(const struct v4l2 *v, const uint8_t *src)
 {
-    for (uint32_t y = 0; y < v->height; y++) {
-        const uint8_t *s = src + (size_t)y * v->bytesperline;
-        uint8_t *d = v->y8 + (size_t)y * v->width;
-        switch (v->fourcc) {
-        case V4L2_PIX_FMT_Y10: /* 10 significant bits, little-endian 16-bit words */
-            for (uint32_t x = 0; x < v->width; x++)
-                d[x] = (uint8_t)(((uint32_t)s[2 * x] | ((uint32_t)s[2 * x + 1] << 8)) >> 2);
-            break;
-        case V4L2_PIX_FMT_Y16: /* high byte of each little-endian word */
-            for (uint32_t x = 0; x < v->width; x++)
-                d[x] = s[2 * x + 1];
-            break;
-        case V4L2_PIX_FMT_YUYV: /* Y0 U Y1 V: luma is every other byte */
-            for (uint32_t x = 0; x < v->width; x++)
-                d[x] = s[2 * x];
-            break;
-        default:
-            break;
-        }
-    }
+    enum mn_pixfmt fmt = v->fourcc == V4L2_PIX_FMT_Y10   ? MN_PIXFMT_Y10
+                         : v->fourcc == V4L2_PIX_FMT_Y16 ? MN_PIXFMT_Y16
+                                                         : MN_PIXFMT_YUYV;
+    mn_pixfmt_to_y8(fmt, src, v->bytesperline, v->width, v->height, v->y8, v->width);
 }
 
 static int v4l2_dequeue(void *impl, struct mn_frame *frame)

@@ -329,8 +329,16 @@ static void send_status(struct mn_node *n, int64_t now)
     c.height = n->max_h;
     mn_status_build(&c, n->cfg.temperature_path, &n->packet);
     send_packet(n);
-    mn_log_debug("status: %llu frames, %llu sent, %llu dropped", (unsigned long long)c.frames_captured,
-                 (unsigned long long)c.frames_sent, (unsigned long long)c.frames_dropped);
+    /* One line for `systemctl status`; the same at debug level in the journal. */
+    const char *state = c.state == mocap_v1_NodeState_NODE_STATE_CAMERA_ERROR ? "camera error"
+                        : n->running                                       ? "running"
+                                                                           : "idle";
+    char line[160];
+    snprintf(line, sizeof(line), "%s, %.1f fps, %llu sent, %llu dropped, %u unmatched", state,
+             n->packet.body.node_status.fps_milli / 1000.0, (unsigned long long)c.frames_sent,
+             (unsigned long long)c.frames_dropped, c.sync.unmatched_frames);
+    mn_notify_status(line);
+    mn_log_debug("status: %s", line);
     n->interval_start_ns = now;
     n->interval_frames = n->detect_ns_sum = n->detect_ns_max = n->detect_count = 0;
     /* Follow chrony's slewing of the realtime clock; changes below a microsecond are sampling
