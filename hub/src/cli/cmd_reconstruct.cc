@@ -2,6 +2,8 @@
 // Streams: frame sets are reconstructed and tracked as they are read, rows leave the gap
 // filler's bounded window for a spill file, and the TRC is written from it at the end, so memory
 // does not grow with session length.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -26,6 +28,7 @@ struct ReconstructArgs {
   std::string matcher = "relaxation";
   std::string assignment = "optimal";
   bool no_predictions = false;
+  double max_spline_gap_s = 0.05;
   ReconstructorOptions recon;
   TrackerOptions tracker;
   GapFillOptions gap_fill;
@@ -54,6 +57,11 @@ void RunReconstruct(ReconstructArgs args) {
   if (!(info.rate_hz > 0.0)) throw std::runtime_error(args.session + ": session.json has no frame rate");
   CheckCalibrationMatches(info, rig, args);
   args.tracker.rate_hz = info.rate_hz;
+  args.gap_fill.max_spline_gap = static_cast<int>(std::lround(args.max_spline_gap_s * info.rate_hz));
+  // The window must hold the longest spline gap; a quarter second also bounds the back-fill of
+  // a newly confirmed track.
+  args.gap_fill.window_frames = std::max(args.gap_fill.max_spline_gap + 2,
+                                         static_cast<int>(std::lround(0.25 * info.rate_hz)));
 
   Reconstructor reconstructor(rig, args.recon);
   Tracker tracker(args.tracker);
@@ -125,8 +133,8 @@ void AddReconstructCommand(CLI::App& app) {
                       "Clustering matcher threshold")->capture_default_str();
   command->add_option("--max-reprojection-px", args->recon.triangulation.max_reprojection_px,
                       "Views with a larger residual are rejected")->capture_default_str();
-  command->add_option("--max-spline-gap", args->gap_fill.max_spline_gap,
-                      "Longest gap (frames) filled by a spline")->capture_default_str();
+  command->add_option("--max-spline-gap-s", args->max_spline_gap_s,
+                      "Longest gap (seconds) filled by a spline")->capture_default_str();
   command->callback([args]() { RunReconstruct(*args); });
 }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "recon/blob_index.h"
 #include "recon/matcher.h"
 
 namespace mocap {
@@ -27,15 +28,13 @@ class PredictionMatcher {
 
   // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
   // Predictions are served in the given order: put the most trusted tracks first.
-  void Match(const RigModel& rig, const FrameViews& views,
+  void Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, UseCounts* used,
              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
 
  private:
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
-  // Per camera, observation indices sorted by normalized x, for range queries.
-  std::vector<std::vector<int>> sorted_by_x_;
 };
 
 }  // namespace mocap

@@ -1,6 +1,8 @@
 // The per-frame reconstruction pipeline.
 #include "recon/reconstructor.h"
 
+#include <algorithm>
+
 namespace mocap {
 
 Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options)
@@ -16,11 +18,25 @@ void Reconstructor::Process(const FrameSet& frame_set,
   used_.assign(views_.NumObservations(), 0);
   triangulated_.clear();
   track_ids_.clear();
+  index_.Build(rig_, views_);
   if (options_.use_predictions && !predictions.empty()) {
-    prediction_matcher_.Match(rig_, views_, predictions, &used_, &triangulated_, &track_ids_);
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_);
   }
   const size_t from_predictions = triangulated_.size();
   matcher_->Match(rig_, views_, &used_, &triangulated_);
+  // Matchers work on whole cliques; a view a clique missed (an edge just over the threshold)
+  // joins its point here, before another point could claim it.
+  for (size_t i = from_predictions; i < triangulated_.size(); ++i) {
+    const std::vector<int> before = triangulated_[i].observations;
+    CompleteViews(rig_, views_, index_, used_, options_.triangulation, &triangulated_[i]);
+    const std::vector<int>& after = triangulated_[i].observations;
+    for (int o : before) {
+      if (std::find(after.begin(), after.end(), o) == after.end()) --used_[o];
+    }
+    for (int o : after) {
+      if (std::find(before.begin(), before.end(), o) == before.end()) ++used_[o];
+    }
+  }
 
   points->clear();
   points->reserve(triangulated_.size());

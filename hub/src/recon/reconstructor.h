@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "recon/blob_index.h"
 #include "recon/frame_views.h"
 #include "recon/matcher.h"
 #include "recon/prediction_matcher.h"
@@ -48,6 +49,7 @@ class Reconstructor {
   std::unique_ptr<Matcher> matcher_;
   PredictionMatcher prediction_matcher_;
   FrameViews views_;
+  BlobIndex index_;
   UseCounts used_;
   std::vector<TriangulatedPoint> triangulated_;
   std::vector<int> track_ids_;

@@ -12,6 +12,12 @@ ConstantVelocityKalman::ConstantVelocityKalman(const Eigen::Vector3d& position,
       options.initial_velocity_std * options.initial_velocity_std;
 }
 
+void ConstantVelocityKalman::Restart(const Eigen::Vector3d& position, const Eigen::Vector3d& velocity,
+                                     const KalmanOptions& options) {
+  *this = ConstantVelocityKalman(position, options);
+  velocity_ = velocity;
+}
+
 void ConstantVelocityKalman::Predict(double dt) {
   position_ += dt * velocity_;
   Eigen::Matrix2d transition;

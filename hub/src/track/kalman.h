@@ -20,6 +20,11 @@ class ConstantVelocityKalman {
   // Measurement update (eqs. 14-16) with the given measurement noise (mm, one sigma).
   void Update(const Eigen::Vector3d& measured, double measurement_noise_mm);
 
+  // Restarts the filter at a measured position with a given velocity (mm/s), keeping the
+  // uncertainty of a fresh track: for a measurement that the filter's own prediction missed.
+  void Restart(const Eigen::Vector3d& position, const Eigen::Vector3d& velocity,
+               const KalmanOptions& options);
+
   const Eigen::Vector3d& position() const { return position_; }
   const Eigen::Vector3d& velocity() const { return velocity_; }  // mm/s
   // One-sigma uncertainty of the predicted position per axis, and of the innovation.

@@ -68,7 +68,8 @@ struct TrackerOptions {
 };
 
 struct GapFillOptions {
-  // Gaps up to this many frames between two measured samples become a cubic Hermite spline.
+  // Gaps up to this many frames between two measured samples become a cubic Hermite spline
+  // (callers scale it with the rate: a spline over a fast limb's quarter second overshoots).
   int max_spline_gap = 12;
   // Frames held back before output: bounds both memory and the longest gap filled in place.
   int window_frames = 64;

@@ -27,6 +27,7 @@ int Tracker::NewTrack(uint64_t frame_number, const Eigen::Vector3d& position) {
   track.filter_frame = frame_number;
   track.last_measured = frame_number;
   track.reference = position;
+  track.last_point = position;
   return slot;
 }
 
@@ -82,9 +83,9 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
       track.filter.Predict(static_cast<double>(frame_number - track.filter_frame) / options_.rate_hz);
       track.filter_frame = frame_number;
     }
-    if (track.state == State::kActive || track.state == State::kTentative) {
-      order.emplace_back(-track.age, slot);
-    }
+    // Only confirmed tracks: a tentative track's velocity rests on one or two differences, and
+    // its wide search would gather other markers' blobs; its points come from the matcher.
+    if (track.state == State::kActive) order.emplace_back(-track.age, slot);
   }
   std::sort(order.begin(), order.end());
   for (const auto& [negative_age, slot] : order) {
@@ -197,7 +198,12 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       gates.push_back(options_.reacquire_gate_mm);
     }
   }
-  AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
+  std::vector<char> found_wide(num_slots, 0);
+  {
+    const std::vector<int> before = point_of_slot;
+    AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
+    for (int slot : slots) found_wide[slot] = before[slot] < 0 && point_of_slot[slot] >= 0;
+  }
 
   // 5. Measurement updates.
   const double noise = options_.kalman.measurement_noise_mm;
@@ -214,9 +220,19 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       track.filter_frame = frame_number;
       track.state = State::kActive;
       ++stats_.reacquisitions;
+    } else if (found_wide[slot]) {
+      // The prediction missed this point by more than its gate: its velocity is wrong, and a
+      // Kalman update would only half-correct it and ring (two neighbouring markers would then
+      // trade places every frame). Restart from the measured displacement instead.
+      const double frames = static_cast<double>(frame_number - track.last_measured);
+      const Eigen::Vector3d velocity =
+          (point - track.last_point) * (options_.rate_hz / std::max(1.0, frames));
+      track.filter.Restart(point, velocity, options_.kalman);
+      track.filter_frame = frame_number;
     } else {
       track.filter.Update(point, noise);
     }
+    track.last_point = point;
     track.last_measured = frame_number;
     track.reference = track.filter.position();
     ++track.hits;

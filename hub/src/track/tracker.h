@@ -67,6 +67,7 @@ class Tracker {
     int hits = 0;
     int age = 0;  // frames measured in total, orders predictions by trust
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // where a lost track is looked for
+    Eigen::Vector3d last_point = Eigen::Vector3d::Zero();  // last measured position
     std::vector<std::pair<uint64_t, Eigen::Vector3d>> history;  // tentative frames
   };
 
