@@ -29,8 +29,8 @@ struct replay {
     int64_t frame_number;     /* of the loaded frame, loops included */
     uint64_t loop_offset;     /* added to file frame numbers after each loop */
     uint64_t pass_span;       /* highest file frame number + 1 of this pass */
-    uint64_t delivered;
     bool started;
+    int64_t started_mono_ns;  /* frames due before this were "exposed" before we existed */
 };
 
 void *mn_capture_replay_new(const struct mn_replay_params *params, uint32_t *out_width,
@@ -90,6 +90,7 @@ static int replay_start(void *impl)
 {
     struct replay *r = impl;
     r->started = true;
+    r->started_mono_ns = mn_clock_mono_ns();
     /* Paced: the first dequeue finds out when the first frame is due and re-arms. */
     if (r->timer_fd >= 0 && arm_timer(r, mn_clock_mono_ns()) < 0)
         return -1;
@@ -175,8 +176,9 @@ static int replay_dequeue(void *impl, struct mn_frame *frame)
         if (r->p.as_fast_as_possible)
             break;
         int64_t due = due_time(r, r->frame_number);
-        /* Joining a session late: frames whose trigger is long past are never "captured". */
-        if (due < now - period && r->delivered == 0) {
+        /* Joining a session late: frames triggered before the source started were never
+         * "captured". Frames due since then are served even when the loop is late. */
+        if (due < r->started_mono_ns - period) {
             r->loaded = false;
             continue;
         }
@@ -205,7 +207,6 @@ static int replay_release(void *impl, const struct mn_frame *frame)
     (void)frame;
     r->handed_out = false;
     r->loaded = false;
-    r->delivered++;
     /* Paced: make the timer fire for the next frame right away so dequeue can arm it. */
     if (r->timer_fd >= 0 && arm_timer(r, mn_clock_mono_ns()) < 0)
         return -1;

@@ -210,14 +210,16 @@ static void paced_replay_with_control(void **state)
     c.node_id = 8;
     c.which_command = mocap_v1_Control_stop_tag;
     send_control(hub, node_port, &c);
-    /* Start a session 50 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. */
+    /* Start a session 200 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. (The
+     * margin covers a slow qemu run; a node that hears Start after the epoch skips to the
+     * current slot, as a late camera would.) */
     c = (mocap_v1_Control)mocap_v1_Control_init_zero;
     c.node_id = 0;
     c.which_command = mocap_v1_Control_start_tag;
-    c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 50000000;
+    c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 200000000;
     c.command.start.rate_millihz = 200000;
     send_control(hub, node_port, &c);
-    run_for(node, hub, 400);
+    run_for(node, hub, 600);
     mn_node_get_stats(node, &st);
     assert_int_equal(st.control_ignored, 1);
     assert_true(st.running);
