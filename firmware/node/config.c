@@ -338,6 +338,14 @@ int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size
         errno = e;
         return -1;
     }
+    int rc = mn_config_load_stream(cfg, f, path, err, errlen);
+    fclose(f);
+    return rc;
+}
+
+int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char *err,
+                          size_t errlen)
+{
     char *line = NULL;
     size_t linecap = 0;
     ssize_t len;
@@ -383,9 +391,8 @@ int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size
     if (rc == 0 && ferror(f)) {
         snprintf(err, errlen, "%s: read error", path);
         errno = EIO;
-        rc = -1;
+        return -1;
     }
-    fclose(f);
     if (rc < 0)
         errno = EINVAL;
     return rc;

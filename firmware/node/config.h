@@ -9,6 +9,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "common/log.h"
 
@@ -78,6 +79,10 @@ void mn_config_defaults(struct mn_config *cfg);
 
 /* Applies a `key = value` file on top of cfg. */
 int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size_t errlen);
+
+/* The same over an open stream; path names it in messages. The caller closes f. */
+int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char *err,
+                          size_t errlen);
 
 /* Applies one setting; origin names the place for error messages ("node.conf:12"). */
 int mn_config_set(struct mn_config *cfg, const char *key, const char *value, const char *origin,

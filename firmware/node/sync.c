@@ -56,8 +56,15 @@ struct mn_sync *mn_sync_open(const struct mn_config *cfg, const struct mn_grid *
         s->impl = s; /* stateless; any non-NULL value */
         break;
     case MN_SYNC_GPIO:
+#ifdef MN_HAVE_GPIOD
         s->ops = &mn_sync_gpio_ops;
         s->impl = mn_sync_gpio_new(cfg->gpio_chip, cfg->gpio_line, cfg->gpio_falling, err, errlen);
+#else
+        snprintf(err, errlen, "gpio:%s:%u: this mocap-node was built without libgpiod (the "
+                              "static variant); use mocap-node for a trigger line",
+                 cfg->gpio_chip, cfg->gpio_line);
+        errno = ENOTSUP;
+#endif
         break;
     case MN_SYNC_SIM: {
         struct mn_sim_sync_params sp = {
