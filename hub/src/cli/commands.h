@@ -18,6 +18,7 @@ CLI::App& CommandGroup(CLI::App& app, const std::string& name, const std::string
 // cmd_sim.cc
 void AddSimRigCommand(CLI::App& app);
 void AddSimProjectCommand(CLI::App& app);
+// cmd_sim_motion.cc
 void AddSimMotionCommand(CLI::App& app);
 // cmd_eval.cc
 void AddEvalCommand(CLI::App& app);

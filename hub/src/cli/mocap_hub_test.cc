@@ -130,6 +130,17 @@ TEST_F(MocapHubTest, OneLineErrors) {
                      "no visibility.tsv");
 }
 
+TEST_F(MocapHubTest, SimMotionWritesASyntheticTrc) {
+  const HubRun run = Hub("sim motion --markers 7 --frames 30 --rate 240 --up x -o " + dir + "/synthetic.trc");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const MarkerTrajectories motion = ReadTrc(dir + "/synthetic.trc");
+  EXPECT_EQ(motion.NumMarkers(), 7u);
+  EXPECT_EQ(motion.NumFrames(), 30u);
+  EXPECT_EQ(motion.rate_hz, 240.0);
+  EXPECT_EQ(motion.names[6], "M007");
+  ExpectOneLineError(Hub("sim motion --markers 0 -o " + dir + "/x.trc"), "markers must be");
+}
+
 TEST_F(MocapHubTest, HelpSucceeds) {
   const HubRun help = Hub("--help");
   EXPECT_EQ(help.status, 0);
