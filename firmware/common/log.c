@@ -16,11 +16,6 @@ void mn_log_set_level(enum mn_log_level level)
     max_level = level;
 }
 
-enum mn_log_level mn_log_get_level(void)
-{
-    return max_level;
-}
-
 int mn_log_level_parse(const char *name, enum mn_log_level *out)
 {
     static const struct {

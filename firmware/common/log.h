@@ -14,7 +14,6 @@ enum mn_log_level {
 
 /* Messages above this level are discarded (default MN_LOG_INFO). */
 void mn_log_set_level(enum mn_log_level level);
-enum mn_log_level mn_log_get_level(void);
 
 /* Parses "error", "warning", "notice", "info" or "debug"; 0 on success, -1 otherwise. */
 int mn_log_level_parse(const char *name, enum mn_log_level *out);

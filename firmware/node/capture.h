@@ -18,7 +18,6 @@ struct mn_frame {
     uint32_t width, height, stride;
     int64_t capture_mono_ns; /* kernel buffer time stamp, CLOCK_MONOTONIC */
     uint64_t sequence;       /* source's own counter (gaps = frames the source dropped) */
-    int64_t frame_number;    /* replay: global frame number of this frame; else -1 */
     int slot;                /* source's buffer index, given back on release */
 };
 

@@ -249,7 +249,6 @@ int lc_dequeue(void *impl, struct mn_frame *frame)
         frame->stride = c->stride;
         frame->capture_mono_ns = static_cast<int64_t>(meta.timestamp); // CLOCK_MONOTONIC
         frame->sequence = meta.sequence;
-        frame->frame_number = -1;
         frame->slot = static_cast<int>(request->cookie());
         return 1;
     }

@@ -195,7 +195,6 @@ static int replay_dequeue(void *impl, struct mn_frame *frame)
     frame->stride = r->info.width;
     frame->capture_mono_ns = due_time(r, r->frame_number);
     frame->sequence = (uint64_t)r->frame_number;
-    frame->frame_number = r->frame_number;
     frame->slot = 0;
     r->handed_out = true;
     return 1;

@@ -331,7 +331,6 @@ static int v4l2_dequeue(void *impl, struct mn_frame *frame)
     frame->width = v->width;
     frame->height = v->height;
     frame->sequence = buf.sequence;
-    frame->frame_number = -1;
     frame->slot = (int)buf.index;
     return 1;
 }

@@ -421,9 +421,8 @@ int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen)
     return 0;
 }
 
-void mn_config_print_help(void *file)
+void mn_config_print_help(FILE *f)
 {
-    FILE *f = file;
     fprintf(f, "usage: mocap-node [--config FILE] [--KEY VALUE ...]\n"
                "Every KEY is also a config file key (key = value, '_' for '-').\n\n");
     for (size_t i = 0; i < sizeof(settings) / sizeof(settings[0]); i++) {

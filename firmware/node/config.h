@@ -104,6 +104,6 @@ enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, 
 int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen);
 
 /* Writes the flag/key reference (name, range, meaning) to f. */
-void mn_config_print_help(void *file);
+void mn_config_print_help(FILE *f);
 
 #endif

@@ -224,8 +224,6 @@ ssize_t mn_net_recv(struct mn_net *net, int fd, uint8_t *buf, size_t cap, bool *
      * rejects it) instead of being silently cut. */
     *from_hub = net->hub_known && same_host(&from, &net->hub);
     *from_ipv4 = from.ss_family == AF_INET ? ((struct sockaddr_in *)&from)->sin_addr.s_addr : 0;
-    if (!*from_hub)
-        net->stats.foreign++;
     return n;
 }
 

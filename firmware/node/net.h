@@ -15,7 +15,6 @@ struct mn_net;
 struct mn_net_stats {
     uint64_t sent;           /* datagrams handed to the kernel */
     uint64_t dropped;        /* datagrams not sent (no hub, buffer full, unreachable) */
-    uint64_t foreign;        /* datagrams received from someone other than the hub */
 };
 
 /* hub_host NULL or "": the hub is learned from HubAnnounce (mn_net_set_hub_from_announce).
