@@ -255,6 +255,130 @@ static void paced_replay_with_control(void **state)
     test_remove_tree(dir);
 }
 
+static int64_t newest_frame(void)
+{
+    for (int64_t k = TEST_MAX_FRAMES - 1; k >= 0; k--)
+        if (rx.frames[k].seen)
+            return k;
+    return -1;
+}
+
+/* Frames numbered after `after` (plus a few in flight when the command arrived) all have
+ * `expected` markers; there must be at least one such frame. */
+static void expect_markers_after(int64_t after, uint32_t expected)
+{
+    int checked = 0;
+    for (int64_t k = after + 3; k < TEST_MAX_FRAMES; k++) {
+        if (!rx.frames[k].seen)
+            continue;
+        if (rx.frames[k].marker_total != expected)
+            fail_msg("frame %lld: %u markers, expected %u", (long long)k,
+                     rx.frames[k].marker_total, expected);
+        checked++;
+    }
+    assert_true(checked > 0);
+}
+
+static void read_file(const char *path, char *buf, size_t cap)
+{
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    size_t n = fread(buf, 1, cap - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* Masks, thresholds and identify from the hub reach the detector and the board. */
+static void control_reaches_detector(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    enum { SPOTS = 5 };
+    test_write_recording(dir, 320, 200, 20, SPOTS);
+    char led[128];
+    snprintf(led, sizeof(led), "%s/led", dir);
+    FILE *lf = fopen(led, "w");
+    assert_non_null(lf);
+    fclose(lf);
+    uint16_t port;
+    int hub = test_hub_socket(&port);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, port);
+    cfg.rate_hz = 200.0;
+    cfg.replay_loop = true;
+    snprintf(cfg.identify_led, sizeof(cfg.identify_led), "%s", led);
+    char err[MN_CONFIG_ERR];
+    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
+    if (node == NULL)
+        fail_msg("node: %s", err);
+    uint16_t node_port = mn_node_local_port(node);
+    memset(&rx, 0, sizeof(rx));
+    run_for(node, hub, 150);
+    int64_t before = newest_frame();
+    assert_true(before >= 5);
+    assert_int_equal(rx.frames[before].marker_total, SPOTS);
+
+    /* Spot 0 wanders within x 20..24, y 20..23 over the recording: mask it. */
+    mocap_v1_Control c = mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_set_mask_tag;
+    c.command.set_mask.rects_count = 1;
+    c.command.set_mask.rects[0] = (mocap_v1_Rect){10, 10, 25, 25};
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 150);
+    expect_markers_after(before, SPOTS - 1);
+
+    /* A threshold above the spots' peak: nothing is found. */
+    before = newest_frame();
+    memset(&rx, 0, sizeof(rx));
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c.command.set_threshold.value = 250;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 150);
+    expect_markers_after(before, 0);
+
+    /* Clear the mask and go back to the old threshold: every spot again. */
+    before = newest_frame();
+    memset(&rx, 0, sizeof(rx));
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_set_mask_tag;
+    c.command.set_mask.clear = true;
+    send_control(hub, node_port, &c);
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c.command.set_threshold.value = 60;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 150);
+    expect_markers_after(before, SPOTS);
+
+    /* Identify: the LED file goes to 1, and back to 0 after the duration. */
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.which_command = mocap_v1_Control_identify_tag;
+    c.command.identify.duration_ms = 100;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 30);
+    char text[8];
+    read_file(led, text, sizeof(text));
+    assert_string_equal(text, "1\n");
+    run_for(node, hub, 150);
+    read_file(led, text, sizeof(text));
+    assert_string_equal(text, "0\n");
+
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    assert_int_equal(st.control_rejected, 0);
+    assert_int_equal(st.control_accepted, 5);
+    assert_int_equal(st.frames_dropped, 0);
+    mn_node_free(node);
+    close(hub);
+    test_remove_tree(dir);
+}
+
 /* No hub configured: the node finds it by the HubAnnounce broadcast (sent here straight to the
  * announce port on loopback) and takes the session's epoch and rate from it. */
 static void hub_found_by_announce(void **state)
@@ -343,6 +467,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(replay_as_fast_as_possible),
         cmocka_unit_test(paced_replay_with_control),
+        cmocka_unit_test(control_reaches_detector),
         cmocka_unit_test(hub_found_by_announce),
         cmocka_unit_test(bad_sources_refuse_to_start),
     };
