@@ -48,7 +48,9 @@ struct mn_node {
 
     struct mn_net *net;
     struct mn_control *control;
-    struct mn_sync *sync;
+    struct mn_sync *sync;        /* NULL while a failed trigger source is being reopened */
+    bool free_run;               /* the configured sync source has no edges */
+    int64_t sync_reopen_at_ns;
     struct mn_pairing *pairing;
     struct mn_capture *capture;  /* NULL while the camera is being reopened */
     struct mn_detector *detector;
@@ -154,7 +156,8 @@ static void set_grid(struct mn_node *n, int64_t epoch_ns, uint32_t rate_millihz)
     n->grid.rate_millihz = rate_millihz;
     n->grid.real_minus_mono_ns = mn_clock_real_minus_mono_ns();
     mn_pairing_set_grid(n->pairing, &n->grid);
-    mn_sync_set_grid(n->sync, &n->grid);
+    if (n->sync != NULL)
+        mn_sync_set_grid(n->sync, &n->grid);
     mn_log_notice("session grid: epoch %lld ns, %.3f Hz", (long long)epoch_ns,
                   rate_millihz / 1000.0);
     if (n->cfg.source_kind == MN_SOURCE_REPLAY && n->capture != NULL) {
@@ -198,6 +201,7 @@ struct mn_node *mn_node_new(const struct mn_config *cfg, char *err, size_t errle
     n->sync = mn_sync_open(cfg, &n->grid, err, errlen);
     if (n->sync == NULL)
         goto fail;
+    n->free_run = mn_sync_free_run(n->sync);
     n->pairing = mn_pairing_new(&n->grid, (int64_t)cfg->trigger_delay_us * 1000,
                                 cfg->pair_window_pct);
     if (n->pairing == NULL) {
@@ -482,12 +486,35 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
     }
 }
 
+/* A trigger source that fails (GPIO chip gone) is closed and reopened at the slowest camera
+ * backoff; meanwhile frames are numbered from their time stamps and counted as unmatched. */
+static void sync_failed(struct mn_node *n, int e)
+{
+    mn_log_err("trigger %s: %s; frames are unmatched until it is reopened in %u ms",
+               mn_sync_name(n->sync), strerror(e), n->cfg.reopen_max_ms);
+    mn_sync_close(n->sync);
+    n->sync = NULL;
+    n->sync_reopen_at_ns = mn_clock_mono_ns() + (int64_t)n->cfg.reopen_max_ms * 1000000;
+}
+
+static void try_reopen_sync(struct mn_node *n)
+{
+    char err[MN_CONFIG_ERR];
+    n->sync = mn_sync_open(&n->cfg, &n->grid, err, sizeof(err));
+    if (n->sync == NULL) {
+        mn_log_err("trigger reopen failed: %s; next try in %u ms", err, n->cfg.reopen_max_ms);
+        n->sync_reopen_at_ns = mn_clock_mono_ns() + (int64_t)n->cfg.reopen_max_ms * 1000000;
+        return;
+    }
+    mn_log_notice("trigger %s reopened", mn_sync_name(n->sync));
+}
+
 static void drain_sync(struct mn_node *n, int64_t until_mono_ns)
 {
-    for (;;) {
+    while (n->sync != NULL) {
         size_t got = 0;
         if (mn_sync_read(n->sync, until_mono_ns, n->edges, EDGE_BATCH, &got) < 0) {
-            mn_log_err("sync %s: %s", mn_sync_name(n->sync), strerror(errno));
+            sync_failed(n, errno);
             return;
         }
         for (size_t i = 0; i < got; i++)
@@ -504,7 +531,7 @@ static void send_frame(struct mn_node *n, const struct mn_frame *f, const struct
     mocap_v1_MarkerFrame header = mocap_v1_MarkerFrame_init_zero;
     header.node_id = n->cfg.node_id;
     header.frame_number = (uint64_t)pr->frame_number;
-    bool free_run = mn_sync_free_run(n->sync);
+    bool free_run = n->free_run;
     header.trigger_time_ns = free_run ? 0 : (uint64_t)(pr->trigger_mono_ns + offset);
     header.capture_time_ns = (uint64_t)(f->capture_mono_ns + offset);
     header.exposure_us = n->exposure_us;
@@ -581,7 +608,7 @@ static void process_frame(struct mn_node *n, const struct mn_frame *f)
     n->reopen_delay_ms = n->cfg.reopen_min_ms; /* frames flow: the next failure starts over */
 
     struct mn_pair_result pr;
-    if (mn_sync_free_run(n->sync)) {
+    if (n->free_run) {
         mn_pairing_free_run(n->pairing, f->capture_mono_ns, &pr);
     } else {
         int64_t window = mn_grid_period_ns(&n->grid) * n->cfg.pair_window_pct / 100;
@@ -665,6 +692,8 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
         deadline = min_deadline(deadline, n->next_watchdog_ns);
     if (n->capture == NULL)
         deadline = min_deadline(deadline, n->reopen_at_ns);
+    if (n->sync == NULL)
+        deadline = min_deadline(deadline, n->sync_reopen_at_ns);
     if (n->preview.sending || (n->capture != NULL && mn_capture_fd(n->capture) < 0))
         deadline = now; /* work is waiting: only look at the descriptors */
 
@@ -676,7 +705,7 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
         ann_i = nfds;
         fds[nfds++] = (struct pollfd){.fd = mn_net_announce_fd(n->net), .events = POLLIN};
     }
-    if (mn_sync_fd(n->sync) >= 0) {
+    if (n->sync != NULL && mn_sync_fd(n->sync) >= 0) {
         sync_i = nfds;
         fds[nfds++] = (struct pollfd){.fd = mn_sync_fd(n->sync), .events = POLLIN};
     }
@@ -722,6 +751,8 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
     now = mn_clock_mono_ns();
     if (n->capture == NULL && now >= n->reopen_at_ns)
         try_reopen(n);
+    if (n->sync == NULL && now >= n->sync_reopen_at_ns)
+        try_reopen_sync(n);
     if (n->identify_until_ns != 0 && now >= n->identify_until_ns) {
         n->identify_until_ns = 0;
         if (n->cfg.identify_led[0])
