@@ -139,12 +139,21 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
   }
 
   // Blobs that overlap in the image become one (transitively), as thresholding would see them.
+  // Sweep in x so only neighbours within the largest possible merge distance are compared.
+  double max_radius = 0.0;
+  for (const Spot& spot : spots) max_radius = std::max(max_radius, spot.radius);
+  const double reach = options_.merge_px >= 0.0 ? options_.merge_px : 2.0 * max_radius;
+  std::vector<int> order(spots.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return spots[a].pixel.x() < spots[b].pixel.x(); });
   std::vector<int> parent(spots.size());
   std::iota(parent.begin(), parent.end(), 0);
-  for (size_t a = 0; a < spots.size(); ++a) {
-    for (size_t b = a + 1; b < spots.size(); ++b) {
-      const double limit = options_.merge_px >= 0.0 ? options_.merge_px : spots[a].radius + spots[b].radius;
-      if ((spots[a].pixel - spots[b].pixel).norm() < limit) parent[FindRoot(parent, a)] = FindRoot(parent, b);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const Spot& a = spots[order[i]];
+    for (size_t j = i + 1; j < order.size() && spots[order[j]].pixel.x() - a.pixel.x() < reach; ++j) {
+      const Spot& b = spots[order[j]];
+      const double limit = options_.merge_px >= 0.0 ? options_.merge_px : a.radius + b.radius;
+      if ((a.pixel - b.pixel).norm() < limit) parent[FindRoot(parent, order[i])] = FindRoot(parent, order[j]);
     }
   }
 
@@ -169,20 +178,25 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     return pixel;
   };
 
-  for (size_t root = 0; root < spots.size(); ++root) {
-    if (FindRoot(parent, root) != static_cast<int>(root)) continue;
+  // Spots grouped by blob (root), in spot order within a group, so the output does not depend on
+  // the sweep order.
+  std::vector<std::pair<int, int>> grouped(spots.size());
+  for (size_t s = 0; s < spots.size(); ++s) grouped[s] = {FindRoot(parent, static_cast<int>(s)), static_cast<int>(s)};
+  std::sort(grouped.begin(), grouped.end());
+  for (size_t begin = 0; begin < grouped.size();) {
+    size_t end = begin;
     double area = 0.0;
     Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
     double nearest = 1e300;
-    int members = 0;
-    for (size_t s = 0; s < spots.size(); ++s) {
-      if (FindRoot(parent, s) != static_cast<int>(root)) continue;
-      const double spot_area = kPi * spots[s].radius * spots[s].radius;
+    for (; end < grouped.size() && grouped[end].first == grouped[begin].first; ++end) {
+      const Spot& spot = spots[grouped[end].second];
+      const double spot_area = kPi * spot.radius * spot.radius;
       area += spot_area;
-      weighted += spot_area * spots[s].pixel;
-      nearest = std::min(nearest, spots[s].depth);
-      ++members;
+      weighted += spot_area * spot.pixel;
+      nearest = std::min(nearest, spot.depth);
     }
+    const size_t members = end - begin;
+    begin = end;
     Blob blob;
     blob.pixel = clamp_to_image(add_noise(weighted / area));
     blob.area = static_cast<uint32_t>(std::max(1.0, std::round(area)));
