@@ -138,8 +138,7 @@ static void try_reopen(struct mn_node *n)
 {
     char err[MN_CONFIG_ERR];
     if (open_capture(n, err, sizeof(err)) < 0) {
-        camera_failed(n, "reopen failed", errno);
-        mn_log_debug("reopen: %s", err);
+        camera_failed(n, err, errno);
         return;
     }
     n->stats.camera_reopens++;
