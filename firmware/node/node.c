@@ -124,8 +124,9 @@ static int open_capture(struct mn_node *n, char *err, size_t errlen)
 static void camera_failed(struct mn_node *n, const char *what, int e)
 {
     n->stats.camera_errors++;
-    mn_log_err("camera %s: %s: %s; reopening in %u ms", n->cfg.source_arg, what, strerror(e),
-               n->reopen_delay_ms);
+    /* e 0: what already says why (a reopen's own message). */
+    mn_log_err("camera %s: %s%s%s; reopening in %u ms", n->cfg.source_arg, what, e ? ": " : "",
+               e ? strerror(e) : "", n->reopen_delay_ms);
     mn_capture_close(n->capture);
     n->capture = NULL;
     n->reopen_at_ns = mn_clock_mono_ns() + (int64_t)n->reopen_delay_ms * 1000000;
@@ -138,7 +139,7 @@ static void try_reopen(struct mn_node *n)
 {
     char err[MN_CONFIG_ERR];
     if (open_capture(n, err, sizeof(err)) < 0) {
-        camera_failed(n, err, errno);
+        camera_failed(n, err, 0);
         return;
     }
     n->stats.camera_reopens++;
