@@ -15,47 +15,90 @@
 namespace mocap {
 namespace {
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
+// RMS over the view's markers of the reprojection error per image coordinate.
+double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pose, const WandGeometry& wand,
+                 bool swapped) {
+  const size_t last = view.pixels.size() - 1;
+  double sum = 0.0;
+  for (size_t k = 0; k <= last; ++k) {
+    Eigen::Vector2d projected;
+    if (!camera.ProjectToPixel(pose.Marker(wand, swapped ? last - k : k), &projected)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    sum += (projected - view.pixels[k]).squaredNorm();
+  }
+  return std::sqrt(sum / (2.0 * static_cast<double>(view.pixels.size())));
 }
 
-// Essential matrix mapping normalized points of camera u to epipolar lines in camera v.
-Eigen::Matrix3d EssentialBetween(const Camera& u, const Camera& v) {
-  const Eigen::Matrix3d r = v.rotation * u.rotation.transpose();
-  const Eigen::Vector3d t = v.translation - r * u.translation;
-  return Skew(t.normalized()) * r;
+// Both ends of the wand from two views, the second view's ends swapped or not.
+bool TriangulateEnds(const std::vector<Camera>& cameras, const WandView& a, const WandView& b, bool swap_b,
+                     Eigen::Vector3d ends[2]) {
+  const size_t last = a.normalized.size() - 1;
+  for (int e = 0; e < 2; ++e) {
+    const size_t k = e == 0 ? 0 : last;
+    const size_t kb = swap_b ? last - k : k;
+    if (!TriangulateLinear({{cameras[a.camera].ProjectionMatrix(), a.normalized[k]},
+                            {cameras[b.camera].ProjectionMatrix(), b.normalized[kb]}},
+                           &ends[e])) {
+      return false;
+    }
+    if (!(cameras[a.camera].PointInCamera(ends[e]).z() > 0.0 && cameras[b.camera].PointInCamera(ends[e]).z() > 0.0)) {
+      return false;
+    }
+  }
+  return true;
 }
 
-double Sampson(const Eigen::Matrix3d& e, const Eigen::Vector2d& x1, const Eigen::Vector2d& x2) {
-  const Eigen::Vector3d a(x1.x(), x1.y(), 1.0);
-  const Eigen::Vector3d b(x2.x(), x2.y(), 1.0);
-  const Eigen::Vector3d ea = e * a;
-  const Eigen::Vector3d eb = e.transpose() * b;
-  const double num = b.dot(ea);
-  const double den = ea.x() * ea.x() + ea.y() * ea.y() + eb.x() * eb.x() + eb.y() * eb.y();
-  return den > 0.0 ? num * num / den : 0.0;
-}
-
-// Orders every view's ends consistently with the frame's first view, by epipolar agreement
-// with all views labelled before it.
-void LabelByEpipolar(const std::vector<Camera>& cameras, WandFrame* frame) {
+// Labels a frame's views consistently and drops views that do not fit, robustly against a wrong
+// view (a flicker blob standing in for a hidden marker): the seed is the pair of views whose
+// triangulated wand length is closest to the true one; other views join, in the end order that
+// reprojects better, when they reproject within gate_px of the seed wand. Returns false when no
+// pair gives a plausible wand.
+bool LabelFrameRobustly(const std::vector<Camera>& cameras, const WandGeometry& wand, double gate_px,
+                        WandFrame* frame) {
   auto& views = frame->views;
-  for (size_t i = 1; i < views.size(); ++i) {
-    double straight = 0.0, swapped = 0.0;
-    const size_t last = views[i].normalized.size() - 1;
-    for (size_t j = 0; j < i; ++j) {
-      const Eigen::Matrix3d e = EssentialBetween(cameras[views[j].camera], cameras[views[i].camera]);
-      const auto& a = views[j].normalized;
-      const auto& b = views[i].normalized;
-      for (size_t k = 0; k <= last; ++k) {
-        straight += Sampson(e, a[k], b[k]);
-        swapped += Sampson(e, a[k], b[last - k]);
+  // Pairs among the first views only: enough to find a good seed, bounded cost per frame.
+  const size_t considered = std::min<size_t>(views.size(), 6);
+  double best_error = 0.1 * wand.LengthMm();
+  size_t best_i = 0, best_j = 0;
+  bool best_swap = false, found = false;
+  for (size_t i = 0; i < considered; ++i) {
+    for (size_t j = i + 1; j < considered; ++j) {
+      for (bool swap : {false, true}) {
+        Eigen::Vector3d ends[2];
+        if (!TriangulateEnds(cameras, views[i], views[j], swap, ends)) continue;
+        const double error = std::abs((ends[1] - ends[0]).norm() - wand.LengthMm());
+        if (error < best_error) {
+          best_error = error;
+          best_i = i;
+          best_j = j;
+          best_swap = swap;
+          found = true;
+        }
       }
     }
-    if (swapped < straight) views[i].SwapEnds();
   }
+  if (!found) return false;
+  if (best_swap) views[best_j].SwapEnds();
+  Eigen::Vector3d ends[2];
+  TriangulateEnds(cameras, views[best_i], views[best_j], false, ends);
+  WandPose seed;
+  seed.centre = 0.5 * (ends[0] + ends[1]);
+  seed.axis = (ends[1] - ends[0]).normalized();
+  std::vector<WandView> kept;
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (v == best_i || v == best_j) {
+      kept.push_back(std::move(views[v]));
+      continue;
+    }
+    const Camera& camera = cameras[views[v].camera];
+    const double straight = ViewRmsPx(camera, views[v], seed, wand, false);
+    const double swapped = ViewRmsPx(camera, views[v], seed, wand, true);
+    if (swapped < straight) views[v].SwapEnds();
+    if (std::min(straight, swapped) <= gate_px) kept.push_back(std::move(views[v]));
+  }
+  views = std::move(kept);
+  return true;
 }
 
 bool TriangulateWand(const std::vector<Camera>& cameras, const WandFrame& frame, const WandGeometry& wand,
@@ -75,21 +118,6 @@ bool TriangulateWand(const std::vector<Camera>& cameras, const WandFrame& frame,
   pose->centre = 0.5 * (ends[0] + ends[1]);
   pose->axis = axis.normalized();
   return true;
-}
-
-// RMS over the view's markers of the reprojection error per image coordinate.
-double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pose, const WandGeometry& wand,
-                 bool swapped) {
-  const size_t last = view.pixels.size() - 1;
-  double sum = 0.0;
-  for (size_t k = 0; k <= last; ++k) {
-    Eigen::Vector2d projected;
-    if (!camera.ProjectToPixel(pose.Marker(wand, swapped ? last - k : k), &projected)) {
-      return std::numeric_limits<double>::infinity();
-    }
-    sum += (projected - view.pixels[k]).squaredNorm();
-  }
-  return std::sqrt(sum / (2.0 * static_cast<double>(view.pixels.size())));
 }
 
 // Per view: keep the better end order, then drop views above the gate and frames left with
@@ -158,6 +186,7 @@ void WandCalibrationOptions::Check() const {
   if (!(outlier_sigmas > 0.0)) throw std::invalid_argument("outlier_sigmas must be > 0");
   if (!(initial_gate_px > 0.0)) throw std::invalid_argument("initial_gate_px must be > 0");
   if (refinement_passes < 1) throw std::invalid_argument("refinement_passes must be >= 1");
+  if (early_pass_iterations < 1) throw std::invalid_argument("early_pass_iterations must be >= 1");
   if (min_views_per_camera < 1) throw std::invalid_argument("min_views_per_camera must be >= 1");
   if (!(min_coverage >= 0.0 && min_coverage <= 1.0)) throw std::invalid_argument("min_coverage must be in [0, 1]");
   if (coverage_grid < 1) throw std::invalid_argument("coverage_grid must be >= 1");
@@ -256,7 +285,7 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
   std::vector<WandPose> poses;
   std::vector<WandFrame> labelled;
   for (WandFrame& frame : frames) {
-    LabelByEpipolar(cameras, &frame);
+    if (!LabelFrameRobustly(cameras, wand, options.initial_gate_px, &frame)) continue;
     WandPose pose;
     if (!TriangulateWand(cameras, frame, wand, &pose)) continue;
     labelled.push_back(std::move(frame));
@@ -285,25 +314,32 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
   stage_start = Clock::now();
   WandBundleOptions bundle = options.bundle;
   bundle.fixed_camera = init.reference_camera;
-  for (int pass = 0; pass < options.refinement_passes; ++pass) {
-    const WandBundleSummary summary = AdjustWandBundle(frames, wand, bundle, active, &cameras, &poses);
+  auto solve = [&](int max_iterations) {
+    WandBundleOptions pass_options = bundle;
+    pass_options.max_iterations = max_iterations;
+    const WandBundleSummary summary = AdjustWandBundle(frames, wand, pass_options, active, &cameras, &poses);
     result.solver_iterations += summary.iterations;
     result.solver_message = summary.message;
     if (!summary.usable) {
       throw std::runtime_error("bundle adjustment failed (" + summary.message +
                                "): record the wand again, covering the volume slowly");
     }
+  };
+  auto reject = [&]() {
     const double sigma = RobustSigmaPx(cameras, wand, frames, poses);
     const double gate = std::max(options.outlier_min_px, options.outlier_sigmas * sigma);
     const size_t dropped = RelabelAndReject(cameras, wand, gate, &frames, &poses);
     refuse_unseen();
-    if (dropped == 0 && pass > 0) break;
-    if (pass + 1 == options.refinement_passes && dropped > 0) {
-      const WandBundleSummary last = AdjustWandBundle(frames, wand, bundle, active, &cameras, &poses);
-      result.solver_iterations += last.iterations;
-      result.solver_message = last.message;
-    }
+    return dropped;
+  };
+  // Early passes only need to get close enough to separate outliers: with wrong views still in,
+  // the robust loss makes convergence slow, and they are about to be removed anyway.
+  for (int pass = 0; pass + 1 < options.refinement_passes; ++pass) {
+    solve(std::min(options.early_pass_iterations, bundle.max_iterations));
+    reject();
   }
+  solve(bundle.max_iterations);
+  if (reject() > 0) solve(bundle.max_iterations);
   result.bundle_seconds = seconds_since(stage_start);
   result.frames_used = frames.size();
   result.reference_camera_id = intrinsics.cameras[init.reference_camera].id;

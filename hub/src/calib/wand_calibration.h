@@ -27,7 +27,8 @@ struct WandCalibrationOptions {
   double outlier_min_px = 1.0;
   double outlier_sigmas = 5.0;
   double initial_gate_px = 25.0;  // before the first bundle, poses are only roughly right
-  int refinement_passes = 2;
+  int refinement_passes = 3;      // bundle passes, each followed by outlier rejection
+  int early_pass_iterations = 15;  // solver iterations of every pass but the last
   // Acceptance of a camera.
   int min_views_per_camera = 100;
   double min_coverage = 0.2;       // fraction of coverage_grid x coverage_grid image cells

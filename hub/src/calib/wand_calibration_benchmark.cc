@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 
 #include <Eigen/Geometry>
 
@@ -37,7 +38,8 @@ int main(int argc, char** argv) {
     const Eigen::Matrix3d aligned = camera.rotation * rigid.rotation.transpose();
     rotation = std::max(rotation, Eigen::AngleAxisd(aligned * expected.rotation.transpose()).angle() * 180.0 / M_PI);
   }
-  std::printf("cameras %d frames %d noise %.3f px (one thread)\n", cameras, frames, noise);
+  std::printf("cameras %d frames %d noise %.3f px (one thread), process CPU %.2f s\n", cameras, frames, noise,
+              static_cast<double>(std::clock()) / CLOCKS_PER_SEC);
   std::printf("time: select %.2f s, initialise %.2f s, bundle %.2f s, total %.2f s (%d solver iterations)\n",
               result.select_seconds, result.initialize_seconds, result.bundle_seconds, total,
               result.solver_iterations);

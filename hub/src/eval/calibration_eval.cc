@@ -4,9 +4,11 @@
 #include "eval/calibration_eval.h"
 
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "calib/rigid_fit.h"
 
@@ -72,6 +74,24 @@ CalibrationEval EvaluateCalibration(const Rig& truth, const Rig& result,
   eval.rotation_rms_deg = std::sqrt(rotation_sq / n);
   if (rms_count > 0) eval.reprojection_rms_px = rms_sum / rms_count;
   return eval;
+}
+
+std::map<uint32_t, double> ReadReportedReprojectionRms(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  if (document.is_discarded()) throw std::runtime_error(path + ": not valid JSON");
+  std::map<uint32_t, double> reported;
+  const auto cameras = document.find("cameras");
+  if (cameras == document.end() || !cameras->is_array()) return reported;
+  for (const auto& camera : *cameras) {
+    if (!camera.is_object()) continue;
+    const auto id = camera.find("id");
+    const auto rms = camera.find("reprojection_rms_px");
+    if (id == camera.end() || rms == camera.end() || !id->is_number_unsigned() || !rms->is_number()) continue;
+    reported[id->get<uint32_t>()] = rms->get<double>();
+  }
+  return reported;
 }
 
 }  // namespace mocap

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "geometry/camera.h"
@@ -46,5 +47,10 @@ struct CalibrationEval {
 CalibrationEval EvaluateCalibration(const Rig& truth, const Rig& result,
                                     const std::map<uint32_t, double>& reported_rms_px,
                                     const CalibrationEvalOptions& options);
+
+// The per-camera "reprojection_rms_px" fields a calibration JSON may carry (calibrate wand writes
+// them); cameras without one are absent. Throws std::runtime_error naming the file when it
+// cannot be read or parsed.
+std::map<uint32_t, double> ReadReportedReprojectionRms(const std::string& path);
 
 }  // namespace mocap
