@@ -24,6 +24,9 @@ const CommandEntry kCommands[] = {
     {"eval", mocap::AddEvalCommand},
     {"reconstruct", mocap::AddReconstructCommand},
     {"bench", mocap::AddBenchCommand},
+    {"sim wand", mocap::AddSimWandCommand},
+    {"calibrate wand", mocap::AddCalibrateWandCommand},
+    {"eval-calibration", mocap::AddEvalCalibrationCommand},
 };
 
 }  // namespace
