@@ -9,6 +9,11 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "calib/wand_calibration.h"
+#include "sim/projector.h"
+#include "sim/ring_rig.h"
+#include "sim/wand.h"
+
 namespace mocap {
 namespace {
 
@@ -97,6 +102,54 @@ TEST(CalibrationEvalTest, MissingCamerasAndBadInput) {
   other.cameras[0].id = 99;
   EXPECT_THROW(EvaluateCalibration(truth, other, {}, CalibrationEvalOptions()), std::invalid_argument);
 }
+
+// The acceptance check, end to end through the simulator: ring rigs around a person's
+// volume with per-camera lens distortion, a waved wand projected with 0.15 px noise, occlusion and
+// spurious blobs, calibrated from the true intrinsics, evaluated after rigid alignment.
+void ExpectWandCalibrationMeetsTargets(int cameras, int frames, uint64_t seed) {
+  MotionVolume person;
+  person.min = Eigen::Vector3d(-1000.0, -800.0, 0.0);
+  person.max = Eigen::Vector3d(1000.0, 800.0, 1800.0);
+  person.up_axis = 2;
+  RingRigOptions rig_options;
+  rig_options.cameras = cameras;
+  rig_options.seed = seed;
+  const Rig truth = MakeRingRig(person, rig_options);
+  WandMotionOptions wand_options;
+  wand_options.frames = frames;
+  wand_options.seed = seed;
+  const MarkerTrajectories motion = MakeWandMotion(truth, wand_options);
+  ProjectOptions faults;
+  faults.noise_px = 0.15;
+  faults.occlusion = 0.01;
+  faults.spurious = 0.5;
+  faults.seed = seed;
+  FaultyProjector projector(truth, motion.NumMarkers(), faults);
+  std::vector<FrameSet> sets;
+  std::vector<int> seeing;
+  for (size_t f = 0; f < motion.NumFrames(); ++f) {
+    FrameSet set;
+    set.frame_number = motion.frame_numbers[f];
+    set.cameras = projector.Project(set.frame_number, 0, &motion.points[f * motion.NumMarkers()], &seeing);
+    sets.push_back(std::move(set));
+  }
+  const WandCalibrationResult result =
+      CalibrateWand(sets, truth, WandGeometry::TwoMarker(wand_options.wand_length_mm), WandCalibrationOptions());
+  ASSERT_TRUE(result.AllAccepted());
+  std::map<uint32_t, double> reported;
+  for (const auto& camera : result.cameras) reported[camera.id] = camera.reprojection_rms_px;
+  const CalibrationEval eval = EvaluateCalibration(truth, result.rig, reported, CalibrationEvalOptions());
+  EXPECT_EQ(eval.cameras.size(), static_cast<size_t>(cameras));
+  EXPECT_LT(eval.centre_max_mm, 1.0);
+  EXPECT_LT(eval.rotation_max_deg, 0.03);
+  EXPECT_LT(std::abs(eval.scale_error), 5e-4);
+  EXPECT_LT(result.reprojection_rms_px, 1.2 * faults.noise_px);
+  for (const auto& camera : eval.cameras) EXPECT_LT(camera.reprojection_rms_px, 1.2 * faults.noise_px);
+}
+
+TEST(WandCalibrationAccuracyTest, EightCameras) { ExpectWandCalibrationMeetsTargets(8, 2000, 3); }
+
+TEST(WandCalibrationAccuracyTest, SixteenCameras) { ExpectWandCalibrationMeetsTargets(16, 2000, 4); }
 
 }  // namespace
 }  // namespace mocap
