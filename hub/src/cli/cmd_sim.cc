@@ -144,6 +144,10 @@ void AddSimProjectCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--drop-frames", p.drop_frames, "Probability a camera's whole frame is lost")
       ->capture_default_str();
+  command->add_option("--late", p.late, "Probability a camera frame's datagrams arrive late")
+      ->capture_default_str();
+  command->add_option("--late-frames", p.late_frames, "How many frames a late camera frame lags")
+      ->capture_default_str();
   command->add_option("--marker-mm", p.marker_diameter_mm, "Marker diameter (sets blob size), mm")
       ->capture_default_str();
   command->add_option("--seed", p.seed, "Seed of every fault")->capture_default_str();

@@ -2,7 +2,9 @@
 #include "sim/project_session.h"
 
 #include <cmath>
+#include <deque>
 #include <filesystem>
+#include <random>
 #include <stdexcept>
 
 #include "ingest/session.h"
@@ -29,6 +31,8 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
                        {"spurious", options.spurious},
                        {"merge_px", options.merge_px},
                        {"drop_frames", options.drop_frames},
+                       {"late", options.late},
+                       {"late_frames", options.late_frames},
                        {"marker_diameter_mm", options.marker_diameter_mm},
                        {"seed", options.seed},
                        {"truth", "truth.trc"},
@@ -44,6 +48,17 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
 
   FaultyProjector projector(rig, motion.NumMarkers(), options);
   ProjectSessionStats stats;
+  // Late camera frames wait here until `late_frames` later frames have been written.
+  struct Delayed {
+    size_t release_after;  // frame index after which it is written
+    CameraFrame frame;
+  };
+  std::deque<Delayed> delayed;
+  std::mt19937_64 late_rng(options.seed ^ 0x6c617465ull);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double period_ns = 1e9 / motion.rate_hz;
+  // A datagram crosses a quiet LAN in about 0.2 ms.
+  constexpr uint64_t kNetworkNs = 200000;
   std::vector<int> cameras_seeing;
   const size_t markers = motion.NumMarkers();
   for (size_t f = 0; f < motion.NumFrames(); ++f) {
@@ -53,9 +68,23 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
     const Eigen::Vector3d* points = markers > 0 ? &motion.points[f * markers] : nullptr;
     const std::vector<CameraFrame> frames = projector.Project(frame_number, trigger_ns, points, &cameras_seeing);
     for (const CameraFrame& frame : frames) {
-      writer.Write(frame);
       stats.blobs += frame.blobs.size();
       for (const Blob& blob : frame.blobs) stats.merged_blobs += (blob.flags & kBlobMerged) ? 1 : 0;
+      if (options.late > 0.0 && unit(late_rng) < options.late) {
+        CameraFrame late = frame;
+        late.receive_time_ns = frame.send_time_ns + kNetworkNs +
+                               static_cast<uint64_t>(std::llround(options.late_frames * period_ns));
+        delayed.push_back({f + static_cast<size_t>(options.late_frames), std::move(late)});
+        ++stats.late_camera_frames;
+        continue;
+      }
+      CameraFrame on_time = frame;
+      on_time.receive_time_ns = frame.send_time_ns + kNetworkNs;
+      writer.Write(on_time);
+    }
+    while (!delayed.empty() && delayed.front().release_after <= f) {
+      writer.Write(delayed.front().frame);
+      delayed.pop_front();
     }
     ++stats.frames;
     stats.camera_frames += frames.size();
@@ -68,8 +97,12 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
     visibility.WriteFrame(frame_number, cameras_seeing);
     if (progress) progress(f + 1, motion.NumFrames());
   }
+  for (const Delayed& late : delayed) writer.Write(late.frame);
   visibility.Close();
+  // The writer counts a new frame set whenever the frame number changes, which late frames do.
+  writer.info().frame_sets = stats.frames;
   writer.info().dropped_camera_frames = stats.dropped_camera_frames;
+  writer.info().extra["sim"]["late_camera_frames"] = stats.late_camera_frames;
   writer.info().extra["sim"]["blobs"] = stats.blobs;
   writer.info().extra["sim"]["merged_blobs"] = stats.merged_blobs;
   writer.Finish();

@@ -17,6 +17,7 @@ struct ProjectSessionStats {
   uint64_t frames = 0;
   uint64_t camera_frames = 0;
   uint64_t dropped_camera_frames = 0;
+  uint64_t late_camera_frames = 0;
   uint64_t blobs = 0;
   uint64_t merged_blobs = 0;
   // Marker-frames seen by at least two cameras (reconstructible), out of present marker-frames.

@@ -145,6 +145,22 @@ TEST_F(ProjectSessionTest, FaultsReachTheSession) {
   EXPECT_GT(back.worst_px, 1.0);  // occlusion hides some markers from some cameras
 }
 
+TEST_F(ProjectSessionTest, LateFramesStillAssembleInOrder) {
+  ProjectOptions options;
+  options.merge_px = 0.0;
+  options.late = 0.2;
+  options.late_frames = 4;
+  const ProjectSessionStats stats = ProjectSession(motion, rig, options, dir);
+  EXPECT_GT(stats.late_camera_frames, 50u);
+  EXPECT_LT(stats.late_camera_frames, 130u);
+  // Every frame set still comes out whole and exact, in frame order, within the reader's window.
+  const Readback back = ReadBack(dir, motion, rig);
+  EXPECT_EQ(back.frame_sets, 90u);
+  EXPECT_EQ(back.camera_frames, 450u);
+  EXPECT_LE(back.worst_px, 0.5 / 64.0 * std::sqrt(2.0) + 1e-9);
+  EXPECT_EQ(LoadSessionInfo(dir).frame_sets, 90u);
+}
+
 TEST_F(ProjectSessionTest, SameSeedSameSession) {
   ProjectOptions options;
   options.noise_px = 0.2;

@@ -55,6 +55,8 @@ void ProjectOptions::Check() const {
   if (!(spurious >= 0.0 && spurious <= 1000.0)) throw std::invalid_argument("--spurious must be 0..1000");
   if (!(merge_px <= 1000.0) || std::isnan(merge_px)) throw std::invalid_argument("--merge-px must be at most 1000");
   CheckProbability(drop_frames, "--drop-frames");
+  CheckProbability(late, "--late");
+  if (late_frames < 1 || late_frames > 1000) throw std::invalid_argument("--late-frames must be 1..1000");
   if (!(marker_diameter_mm > 0.0 && marker_diameter_mm <= 200.0)) {
     throw std::invalid_argument("--marker-mm must be in (0, 200]");
   }

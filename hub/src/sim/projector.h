@@ -21,6 +21,11 @@ struct ProjectOptions {
   // two blobs merge when they touch, i.e. centres closer than the sum of their radii.
   double merge_px = -1.0;
   double drop_frames = 0.0;       // probability that a camera's whole frame is lost
+  // Probability that a camera frame's datagrams reach the hub late, after those of the next
+  // late_frames frames (network queueing); the session log keeps arrival order. Applied by
+  // ProjectSession, not by the projector.
+  double late = 0.0;
+  int late_frames = 3;
   double marker_diameter_mm = 14.0;
   uint64_t seed = 1;
 
