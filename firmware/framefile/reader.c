@@ -40,6 +40,20 @@ static void reader_free(struct mn_ff_reader *rd)
     free(rd);
 }
 
+static int inflate_tiles(struct mn_ff_reader *rd, const uint8_t *data, size_t len, size_t want)
+{
+    if (inflateReset(&rd->zs) != Z_OK)
+        return -1;
+    rd->zs.next_in = (Bytef *)data;
+    rd->zs.avail_in = (uInt)len;
+    rd->zs.next_out = rd->tiles;
+    rd->zs.avail_out = (uInt)want;
+    int rc = inflate(&rd->zs, Z_FINISH);
+    if (rc != Z_STREAM_END || rd->zs.total_out != want || rd->zs.avail_in != 0)
+        return -1;
+    return 0;
+}
+
 /* Takes ownership of f (closed on failure). */
 static struct mn_ff_reader *reader_from_file(FILE *f, const char **why)
 {
@@ -78,6 +92,15 @@ static struct mn_ff_reader *reader_from_file(FILE *f, const char **why)
         return NULL;
     }
     rd->zs_ready = 1;
+    /* zlib allocates its window on the first inflate that produces output; do that here with
+     * a one-byte stream so that reading frames never allocates. */
+    static const uint8_t one_zero_byte[] = {0x78, 0x9c, 0x63, 0x00, 0x00, 0x00, 0x01, 0x00, 0x01};
+    if (inflate_tiles(rd, one_zero_byte, sizeof one_zero_byte, 1) != 0) {
+        *why = "zlib self-check failed";
+        reader_free(rd);
+        errno = EIO;
+        return NULL;
+    }
     return rd;
 }
 
@@ -169,20 +192,6 @@ static size_t tile_bytes(const struct mn_ff_info *info, uint32_t i)
     uint32_t tw = info->width - x0 < MN_FF_TILE ? info->width - x0 : MN_FF_TILE;
     uint32_t th = info->height - y0 < MN_FF_TILE ? info->height - y0 : MN_FF_TILE;
     return (size_t)tw * th;
-}
-
-static int inflate_tiles(struct mn_ff_reader *rd, const uint8_t *data, size_t len, size_t want)
-{
-    if (inflateReset(&rd->zs) != Z_OK)
-        return -1;
-    rd->zs.next_in = (Bytef *)data;
-    rd->zs.avail_in = (uInt)len;
-    rd->zs.next_out = rd->tiles;
-    rd->zs.avail_out = (uInt)want;
-    int rc = inflate(&rd->zs, Z_FINISH);
-    if (rc != Z_STREAM_END || rd->zs.total_out != want || rd->zs.avail_in != 0)
-        return -1;
-    return 0;
 }
 
 int mn_ff_reader_next(struct mn_ff_reader *rd, uint8_t *pixels, size_t stride,
