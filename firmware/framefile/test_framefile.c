@@ -24,6 +24,26 @@
 
 static char tmpdir[64];
 
+/* The reader's own allocations go through these (linked with --wrap), so a test can check
+ * that reading frames allocates nothing. */
+static unsigned long alloc_count;
+void *__real_malloc(size_t n);
+void *__real_calloc(size_t n, size_t size);
+void *__wrap_malloc(size_t n);
+void *__wrap_calloc(size_t n, size_t size);
+
+void *__wrap_malloc(size_t n)
+{
+    alloc_count++;
+    return __real_malloc(n);
+}
+
+void *__wrap_calloc(size_t n, size_t size)
+{
+    alloc_count++;
+    return __real_calloc(n, size);
+}
+
 static int make_tmp(void **state)
 {
     (void)state;
@@ -325,6 +345,28 @@ static void test_bad_headers(void **state)
     free(buf);
 }
 
+static void test_no_allocation_per_frame(void **state)
+{
+    (void)state;
+    size_t written;
+    char *dir = write_file(6, &written);
+    unsigned long at_open = alloc_count;
+    struct mn_ff_reader *rd = mn_ff_reader_open(dir, NULL);
+    assert_non_null(rd);
+    assert_true(alloc_count > at_open); /* the counting wrappers are in effect */
+    uint8_t px[W * H];
+    unsigned long before = alloc_count;
+    for (int pass = 0; pass < 3; pass++) {
+        int n = 0;
+        while (mn_ff_reader_next(rd, px, W, NULL) == 1)
+            n++;
+        assert_int_equal(n, FRAMES);
+        assert_int_equal(mn_ff_reader_rewind(rd), 0);
+    }
+    assert_int_equal(alloc_count, before);
+    mn_ff_reader_close(rd);
+}
+
 static void test_bad_arguments(void **state)
 {
     (void)state;
@@ -373,6 +415,7 @@ int main(void)
         cmocka_unit_test(test_truncation_everywhere),
         cmocka_unit_test(test_corruption),
         cmocka_unit_test(test_bad_headers),
+        cmocka_unit_test(test_no_allocation_per_frame),
         cmocka_unit_test(test_bad_arguments),
     };
     return cmocka_run_group_tests(tests, make_tmp, remove_tmp);
