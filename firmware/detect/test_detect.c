@@ -529,6 +529,52 @@ static void test_pathological_frame(void **state)
     free(px);
 }
 
+/* Area, bbox and roundness limits reject exactly the blobs outside them, and say so. */
+static void test_filters(void **state)
+{
+    (void)state;
+    const uint32_t w = 120, h = 40;
+    uint8_t px[120 * 40];
+    memset(px, 5, sizeof px);
+    /* squares of side 2, 4, 6 and 10, a 1x12 line and a 3x12 bar */
+    static const uint32_t boxes[][4] = {{2, 2, 2, 2}, {8, 2, 4, 4}, {16, 2, 6, 6},
+                                        {26, 2, 10, 10}, {40, 2, 12, 1}, {56, 2, 12, 3}};
+    for (size_t i = 0; i < 6; i++)
+        for (uint32_t y = boxes[i][1]; y < boxes[i][1] + boxes[i][3]; y++)
+            memset(px + y * w + boxes[i][0], 150, boxes[i][2]);
+    struct mn_detect_config cfg;
+    mn_detect_config_default(&cfg);
+    cfg.threshold = 100;
+    cfg.morph_radius = 0;
+    cfg.min_area = 5;     /* drops the 2x2 */
+    cfg.max_area = 50;    /* drops the 10x10 */
+    cfg.min_bbox = 2;     /* drops the 1-pixel-high line */
+    cfg.max_bbox = 11;    /* drops the 12-wide bar */
+    cfg.min_roundness = 0.5f;
+    struct mn_detector *det = mn_detector_new(&cfg, w, h);
+    struct mn_blob b[8];
+    size_t n = 0;
+    assert_int_equal(mn_detector_run(det, px, w, h, w, b, 8, &n), 0);
+    const struct mn_detect_stats *st = mn_detector_stats(det);
+    assert_int_equal(st->candidates, 6);
+    assert_int_equal(n, 2);
+    assert_int_equal(b[0].area, 16);
+    assert_int_equal(b[1].area, 36);
+    assert_int_equal(st->rejected_area, 2);
+    assert_int_equal(st->rejected_bbox, 2);
+    assert_int_equal(st->rejected_round, 0);
+    /* The bar passes the bbox limit once it is raised, then fails on roundness (3 x 12). */
+    cfg.max_bbox = 12;
+    assert_int_equal(mn_detector_set_config(det, &cfg), -1); /* beyond the creation size */
+    mn_detector_free(det);
+    det = mn_detector_new(&cfg, w, h);
+    assert_int_equal(mn_detector_run(det, px, w, h, w, b, 8, &n), 0);
+    assert_int_equal(n, 2);
+    assert_int_equal(mn_detector_stats(det)->rejected_round, 1);
+    assert_int_equal(mn_detector_stats(det)->rejected_bbox, 1);
+    mn_detector_free(det);
+}
+
 static void test_saturation_flag(void **state)
 {
     (void)state;
@@ -674,6 +720,7 @@ int main(void)
         cmocka_unit_test(test_many_blobs),
         cmocka_unit_test(test_auto_threshold),
         cmocka_unit_test(test_pathological_frame),
+        cmocka_unit_test(test_filters),
         cmocka_unit_test(test_saturation_flag),
         cmocka_unit_test(test_binary_centroid),
         cmocka_unit_test(test_no_allocation_per_frame),
