@@ -161,7 +161,7 @@ int RunBench(const Args& a) {
     if (mn_detector_run(det, f.pixels.data(), f.width, f.height, f.width, blobs.data(),
                         blobs.size(), &n_blobs) != 0)
       throw std::runtime_error("detector refused a frame");
-    cv_pipe.Run(f, &ref);
+    cv_pipe.Reference(f, &ref);
     Compare(std::vector<mn_blob>(blobs.begin(), blobs.begin() + n_blobs), ref, &acc);
   }
 

@@ -92,16 +92,17 @@ struct mn_detector *mn_detector_new(const struct mn_detect_config *cfg, uint32_t
     size_t patch_side = (size_t)det->cap_bbox + 2u * det->cap_radius;
     det->patch_words = (patch_side + 63) / 64;
     det->patch_rows = patch_side;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < MN_PATCH_PLANES; i++) {
         det->patch[i] = calloc(det->patch_words * det->patch_rows, sizeof(uint64_t));
         if (!det->patch[i])
             goto fail_free;
     }
 
-    /* One span queue serves the region fill and the patch relabelling. A region with more
-     * spans than this is rejected (its threshold is hopeless anyway), so it bounds memory. */
+    /* One span queue serves the region fill and the patch relabelling (a component and its
+     * final pixel set, at most half the patch's pixels as runs each). A region with more spans
+     * than this is rejected (its threshold is hopeless anyway), so it bounds memory. */
     size_t cap = (size_t)max_w * max_h / 8;
-    size_t patch_spans = patch_side * (patch_side / 2 + 1);
+    size_t patch_spans = 2 * patch_side * (patch_side / 2 + 1);
     if (cap < patch_spans)
         cap = patch_spans;
     if (cap < 16384)
@@ -127,7 +128,7 @@ void mn_detector_free(struct mn_detector *det)
         return;
     free(det->seeds);
     free(det->spans);
-    for (int i = 0; i < 3; i++)
+    for (int i = 0; i < MN_PATCH_PLANES; i++)
         free(det->patch[i]);
     free(det->dirty_hi);
     free(det->dirty_lo);

@@ -10,6 +10,7 @@
 
 #define MN_DETECT_MAX_MORPH_RADIUS 8
 #define MN_DETECT_MAX_BBOX 1024
+#define MN_PATCH_PLANES 6
 
 /* One horizontal run of blob pixels on row y, inclusive ends. Sides are <= 16384 pixels. */
 struct mn_span {
@@ -41,7 +42,7 @@ struct mn_detector {
     size_t spans_cap;
     struct mn_seed_chunk *seeds; /* ring of MN_SEED_LAG + 1 rows of chunks */
     size_t seed_cap, seed_head, seed_count;
-    uint64_t *patch[3];  /* morphology bit planes, patch_rows x patch_words each */
+    uint64_t *patch[MN_PATCH_PLANES]; /* morphology bit planes, patch_rows x patch_words */
     size_t patch_words;
     size_t patch_rows;
     struct mn_detect_stats stats;

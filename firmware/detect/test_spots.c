@@ -80,57 +80,6 @@ void ts_canvas_to_y8(const struct ts_canvas *c, struct ts_rng *rng, double noise
     }
 }
 
-/* Labels 8-connected components of bin (1 = foreground) and computes weighted centroids. */
-static size_t label_binary(const uint8_t *bin, const uint8_t *px, uint32_t w, uint32_t h,
-                           size_t stride, uint8_t t, struct ts_ref_blob *out, size_t cap)
-{
-    uint8_t *seen = calloc((size_t)w * h, 1);
-    uint32_t *stack = malloc((size_t)w * h * sizeof(uint32_t));
-    size_t n = 0;
-    for (uint32_t y = 0; y < h; y++) {
-        for (uint32_t x = 0; x < w; x++) {
-            if (!bin[(size_t)y * w + x] || seen[(size_t)y * w + x])
-                continue;
-            double sw = 0, sx = 0, sy = 0, bx = 0, by = 0;
-            uint32_t area = 0;
-            size_t top = 0;
-            stack[top++] = y * w + x;
-            seen[(size_t)y * w + x] = 1;
-            while (top > 0) {
-                uint32_t i = stack[--top];
-                uint32_t qx = i % w, qy = i / w;
-                int v = px[(size_t)qy * stride + qx];
-                double wgt = v > t ? v - t : 0;
-                sw += wgt;
-                sx += wgt * qx;
-                sy += wgt * qy;
-                bx += qx;
-                by += qy;
-                area++;
-                for (int dy = -1; dy <= 1; dy++) {
-                    for (int dx = -1; dx <= 1; dx++) {
-                        long nx = (long)qx + dx, ny = (long)qy + dy;
-                        if (nx < 0 || ny < 0 || nx >= (long)w || ny >= (long)h)
-                            continue;
-                        size_t j = (size_t)ny * w + (size_t)nx;
-                        if (seen[j] || !bin[j])
-                            continue;
-                        seen[j] = 1;
-                        stack[top++] = (uint32_t)j;
-                    }
-                }
-            }
-            if (n < cap)
-                out[n] = sw > 0 ? (struct ts_ref_blob){sx / sw, sy / sw, area}
-                                : (struct ts_ref_blob){bx / area, by / area, area};
-            n++;
-        }
-    }
-    free(stack);
-    free(seen);
-    return n;
-}
-
 /* One erosion (erode = 1) or dilation of src into dst, square radius r, outside neutral. */
 static void naive_morph(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, int r,
                         int erode)
@@ -152,21 +101,100 @@ static void naive_morph(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h
     }
 }
 
+/* 8-connected labels (1..n in raster order of first pixel, 0 = background); returns n. */
+static uint32_t label_image(const uint8_t *bin, uint32_t w, uint32_t h, uint32_t *labels)
+{
+    uint32_t *stack = malloc((size_t)w * h * sizeof(uint32_t));
+    uint32_t n = 0;
+    memset(labels, 0, (size_t)w * h * sizeof(uint32_t));
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        if (!bin[i] || labels[i])
+            continue;
+        n++;
+        size_t top = 0;
+        stack[top++] = (uint32_t)i;
+        labels[i] = n;
+        while (top > 0) {
+            uint32_t j = stack[--top];
+            long x = j % w, y = j / w;
+            for (long dy = -1; dy <= 1; dy++) {
+                for (long dx = -1; dx <= 1; dx++) {
+                    long nx = x + dx, ny = y + dy;
+                    if (nx < 0 || ny < 0 || nx >= (long)w || ny >= (long)h)
+                        continue;
+                    size_t k = (size_t)ny * w + (size_t)nx;
+                    if (bin[k] && !labels[k]) {
+                        labels[k] = n;
+                        stack[top++] = (uint32_t)k;
+                    }
+                }
+            }
+        }
+    }
+    free(stack);
+    return n;
+}
+
 size_t ts_reference_morph(const uint8_t *px, uint32_t w, uint32_t h, size_t stride, uint8_t t,
                           int r, struct ts_ref_blob *out, size_t cap)
 {
-    uint8_t *a = malloc((size_t)w * h), *b = malloc((size_t)w * h);
+    size_t N = (size_t)w * h;
+    uint8_t *x = malloc(N), *a = malloc(N), *b = malloc(N), *claimed = calloc(N, 1);
+    uint32_t *region = malloc(N * sizeof(uint32_t)), *comp = malloc(N * sizeof(uint32_t));
     for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
-            a[(size_t)y * w + x] = px[(size_t)y * stride + x] > t;
-    naive_morph(a, b, w, h, r, 1);
+        for (uint32_t i = 0; i < w; i++)
+            x[(size_t)y * w + i] = px[(size_t)y * stride + i] > t;
+    naive_morph(x, b, w, h, r, 1);
     naive_morph(b, a, w, h, r, 0);
     naive_morph(a, b, w, h, r, 0);
     naive_morph(b, a, w, h, r, 1);
-    size_t n = label_binary(a, px, w, h, stride, t, out, cap);
-    free(a);
+    label_image(x, w, h, region);
+    uint32_t nc = label_image(a, w, h, comp);
+    for (uint32_t l = 1; l <= nc; l++) {
+        /* The component's region: that of any of its pixels that was above threshold. */
+        uint32_t reg = 0;
+        for (size_t i = 0; i < N && !reg; i++)
+            if (comp[i] == l && x[i])
+                reg = region[i];
+        double sw = 0, sx = 0, sy = 0, bx = 0, by = 0;
+        uint32_t area = 0;
+        for (long y = 0; y < (long)h; y++) {
+            for (long i = 0; i < (long)w; i++) {
+                size_t k = (size_t)y * w + (size_t)i;
+                int in = comp[k] == l;
+                if (!in && x[k] && region[k] == reg && !claimed[k]) {
+                    for (long dy = -r; dy <= r && !in; dy++)
+                        for (long dx = -r; dx <= r && !in; dx++) {
+                            long nx = i + dx, ny = y + dy;
+                            if (nx >= 0 && ny >= 0 && nx < (long)w && ny < (long)h &&
+                                comp[(size_t)ny * w + (size_t)nx] == l)
+                                in = 1;
+                        }
+                }
+                if (!in)
+                    continue;
+                claimed[k] = 1;
+                int v = px[(size_t)y * stride + (size_t)i];
+                double wgt = v > t ? v - t : 0;
+                sw += wgt;
+                sx += wgt * i;
+                sy += wgt * y;
+                bx += i;
+                by += y;
+                area++;
+            }
+        }
+        if (l - 1 < cap)
+            out[l - 1] = sw > 0 ? (struct ts_ref_blob){sx / sw, sy / sw, area}
+                                : (struct ts_ref_blob){bx / area, by / area, area};
+    }
+    free(comp);
+    free(region);
+    free(claimed);
     free(b);
-    return n;
+    free(a);
+    free(x);
+    return nc;
 }
 
 size_t ts_reference(const uint8_t *px, uint32_t w, uint32_t h, size_t stride, uint8_t t,

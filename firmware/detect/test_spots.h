@@ -36,8 +36,10 @@ struct ts_ref_blob {
 size_t ts_reference(const uint8_t *px, uint32_t w, uint32_t h, size_t stride, uint8_t t,
                     struct ts_ref_blob *out, size_t cap);
 
-/* The same after a whole-frame opening then closing with a (2r+1)^2 square, pixels outside
- * the image neutral (OpenCV's default border); weights are max(0, value - t). */
+/* The detector's morphology semantics, the slow obvious way: whole-frame opening then closing
+ * with a (2r+1)^2 square (outside the image neutral), 8-connected components; each component's
+ * pixels plus the above-threshold pixels of its pre-morphology region within r of it that no
+ * earlier component took; weights max(0, value - t). */
 size_t ts_reference_morph(const uint8_t *px, uint32_t w, uint32_t h, size_t stride, uint8_t t,
                           int r, struct ts_ref_blob *out, size_t cap);
 

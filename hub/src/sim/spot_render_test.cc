@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "detect/detect.h"
+
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -172,6 +175,38 @@ TEST(SpotRender, FileInfoMatchesBackgroundModel) {
   mn_ff_noise_fill(noise, 5, 0, 0, kW, kH, model.data(), kW);
   mn_ff_noise_free(noise);
   EXPECT_EQ(Render(r, 5, {}), model);
+}
+
+// End to end with the node's detector: rendered markers are found where they were drawn.
+TEST(SpotRender, DetectorFindsRenderedSpots) {
+  SpotRenderOptions opts;
+  opts.noise_sigma = 1.5;
+  SpotRenderer r(opts, kW, kH);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Spot> spots;
+  for (int i = 0; i < 18; ++i)
+    spots.push_back({15.0 + 30.0 * (i % 6) + u(rng), 20.0 + 40.0 * (i / 6) + u(rng),
+                     2.5 + 2.5 * u(rng), 180.0 + 60.0 * u(rng)});
+  const auto frame = Render(r, 3, spots);
+
+  mn_detect_config cfg;
+  mn_detect_config_default(&cfg);
+  cfg.threshold = 40;
+  mn_detector* det = mn_detector_new(&cfg, kW, kH);
+  ASSERT_NE(det, nullptr);
+  std::vector<mn_blob> blobs(64);
+  size_t n = 0;
+  ASSERT_EQ(mn_detector_run(det, frame.data(), kW, kH, kW, blobs.data(), blobs.size(), &n), 0);
+  mn_detector_free(det);
+  ASSERT_EQ(n, spots.size());
+  double worst = 0.0;
+  for (const Spot& s : spots) {
+    double best = 1e9;
+    for (size_t i = 0; i < n; ++i) best = std::min(best, std::hypot(blobs[i].x - s.x, blobs[i].y - s.y));
+    worst = std::max(worst, best);
+  }
+  EXPECT_LT(worst, 0.03);
 }
 
 TEST(SpotRender, RejectsBadOptions) {
