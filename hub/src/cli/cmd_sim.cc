@@ -84,6 +84,7 @@ void RunSimProject(const SimProjectArgs& args) {
                                         {"frames", stats.frames},
                                         {"camera_frames", stats.camera_frames},
                                         {"dropped_camera_frames", stats.dropped_camera_frames},
+                                        {"late_camera_frames", stats.late_camera_frames},
                                         {"blobs", stats.blobs},
                                         {"merged_blobs", stats.merged_blobs},
                                         {"reconstructible_fraction", reconstructible}})
