@@ -9,6 +9,7 @@
 
 #include <opencv2/aruco/charuco.hpp>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace mocap {
@@ -192,6 +193,16 @@ std::vector<std::string> ExpandImagePaths(const std::vector<std::string>& paths)
     }
   }
   return files;
+}
+
+std::vector<cv::Mat> ReadGreyImages(const std::vector<std::string>& files) {
+  std::vector<cv::Mat> images;
+  for (const std::string& file : files) {
+    cv::Mat image = cv::imread(file, cv::IMREAD_GRAYSCALE);
+    if (image.empty()) throw std::runtime_error(file + ": cannot read as an image");
+    images.push_back(image);
+  }
+  return images;
 }
 
 }  // namespace mocap

@@ -62,4 +62,7 @@ IntrinsicsResult CalibrateIntrinsics(const std::vector<cv::Mat>& images, const s
 // .pgm .tif file, sorted). Throws std::runtime_error for a file that cannot be read.
 std::vector<std::string> ExpandImagePaths(const std::vector<std::string>& paths);
 
+// The files as 8-bit grey images. Throws std::runtime_error naming a file that is no image.
+std::vector<cv::Mat> ReadGreyImages(const std::vector<std::string>& files);
+
 }  // namespace mocap

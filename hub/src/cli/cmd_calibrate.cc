@@ -1,6 +1,8 @@
 // Calibration commands: `sim wand` (a simulated wand session), `calibrate wand` (extrinsics by
-// bundle adjustment), `eval-calibration` (accuracy against a truth rig). Each validates its
-// inputs and throws a one-line reason; main() prints it and exits non-zero.
+// bundle adjustment), `calibrate world` (L-frame or floor), `calibrate intrinsics` (board
+// images), `calibrate dlt` / `import-tsai` / `import-mcd` (seed 000's methods and files) and
+// `eval-calibration` (accuracy against a truth rig). Each validates its inputs and throws a
+// one-line reason; main() prints it and exits non-zero.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,15 +14,22 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "calib/dlt.h"
+#include "calib/intrinsics.h"
+#include "calib/mcd.h"
 #include "calib/session_frames.h"
+#include "calib/tsai.h"
 #include "calib/wand_calibration.h"
 #include "calib/world_frame.h"
 #include "cli/commands.h"
 #include "cli/progress.h"
 #include "eval/calibration_eval.h"
+#include "ingest/session.h"
+#include "recon/reconstructor.h"
 #include "io/calibration_json.h"
 #include "sim/project_session.h"
 #include "sim/wand.h"
@@ -230,6 +239,253 @@ void RunCalibrateWand(CalibrateWandArgs args) {
   WriteJsonFile(document, args.output);
 }
 
+// ---- calibrate world ------------------------------------------------------------------------
+
+struct CalibrateWorldArgs {
+  std::string session;
+  std::string calibration;
+  std::string output;
+  std::string lframe;
+  std::string up = "z";
+  bool floor = false;
+  bool json = false;
+  LFrameOptions options;
+};
+
+// The input document with every camera's pose replaced, so that fields written by other steps
+// (reports, residuals) survive.
+nlohmann::json WithPoses(nlohmann::json document, const Rig& rig) {
+  for (auto& camera : document["cameras"]) {
+    const Camera* moved = rig.Find(camera["id"].get<uint32_t>());
+    if (moved == nullptr) continue;
+    nlohmann::json rotation = nlohmann::json::array();
+    for (int r = 0; r < 3; ++r) rotation.push_back({moved->rotation(r, 0), moved->rotation(r, 1), moved->rotation(r, 2)});
+    camera["rotation"] = rotation;
+    camera["translation"] = {moved->translation.x(), moved->translation.y(), moved->translation.z()};
+  }
+  return document;
+}
+
+nlohmann::json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
+  if (document.is_discarded()) throw std::runtime_error(path + ": not valid JSON");
+  return document;
+}
+
+void RunCalibrateWorld(const CalibrateWorldArgs& args) {
+  const int up_axis = ParseUpAxisName(args.up);
+  if (up_axis < 0) throw std::invalid_argument("--up must be x, y or z");
+  args.options.Check();
+  const Rig rig = LoadRigJson(args.calibration);
+  const std::vector<FrameSet> frames = LoadSessionFrames(args.session);
+  WorldFrameFit fit;
+  std::vector<Eigen::Vector3d> model;
+  if (args.floor) {
+    // Every marker reconstructed in the session lies on the floor.
+    ReconstructorOptions recon_options;
+    recon_options.use_predictions = false;
+    Reconstructor reconstructor(rig, recon_options);
+    std::vector<ReconstructedPoint> points;
+    std::vector<Eigen::Vector3d> floor;
+    for (const FrameSet& set : frames) {
+      reconstructor.Process(set, {}, &points);
+      for (const ReconstructedPoint& point : points) floor.push_back(point.point_in_world);
+    }
+    fit = LevelOnFloor(floor, rig, up_axis);
+    fit.frames_used = static_cast<int>(frames.size());
+  } else {
+    model = args.lframe.empty() ? DefaultLFrame(up_axis) : ParsePointList(args.lframe, "--lframe");
+    fit = LocateLFrame(frames, rig, model, args.options);
+  }
+  const Rig moved = TransformRig(rig, fit.new_from_old);
+  nlohmann::json document = WithPoses(ReadJsonFile(args.calibration), moved);
+  document["world_frame"] = {{"method", args.floor ? "floor" : "lframe"},
+                             {"session", args.session},
+                             {"frames_used", fit.frames_used},
+                             {"fit_rms_mm", fit.fit_rms_mm},
+                             {"up", args.up}};
+  WriteJsonFile(document, args.output);
+  if (args.json) {
+    std::printf("%s\n", document["world_frame"].dump().c_str());
+  } else {
+    std::printf("calibrate world: %s from %d frames, fit RMS %.3f mm; world origin moved by %.1f mm, turned by "
+                "%.2f deg; wrote %s\n",
+                args.floor ? "floor plane" : "L-frame", fit.frames_used, fit.fit_rms_mm,
+                fit.new_from_old.translation.norm(),
+                Eigen::AngleAxisd(fit.new_from_old.rotation).angle() * 180.0 / M_PI, args.output.c_str());
+  }
+}
+
+// ---- calibrate intrinsics -------------------------------------------------------------------
+
+struct CalibrateIntrinsicsArgs {
+  std::vector<std::string> images;
+  std::string output;
+  std::string target_name = "checkerboard";
+  uint32_t id = 1;
+  bool free_k3 = false;
+  bool json = false;
+  CalibrationTarget target;
+  IntrinsicsOptions options;
+};
+
+void RunCalibrateIntrinsics(CalibrateIntrinsicsArgs args) {
+  args.target.type = TargetTypeFromName(args.target_name);
+  args.options.fix_k3 = !args.free_k3;
+  args.target.Check();
+  args.options.Check();
+  const std::vector<std::string> files = ExpandImagePaths(args.images);
+  if (files.empty()) throw std::runtime_error("no image files given");
+  const std::vector<cv::Mat> images = ReadGreyImages(files);
+  const IntrinsicsResult result = CalibrateIntrinsics(images, files, args.target, args.options);
+  Rig rig;
+  Camera camera;
+  camera.id = args.id;
+  camera.intrinsics = result.intrinsics;
+  rig.cameras.push_back(camera);
+  nlohmann::json document = RigToJson(rig);
+  nlohmann::json views = nlohmann::json::array();
+  int used = 0;
+  for (const IntrinsicsView& view : result.views) {
+    views.push_back({{"image", view.name}, {"used", view.used}, {"corners", view.corners}, {"reason", view.reason}});
+    used += view.used ? 1 : 0;
+  }
+  document["calibration"] = {{"method", "intrinsics"},
+                             {"target", TargetTypeName(args.target.type)},
+                             {"rms_px", result.rms_px},
+                             {"images", views}};
+  document["cameras"][0]["note"] = "intrinsics only: rotation and translation are placeholders";
+  WriteJsonFile(document, args.output);
+  if (args.json) {
+    std::printf("%s\n", document["calibration"].dump().c_str());
+    return;
+  }
+  const CameraIntrinsics& in = result.intrinsics;
+  std::printf("calibrate intrinsics: target found in %d of %zu images, RMS %.3f px\n", used, files.size(),
+              result.rms_px);
+  std::printf("fx %.2f fy %.2f cx %.2f cy %.2f  k1 %.5f k2 %.5f p1 %.6f p2 %.6f k3 %.5f -> %s\n", in.fx, in.fy, in.cx,
+              in.cy, in.distortion[0], in.distortion[1], in.distortion[2], in.distortion[3], in.distortion[4],
+              args.output.c_str());
+  for (const IntrinsicsView& view : result.views) {
+    if (!view.used) std::printf("  skipped %s: %s\n", view.name.c_str(), view.reason.c_str());
+  }
+}
+
+// ---- calibrate dlt --------------------------------------------------------------------------
+
+struct CalibrateDltArgs {
+  std::string points;
+  std::string output;
+  bool no_refine = false;
+  bool json = false;
+  DltOptions options;
+};
+
+void RunCalibrateDlt(CalibrateDltArgs args) {
+  args.options.refine = !args.no_refine;
+  args.options.Check();
+  const std::vector<ControlPoint> points = ReadControlPoints(args.points);
+  const DltResult result = CalibrateDlt(points, args.options);
+  Rig rig;
+  rig.cameras.push_back(result.camera);
+  nlohmann::json document = RigToJson(rig);
+  document["cameras"][0]["reprojection_rms_px"] = result.camera_rms_px;
+  document["calibration"] = {{"method", "dlt"},
+                             {"control_points", points.size()},
+                             {"dlt_parameters", result.parameters},
+                             {"dlt_rms_px", result.linear_rms_px},
+                             {"skew_px", result.skew_px},
+                             {"camera_rms_px", result.camera_rms_px}};
+  WriteJsonFile(document, args.output);
+  if (args.json) {
+    std::printf("%s\n", document["calibration"].dump().c_str());
+    return;
+  }
+  const Eigen::Vector3d centre = result.camera.CenterInWorld();
+  std::printf("calibrate dlt: %zu control points; 11-parameter DLT RMS %.3f px (skew %.2f px dropped); camera RMS "
+              "%.3f px; centre (%.1f, %.1f, %.1f) mm; fx %.1f fy %.1f -> %s\n",
+              points.size(), result.linear_rms_px, result.skew_px, result.camera_rms_px, centre.x(), centre.y(),
+              centre.z(), result.camera.intrinsics.fx, result.camera.intrinsics.fy, args.output.c_str());
+}
+
+// ---- calibrate import-tsai / import-mcd -----------------------------------------------------
+
+Rig RigFromTsai(const std::vector<TsaiCamera>& cameras, int width, int height, nlohmann::json* fits) {
+  Rig rig;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const TsaiConversion conversion = CameraFromTsai(cameras[i], static_cast<uint32_t>(i + 1), width, height);
+    rig.cameras.push_back(conversion.camera);
+    fits->push_back({{"id", i + 1}, {"lens_fit_max_error_px", conversion.max_error_px}});
+  }
+  return rig;
+}
+
+struct ImportTsaiArgs {
+  std::string input;
+  std::string output;
+  int width = 0;
+  int height = 0;
+};
+
+void RunImportTsai(const ImportTsaiArgs& args) {
+  if (args.width < 0 || args.height < 0) throw std::invalid_argument("--width and --height must be positive");
+  nlohmann::json fits = nlohmann::json::array();
+  const Rig rig = RigFromTsai(ReadTsaiFile(args.input), args.width, args.height, &fits);
+  nlohmann::json document = RigToJson(rig);
+  document["calibration"] = {{"method", "tsai import"}, {"source", args.input}, {"cameras", fits}};
+  WriteJsonFile(document, args.output);
+  for (const auto& fit : fits) {
+    std::printf("camera %d: Tsai kappa1 fitted by OpenCV k1 k2 k3 within %.4f px\n", fit["id"].get<int>(),
+                fit["lens_fit_max_error_px"].get<double>());
+  }
+  std::printf("import-tsai: %zu cameras -> %s\n", rig.cameras.size(), args.output.c_str());
+}
+
+struct ImportMcdArgs {
+  std::string input;
+  std::string output;
+  int width = 0;
+  int height = 0;
+  double rate_hz = 25.0;
+};
+
+void RunImportMcd(const ImportMcdArgs& args) {
+  if (args.width < 0 || args.height < 0) throw std::invalid_argument("--width and --height must be positive");
+  if (!(args.rate_hz > 0.0 && args.rate_hz <= 10000.0)) throw std::invalid_argument("--rate must be in (0, 10000]");
+  const McdRecording recording = ReadMcd(args.input);
+  nlohmann::json fits = nlohmann::json::array();
+  const Rig rig = RigFromTsai(recording.cameras, args.width, args.height, &fits);
+  SessionInfo info;
+  info.rate_hz = args.rate_hz;
+  info.epoch_ns = 0;
+  info.free_run = true;  // seed 000's webcams were polled by the server, not triggered
+  for (const Camera& camera : rig.cameras) info.camera_ids.push_back(camera.id);
+  info.source = "import-mcd";
+  info.extra["import"] = {{"mcd", args.input}, {"tsai_fits", fits}};
+  SessionWriter writer;
+  writer.Create(args.output, info);
+  uint64_t blobs = 0;
+  for (const FrameSet& set : recording.frames) {
+    for (CameraFrame frame : set.cameras) {
+      const Camera& camera = *rig.Find(frame.camera_id);
+      frame.width = static_cast<uint32_t>(camera.intrinsics.width);
+      frame.height = static_cast<uint32_t>(camera.intrinsics.height);
+      frame.trigger_time_ns = static_cast<uint64_t>(std::llround(static_cast<double>(set.frame_number) * 1e9 / args.rate_hz));
+      frame.capture_time_ns = frame.trigger_time_ns;
+      blobs += frame.blobs.size();
+      writer.Write(frame);
+    }
+  }
+  writer.Finish();
+  SaveRigJson(rig, (std::filesystem::path(args.output) / info.calibration).string());
+  std::printf("import-mcd: %zu cameras, %zu frames, %llu marks -> session %s (calibration.json from the Tsai "
+              "blocks)\n",
+              rig.cameras.size(), recording.frames.size(), static_cast<unsigned long long>(blobs),
+              args.output.c_str());
+}
+
 // ---- eval-calibration -----------------------------------------------------------------------
 
 struct EvalCalibrationArgs {
@@ -353,6 +609,93 @@ void AddCalibrateWandCommand(CLI::App& app) {
   command->add_flag("--allow-partial", args->allow_partial, "Write the accepted cameras even if some are refused");
   command->add_flag("--json", args->json, "Print the report as one JSON object on stdout");
   command->callback([args] { RunCalibrateWand(*args); });
+}
+
+void AddCalibrateWorldCommand(CLI::App& app) {
+  CLI::App& calibrate = CommandGroup(app, "calibrate", kCalibrateDescription);
+  CLI::App* command =
+      calibrate.add_subcommand("world", "Put the world frame on an L-frame (or level it on floor markers)");
+  auto args = std::make_shared<CalibrateWorldArgs>();
+  command->add_option("session", args->session, "Session in which the L-frame (or floor markers) lies still")
+      ->required();
+  command->add_option("--calibration", args->calibration, "Calibration JSON to move into the new world frame")
+      ->required();
+  command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
+  command->add_option("--lframe", args->lframe,
+                      "L-frame markers in the new world, mm, 'x,y,z;x,y,z;...' (default: 4-marker L on the floor)");
+  command->add_option("--up", args->up, "Vertical axis of the new world: x, y or z")->capture_default_str();
+  command->add_flag("--floor", args->floor,
+                    "Level on floor markers instead (origin at their centroid, heading kept)");
+  command->add_option("--max-fit-rms", args->options.max_fit_rms_mm, "L-frame match tolerance, mm")
+      ->capture_default_str();
+  command->add_option("--min-frames", args->options.min_frames, "Frames in which the L-frame must be found")
+      ->capture_default_str();
+  command->add_flag("--json", args->json, "Print a JSON summary on stdout");
+  command->callback([args] { RunCalibrateWorld(*args); });
+}
+
+void AddCalibrateIntrinsicsCommand(CLI::App& app) {
+  CLI::App& calibrate = CommandGroup(app, "calibrate", kCalibrateDescription);
+  CLI::App* command = calibrate.add_subcommand("intrinsics", "Intrinsics from checkerboard or ChArUco images");
+  auto args = std::make_shared<CalibrateIntrinsicsArgs>();
+  CalibrationTarget& t = args->target;
+  command->add_option("images", args->images, "Image files or directories of them")->required();
+  command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
+  command->add_option("--target", args->target_name, "checkerboard or charuco")->capture_default_str();
+  command->add_option("--squares-x", t.squares_x, "Squares across the board")->capture_default_str();
+  command->add_option("--squares-y", t.squares_y, "Squares down the board")->capture_default_str();
+  command->add_option("--square-mm", t.square_mm, "Square side, mm")->capture_default_str();
+  command->add_option("--marker-mm", t.marker_mm, "ChArUco marker side, mm")->capture_default_str();
+  command->add_option("--dictionary", t.dictionary, "ChArUco dictionary (4x4_50, 5x5_100, 6x6_250, ...)")
+      ->capture_default_str();
+  command->add_option("--id", args->id, "Camera id to write")->capture_default_str();
+  command->add_option("--min-views", args->options.min_views, "Images that must show the board")
+      ->capture_default_str();
+  command->add_flag("--free-k3", args->free_k3, "Also estimate k3 (needs many well-spread views)");
+  command->add_flag("--json", args->json, "Print a JSON summary on stdout");
+  command->callback([args] { RunCalibrateIntrinsics(*args); });
+}
+
+void AddCalibrateDltCommand(CLI::App& app) {
+  CLI::App& calibrate = CommandGroup(app, "calibrate", kCalibrateDescription);
+  CLI::App* command =
+      calibrate.add_subcommand("dlt", "One camera from known 3D control points by the 11-parameter DLT");
+  auto args = std::make_shared<CalibrateDltArgs>();
+  command->add_option("points", args->points, "Control points, one 'x y z u v' per line (mm, px)")->required();
+  command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
+  command->add_option("--width", args->options.width, "Image width, px")->required();
+  command->add_option("--height", args->options.height, "Image height, px")->required();
+  command->add_option("--id", args->options.camera_id, "Camera id to write")->capture_default_str();
+  command->add_flag("--refine-distortion", args->options.refine_distortion,
+                    "Also fit k1 k2 p1 p2 (needs points across the whole image)");
+  command->add_flag("--no-refine", args->no_refine, "Keep the linear solution");
+  command->add_flag("--json", args->json, "Print a JSON summary on stdout");
+  command->callback([args] { RunCalibrateDlt(*args); });
+}
+
+void AddCalibrateImportTsaiCommand(CLI::App& app) {
+  CLI::App& calibrate = CommandGroup(app, "calibrate", kCalibrateDescription);
+  CLI::App* command =
+      calibrate.add_subcommand("import-tsai", "Convert seed 000 Tsai camera blocks (19 values) to calibration JSON");
+  auto args = std::make_shared<ImportTsaiArgs>();
+  command->add_option("input", args->input, "File of Tsai blocks separated by blank lines")->required();
+  command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
+  command->add_option("--width", args->width, "Image width, px (default: Nfx)");
+  command->add_option("--height", args->height, "Image height, px (default: 3/4 of the width)");
+  command->callback([args] { RunImportTsai(*args); });
+}
+
+void AddCalibrateImportMcdCommand(CLI::App& app) {
+  CLI::App& calibrate = CommandGroup(app, "calibrate", kCalibrateDescription);
+  CLI::App* command =
+      calibrate.add_subcommand("import-mcd", "Convert a seed 000 .mcd recording into a session directory");
+  auto args = std::make_shared<ImportMcdArgs>();
+  command->add_option("input", args->input, ".mcd file")->required();
+  command->add_option("-o,--output", args->output, "Session directory to write")->required();
+  command->add_option("--rate", args->rate_hz, "Frame rate of the recording, Hz")->capture_default_str();
+  command->add_option("--width", args->width, "Image width, px (default: Nfx)");
+  command->add_option("--height", args->height, "Image height, px (default: 3/4 of the width)");
+  command->callback([args] { RunImportMcd(*args); });
 }
 
 void AddEvalCalibrationCommand(CLI::App& app) {

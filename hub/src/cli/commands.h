@@ -31,5 +31,11 @@ void AddSimRenderCommand(CLI::App& app);
 void AddSimWandCommand(CLI::App& app);
 void AddCalibrateWandCommand(CLI::App& app);
 void AddEvalCalibrationCommand(CLI::App& app);
+// cmd_calibrate.cc (besides sim wand, calibrate wand and eval-calibration above)
+void AddCalibrateWorldCommand(CLI::App& app);
+void AddCalibrateIntrinsicsCommand(CLI::App& app);
+void AddCalibrateDltCommand(CLI::App& app);
+void AddCalibrateImportTsaiCommand(CLI::App& app);
+void AddCalibrateImportMcdCommand(CLI::App& app);
 
 }  // namespace mocap

@@ -26,6 +26,11 @@ const CommandEntry kCommands[] = {
     {"bench", mocap::AddBenchCommand},
     {"sim wand", mocap::AddSimWandCommand},
     {"calibrate wand", mocap::AddCalibrateWandCommand},
+    {"calibrate world", mocap::AddCalibrateWorldCommand},
+    {"calibrate intrinsics", mocap::AddCalibrateIntrinsicsCommand},
+    {"calibrate dlt", mocap::AddCalibrateDltCommand},
+    {"calibrate import-tsai", mocap::AddCalibrateImportTsaiCommand},
+    {"calibrate import-mcd", mocap::AddCalibrateImportMcdCommand},
     {"eval-calibration", mocap::AddEvalCalibrationCommand},
 };
 
