@@ -55,6 +55,11 @@ std::vector<Blob> ParseMarks(const std::string& line, Lines* lines) {
     }
     Blob blob;
     blob.pixel = Eigen::Vector2d(x, y);
+    // .mcd records positions only; the wire format needs a blob size, so a mark counts as one
+    // full-brightness pixel.
+    blob.area = 1;
+    blob.peak = 255;
+    blob.mean = 255;
     blobs.push_back(blob);
   }
   if (in >> word) lines->Fail("more marks than marksCount says: '" + word + "'");
