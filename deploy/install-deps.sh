@@ -24,6 +24,9 @@ HOST_PACKAGES=(
     clang libclang-rt-14-dev
     # aarch64 cross-build and emulation
     gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user
+    # the vivid test: Debian's kernel (with the vivid module) booted in qemu with a busybox
+    # initramfs (tests/vivid)
+    linux-image-amd64 qemu-system-x86 busybox-static cpio kmod
     # measurement
     time zlib1g-dev
 )
