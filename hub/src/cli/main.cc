@@ -20,6 +20,7 @@ const CommandEntry kCommands[] = {
     {"record", mocap::AddRecordCommand},
     {"sim rig", mocap::AddSimRigCommand},
     {"sim project", mocap::AddSimProjectCommand},
+    {"sim render", mocap::AddSimRenderCommand},
     {"sim motion", mocap::AddSimMotionCommand},
     {"eval", mocap::AddEvalCommand},
     {"reconstruct", mocap::AddReconstructCommand},

@@ -14,13 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Spot {
-  Eigen::Vector2d pixel;
-  double radius = 0.0;
-  double depth = 0.0;
-  size_t marker = 0;
-};
-
 // First normalized radius where r * (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing.
 double MonotonicRadius(const std::array<double, 5>& d) {
   const double step = 1e-3;
@@ -111,13 +104,16 @@ std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_
   return frames;
 }
 
-bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
-                                    std::vector<int>* cameras_seeing, CameraFrame* out) {
+double FaultyProjector::MarkerPeak(double depth_mm) {
+  const double brightness = std::clamp(std::pow(2500.0 / depth_mm, 2.0), 0.15, 2.0);
+  return std::min(255.0, std::round(60.0 + 180.0 * brightness));
+}
+
+std::vector<FaultyProjector::MarkerImage> FaultyProjector::ImageMarkers(size_t index,
+                                                                        const Eigen::Vector3d* points) {
   const Camera& camera = rig_.cameras[index];
   CameraState& state = states_[index];
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-
   // The occlusion chains advance every frame, dropped or not, so they stay continuous in time.
   if (options_.occlusion > 0.0) {
     for (size_t m = 0; m < num_markers_; ++m) {
@@ -125,9 +121,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
       state.occluded[m] = state.occluded[m] ? (u >= occlusion_end_) : (u < occlusion_start_);
     }
   }
-  const bool dropped = options_.drop_frames > 0.0 && unit(state.rng) < options_.drop_frames;
-
-  std::vector<Spot> spots;
+  std::vector<MarkerImage> images;
   for (size_t m = 0; m < num_markers_; ++m) {
     if (MarkerTrajectories::IsGap(points[m]) || state.occluded[m]) continue;
     const Eigen::Vector3d point_in_cam = camera.PointInCamera(points[m]);
@@ -137,13 +131,25 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     // Barrel distortion folds far-off-axis points back into the image; a real lens never shows
     // them there, so points beyond the model's monotonic range are not seen.
     if ((point_in_cam.head<2>() / depth).norm() > state.valid_radius) continue;
-    spots.push_back({pixel, BlobRadiusPx(camera, depth), depth, m});
+    images.push_back({pixel, BlobRadiusPx(camera, depth), depth, m});
   }
+  return images;
+}
+
+bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
+                                    std::vector<int>* cameras_seeing, CameraFrame* out) {
+  const Camera& camera = rig_.cameras[index];
+  CameraState& state = states_[index];
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+
+  const std::vector<MarkerImage> spots = ImageMarkers(index, points);
+  const bool dropped = options_.drop_frames > 0.0 && unit(state.rng) < options_.drop_frames;
 
   // Blobs that overlap in the image become one (transitively), as thresholding would see them.
   // Sweep in x so only neighbours within the largest possible merge distance are compared.
   double max_radius = 0.0;
-  for (const Spot& spot : spots) max_radius = std::max(max_radius, spot.radius);
+  for (const MarkerImage& spot : spots) max_radius = std::max(max_radius, spot.radius);
   const double reach = options_.merge_px >= 0.0 ? options_.merge_px : 2.0 * max_radius;
   std::vector<int> order(spots.size());
   std::iota(order.begin(), order.end(), 0);
@@ -151,9 +157,9 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
   std::vector<int> parent(spots.size());
   std::iota(parent.begin(), parent.end(), 0);
   for (size_t i = 0; i < order.size(); ++i) {
-    const Spot& a = spots[order[i]];
+    const MarkerImage& a = spots[order[i]];
     for (size_t j = i + 1; j < order.size() && spots[order[j]].pixel.x() - a.pixel.x() < reach; ++j) {
-      const Spot& b = spots[order[j]];
+      const MarkerImage& b = spots[order[j]];
       const double limit = options_.merge_px >= 0.0 ? options_.merge_px : a.radius + b.radius;
       if ((a.pixel - b.pixel).norm() < limit) parent[FindRoot(parent, order[i])] = FindRoot(parent, order[j]);
     }
@@ -161,7 +167,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
 
   if (dropped) return false;
   // Markers seen only count for frames that reach the hub.
-  for (const Spot& spot : spots) ++(*cameras_seeing)[spot.marker];
+  for (const MarkerImage& spot : spots) ++(*cameras_seeing)[spot.marker];
   CameraFrame& frame = *out;
   frame.camera_id = camera.id;
   frame.frame_number = frame_number;
@@ -191,7 +197,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     Eigen::Vector2d weighted = Eigen::Vector2d::Zero();
     double nearest = 1e300;
     for (; end < grouped.size() && grouped[end].first == grouped[begin].first; ++end) {
-      const Spot& spot = spots[grouped[end].second];
+      const MarkerImage& spot = spots[grouped[end].second];
       const double spot_area = kPi * spot.radius * spot.radius;
       area += spot_area;
       weighted += spot_area * spot.pixel;
@@ -202,9 +208,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     Blob blob;
     blob.pixel = clamp_to_image(add_noise(weighted / area));
     blob.area = static_cast<uint32_t>(std::max(1.0, std::round(area)));
-    // Retro-reflector return falls with the square of distance (ring light at the lens).
-    const double brightness = std::clamp(std::pow(2500.0 / nearest, 2.0), 0.15, 2.0);
-    blob.peak = static_cast<uint32_t>(std::min(255.0, std::round(60.0 + 180.0 * brightness)));
+    blob.peak = static_cast<uint32_t>(MarkerPeak(nearest));
     blob.mean = static_cast<uint32_t>(std::round(0.7 * blob.peak));
     if (blob.peak >= 255) blob.flags |= kBlobSaturated;
     if (members > 1) blob.flags |= kBlobMerged;

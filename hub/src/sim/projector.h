@@ -46,6 +46,23 @@ class FaultyProjector {
   // Radius in pixels of a marker's blob at this depth in front of the camera.
   double BlobRadiusPx(const Camera& camera, double depth_mm) const;
 
+  // One marker's image in one camera, before merging and centroid noise.
+  struct MarkerImage {
+    Eigen::Vector2d pixel;  // distorted pixel position of the marker's centre
+    double radius = 0.0;    // blob radius, px
+    double depth = 0.0;     // mm in front of the camera
+    size_t marker = 0;
+  };
+
+  // Advances camera `index`'s occlusion chains by one frame and returns the markers it images:
+  // present, not occluded, in front, inside the image and the lens model's range. Project()
+  // turns them into blobs; `sim render` draws them as spots. Call once per camera and frame.
+  std::vector<MarkerImage> ImageMarkers(size_t index, const Eigen::Vector3d* points);
+
+  // Brightness above the background at the centre of a marker's image at this depth, grey
+  // levels: retro-reflector return falls with the square of distance (ring light at the lens).
+  static double MarkerPeak(double depth_mm);
+
  private:
   struct CameraState {
     std::mt19937_64 rng;
