@@ -148,6 +148,22 @@ static void test_control_rules(void **state)
 	assert_string_equal(mn_wire_validate(&packet), "control: mask rect out of range");
 }
 
+static void test_status_version_must_be_utf8(void **state)
+{
+	static mocap_v1_Packet packet;
+	(void)state;
+	packet = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+	packet.version = 1;
+	packet.which_body = mocap_v1_Packet_node_status_tag;
+	packet.body.node_status.node_id = 1;
+	strcpy(packet.body.node_status.firmware_version, "0.1 \xc3\xa9");
+	assert_null(mn_wire_validate(&packet));
+	strcpy(packet.body.node_status.firmware_version, "0.1 \xc3");
+	assert_string_equal(mn_wire_validate(&packet), "node status: version is not UTF-8");
+	strcpy(packet.body.node_status.firmware_version, "\xed\xa0\x80");
+	assert_non_null(mn_wire_validate(&packet));
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -156,6 +172,7 @@ int main(void)
 		cmocka_unit_test(test_rejects_truncated_and_garbage),
 		cmocka_unit_test(test_rejects_wrong_version_and_bad_fields),
 		cmocka_unit_test(test_control_rules),
+		cmocka_unit_test(test_status_version_must_be_utf8),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

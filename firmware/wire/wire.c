@@ -47,8 +47,43 @@ static const char *validate_marker_frame(const mocap_v1_MarkerFrame *f)
 	return NULL;
 }
 
+/* proto3 strings must be UTF-8; libprotobuf refuses anything else, so the firmware does too. */
+static int is_utf8(const char *text)
+{
+	const unsigned char *p = (const unsigned char *)text;
+
+	while (*p) {
+		unsigned int n, i;
+		uint32_t cp;
+		if (*p < 0x80) {
+			p++;
+			continue;
+		} else if ((*p & 0xe0) == 0xc0) {
+			n = 1, cp = *p & 0x1f;
+		} else if ((*p & 0xf0) == 0xe0) {
+			n = 2, cp = *p & 0x0f;
+		} else if ((*p & 0xf8) == 0xf0) {
+			n = 3, cp = *p & 0x07;
+		} else {
+			return 0;
+		}
+		for (i = 1; i <= n; i++) {
+			if ((p[i] & 0xc0) != 0x80)
+				return 0;
+			cp = (cp << 6) | (p[i] & 0x3f);
+		}
+		if ((n == 1 && cp < 0x80) || (n == 2 && cp < 0x800) || (n == 3 && cp < 0x10000) ||
+		    cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff))
+			return 0;
+		p += n + 1;
+	}
+	return 1;
+}
+
 static const char *validate_node_status(const mocap_v1_NodeStatus *s)
 {
+	if (!is_utf8(s->firmware_version))
+		return "node status: version is not UTF-8";
 	if (s->node_id == 0)
 		return "node status: node_id 0";
 	if (s->state < _mocap_v1_NodeState_MIN || s->state > _mocap_v1_NodeState_MAX)

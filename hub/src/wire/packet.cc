@@ -2,7 +2,10 @@
 #include "wire/packet.h"
 
 #include <cmath>
+#include <mutex>
 #include <stdexcept>
+
+#include <google/protobuf/stubs/logging.h>
 
 #include "wire/limits.h"
 
@@ -116,6 +119,10 @@ std::string Validate(const v1::Packet& packet) {
 }
 
 DecodeResult Decode(const uint8_t* data, size_t size) {
+  // libprotobuf logs every invalid UTF-8 string it refuses; outside input is refused with a
+  // reason here instead, so its log would only flood the hub's stderr.
+  static std::once_flag quiet;
+  std::call_once(quiet, [] { google::protobuf::SetLogHandler(nullptr); });
   DecodeResult result;
   if (size == 0) {
     result.reason = "empty datagram";
