@@ -2,6 +2,7 @@
 // tab after every value, empty cells for gaps, Time = frame number / rate).
 #include "io/trc.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cmath>
@@ -55,47 +56,64 @@ bool ParseDouble(const std::string& cell, double* value) {
 
 bool IsBlank(const std::string& line) { return Trim(line).empty(); }
 
+// Lines from a stream, ending at \n, \r\n or a lone \r, counted for error messages.
+class LineReader {
+ public:
+  explicit LineReader(std::istream& in) : buffer_(in.rdbuf()) {}
+
+  bool Next(std::string* line) {
+    line->clear();
+    if (buffer_ == nullptr) return false;
+    int c = buffer_->sbumpc();
+    if (c == EOF) return false;
+    while (c != EOF && c != '\n' && c != '\r') {
+      line->push_back(static_cast<char>(c));
+      c = buffer_->sbumpc();
+    }
+    if (c == '\r' && buffer_->sgetc() == '\n') buffer_->sbumpc();
+    ++number_;
+    return true;
+  }
+
+  bool NextNonBlank(std::string* line) {
+    while (Next(line)) {
+      if (!IsBlank(*line)) return true;
+    }
+    return false;
+  }
+
+  size_t number() const { return number_; }
+
+ private:
+  std::streambuf* buffer_;
+  size_t number_ = 0;
+};
+
 class TrcParser {
  public:
   TrcParser(const std::string& source, const TrcReadOptions& options)
       : source_(source), options_(options) {}
 
-  MarkerTrajectories Parse(const std::string& text) {
-    SplitLines(text);
-    size_t next = 0;
-    const std::string* path_line = NextNonBlank(&next);
-    if (path_line == nullptr || Trim(*path_line).rfind("PathFileType", 0) != 0) {
-      Fail(1, "not a TRC file (first line must start with PathFileType)");
+  MarkerTrajectories Parse(std::istream& in) {
+    LineReader reader(in);
+    std::string line, values;
+    if (!reader.NextNonBlank(&line) || Trim(line).rfind("PathFileType", 0) != 0) {
+      Fail(std::max<size_t>(reader.number(), 1), "not a TRC file (first line must start with PathFileType)");
     }
-    const size_t keys_line = next;
-    const std::string* keys = NextNonBlank(&next);
-    const size_t values_line = next;
-    const std::string* values = NextNonBlank(&next);
-    if (keys == nullptr || values == nullptr) Fail(lines_.size(), "header ends early");
-    ParseHeader(*keys, *values, values_line + 1);
-    (void)keys_line;
+    if (!reader.NextNonBlank(&line) || !reader.NextNonBlank(&values)) Fail(reader.number(), "header ends early");
+    ParseHeader(line, values, reader.number());
 
-    const size_t names_line = next;
-    const std::string* names = NextNonBlank(&next);
-    if (names == nullptr) Fail(lines_.size(), "missing the marker name row");
-    ParseNames(*names, names_line + 1);
+    if (!reader.NextNonBlank(&line)) Fail(reader.number(), "missing the marker name row");
+    ParseNames(line, reader.number());
 
     // The X1 Y1 Z1 row is optional in the wild; recognise it by its first label.
-    size_t after_labels = next;
-    const std::string* labels = NextNonBlank(&after_labels);
-    if (labels != nullptr) {
-      const std::vector<std::string> cells = SplitTabs(*labels);
-      for (const std::string& cell : cells) {
-        const std::string label = Trim(cell);
-        if (label.empty()) continue;
-        if (label[0] == 'X' || label[0] == 'x') next = after_labels;
-        break;
-      }
+    if (!reader.NextNonBlank(&line)) {
+      AssignFrameNumbers();
+      return std::move(result_);
     }
-
-    for (size_t i = next; i < lines_.size(); ++i) {
-      if (!IsBlank(lines_[i])) ParseRow(lines_[i], i + 1);
-    }
+    const size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || (line[first] != 'X' && line[first] != 'x')) ParseRow(line, reader.number());
+    while (reader.NextNonBlank(&line)) ParseRow(line, reader.number());
     AssignFrameNumbers();
     return std::move(result_);
   }
@@ -103,28 +121,6 @@ class TrcParser {
  private:
   [[noreturn]] void Fail(size_t line, const std::string& reason) const {
     throw std::runtime_error(source_ + ": line " + std::to_string(line) + ": " + reason);
-  }
-
-  void SplitLines(const std::string& text) {
-    std::string current;
-    for (size_t i = 0; i < text.size(); ++i) {
-      const char c = text[i];
-      if (c == '\n' || c == '\r') {
-        lines_.push_back(current);
-        current.clear();
-        if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
-      } else {
-        current.push_back(c);
-      }
-    }
-    if (!current.empty()) lines_.push_back(current);
-  }
-
-  // Returns the next non-blank line at or after *index and moves *index past it.
-  const std::string* NextNonBlank(size_t* index) const {
-    while (*index < lines_.size() && IsBlank(lines_[*index])) ++*index;
-    if (*index >= lines_.size()) return nullptr;
-    return &lines_[(*index)++];
   }
 
   void ParseHeader(const std::string& keys_line, const std::string& values_line, size_t line) {
@@ -185,41 +181,71 @@ class TrcParser {
     result_.names = std::move(names);
   }
 
-  void ParseRow(const std::string& line_text, size_t line) {
-    const std::vector<std::string> cells = SplitTabs(line_text);
+  // Data rows are most of a file: cells are scanned in place, without copies.
+  void ParseRow(const std::string& text, size_t line) {
     const size_t markers = result_.names.size();
+    const size_t columns = 2 + 3 * markers;
+    size_t column = 0;
+    size_t position = 0;
     double frame = 0.0;
-    if (!ParseDouble(cells[0], &frame) || frame != std::floor(frame) || frame < 0.0 || frame > 1e15) {
-      Fail(line, "Frame# must be a non-negative integer");
-    }
     double time = std::nan("");
-    if (cells.size() > 1 && !Trim(cells[1]).empty() && (!ParseDouble(cells[1], &time) || !std::isfinite(time))) {
-      Fail(line, "malformed Time");
-    }
-    for (size_t i = 2 + 3 * markers; i < cells.size(); ++i) {
-      if (!Trim(cells[i]).empty()) Fail(line, "more values than the " + std::to_string(markers) + " markers");
-    }
-    frame_column_.push_back(static_cast<uint64_t>(frame));
-    time_column_.push_back(time);
+    frame_column_.push_back(0);
     result_.frame_numbers.push_back(0);
     result_.points.resize(result_.points.size() + markers, MarkerTrajectories::Gap());
-    Eigen::Vector3d* row = &result_.points[result_.points.size() - markers];
-    for (size_t m = 0; m < markers; ++m) {
-      Eigen::Vector3d point;
-      int present = 0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const size_t column = 2 + 3 * m + axis;
-        if (column >= cells.size() || Trim(cells[column]).empty()) continue;
-        double value = 0.0;
-        if (!ParseDouble(cells[column], &value)) {
-          Fail(line, "malformed coordinate \"" + Trim(cells[column]) + "\" in column " + std::to_string(column + 1));
-        }
-        point[axis] = value * scale_;
-        ++present;
+    Eigen::Vector3d* row = result_.points.data() + (result_.points.size() - markers);
+    Eigen::Vector3d point;
+    int present = 0;
+    bool any_cell = true;
+    while (any_cell) {
+      size_t end = text.find('\t', position);
+      if (end == std::string::npos) {
+        end = text.size();
+        any_cell = false;
       }
-      // A partly empty marker is a gap: no tool writes one on purpose. NaN text stays NaN.
-      if (present == 3 && point.allFinite() && !(options_.zero_is_gap && point.isZero(0.0))) row[m] = point;
+      // Trim spaces (padding) around the cell.
+      size_t begin = position;
+      while (begin < end && (text[begin] == ' ' || text[begin] == '\v' || text[begin] == '\f')) ++begin;
+      size_t stop = end;
+      while (stop > begin && (text[stop - 1] == ' ' || text[stop - 1] == '\v' || text[stop - 1] == '\f')) --stop;
+      position = end + 1;
+      const bool empty = begin == stop;
+      double value = 0.0;
+      if (!empty) {
+        if (column >= columns) Fail(line, "more values than the " + std::to_string(markers) + " markers");
+        char* parsed_end = nullptr;
+        errno = 0;
+        value = std::strtod(text.c_str() + begin, &parsed_end);
+        if (parsed_end != text.c_str() + stop || errno == ERANGE) {
+          if (column == 0) Fail(line, "Frame# must be a non-negative integer");
+          if (column == 1) Fail(line, "malformed Time");
+          Fail(line, "malformed coordinate \"" + text.substr(begin, stop - begin) + "\" in column " +
+                         std::to_string(column + 1));
+        }
+      }
+      if (column == 0) {
+        if (empty || value != std::floor(value) || value < 0.0 || value > 1e15) {
+          Fail(line, "Frame# must be a non-negative integer");
+        }
+        frame = value;
+      } else if (column == 1) {
+        if (!empty && !std::isfinite(value)) Fail(line, "malformed Time");
+        if (!empty) time = value;
+      } else if (column < columns) {
+        const size_t axis = (column - 2) % 3;
+        if (axis == 0) present = 0;
+        if (!empty) {
+          point[axis] = value * scale_;
+          ++present;
+        }
+        // A partly empty marker is a gap: no tool writes one on purpose. NaN text stays NaN.
+        if (axis == 2 && present == 3 && point.allFinite() && !(options_.zero_is_gap && point.isZero(0.0))) {
+          row[(column - 2) / 3] = point;
+        }
+      }
+      ++column;
     }
+    frame_column_.back() = static_cast<uint64_t>(frame);
+    time_column_.push_back(time);
   }
 
   void AssignFrameNumbers() {
@@ -246,7 +272,6 @@ class TrcParser {
 
   const std::string& source_;
   const TrcReadOptions& options_;
-  std::vector<std::string> lines_;
   MarkerTrajectories result_;
   size_t header_markers_ = 0;
   double scale_ = 1.0;
@@ -263,16 +288,16 @@ std::string BaseName(const std::string& path) {
 
 MarkerTrajectories ParseTrc(const std::string& text, const std::string& source,
                             const TrcReadOptions& options) {
-  return TrcParser(source, options).Parse(text);
+  std::istringstream in(text);
+  return TrcParser(source, options).Parse(in);
 }
 
 MarkerTrajectories ReadTrc(const std::string& path, const TrcReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
+  MarkerTrajectories result = TrcParser(path, options).Parse(in);
   if (in.bad()) throw std::runtime_error(path + ": read failed");
-  return ParseTrc(text.str(), path, options);
+  return result;
 }
 
 TrcWriter::~TrcWriter() {
@@ -369,7 +394,7 @@ void WriteTrc(const MarkerTrajectories& trajectories, const std::string& path) {
   TrcWriter writer;
   writer.Open(path, trajectories.names, trajectories.rate_hz);
   for (size_t f = 0; f < trajectories.NumFrames(); ++f) {
-    writer.WriteFrame(trajectories.frame_numbers[f], &trajectories.points[f * trajectories.NumMarkers()],
+    writer.WriteFrame(trajectories.frame_numbers[f], trajectories.points.data() + f * trajectories.NumMarkers(),
                       trajectories.NumMarkers());
   }
   writer.Close();
