@@ -82,6 +82,23 @@ bool LabelFrameRobustly(const std::vector<Camera>& cameras, const WandGeometry& 
   if (best_swap) views[best_j].SwapEnds();
   Eigen::Vector3d ends[2];
   TriangulateEnds(cameras, views[best_i], views[best_j], false, ends);
+  if (wand.MarkerCount() == 3) {
+    // The off-centre middle marker tells the ends apart: if it sits where the model puts it
+    // from the other end, the seed's end order is reversed.
+    Eigen::Vector3d middle;
+    if (TriangulateLinear({{cameras[views[best_i].camera].ProjectionMatrix(), views[best_i].normalized[1]},
+                           {cameras[views[best_j].camera].ProjectionMatrix(), views[best_j].normalized[1]}},
+                          &middle)) {
+      const double from_first = (middle - ends[0]).norm();
+      const double expected = wand.marker_offsets_mm[1] - wand.marker_offsets_mm[0];
+      const double mirrored = wand.marker_offsets_mm[2] - wand.marker_offsets_mm[1];
+      if (std::abs(from_first - mirrored) < std::abs(from_first - expected)) {
+        views[best_i].SwapEnds();
+        views[best_j].SwapEnds();
+        std::swap(ends[0], ends[1]);
+      }
+    }
+  }
   WandPose seed;
   seed.centre = 0.5 * (ends[0] + ends[1]);
   seed.axis = (ends[1] - ends[0]).normalized();

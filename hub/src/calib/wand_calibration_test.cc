@@ -49,6 +49,7 @@ TEST(WandCalibrationTest, EightCameraRigWithDistortionMeetsAccuracyTargets) {
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   ASSERT_TRUE(result.AllAccepted());
   ASSERT_EQ(result.rig.cameras.size(), 8u);
+  EXPECT_GT(result.frames_used, 0.97 * result.frames_selected);
   const Errors errors = CompareToTruth(truth, result.rig);
   EXPECT_LT(errors.max_centre_mm, 1.0);
   EXPECT_LT(errors.max_rotation_deg, 0.03);
@@ -112,6 +113,8 @@ TEST(WandCalibrationTest, ThreeMarkerWand) {
   const testing::WandScene scene = testing::MakeWandScene(truth, wand, 800, 0.15, 42);
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   ASSERT_TRUE(result.AllAccepted());
+  // The off-centre middle marker must orient every frame's wand: none may be lost to a reversed end order.
+  EXPECT_GT(result.frames_used, 0.97 * result.frames_selected);
   const Errors errors = CompareToTruth(truth, result.rig);
   EXPECT_LT(errors.max_centre_mm, 1.0);
   EXPECT_LT(errors.max_rotation_deg, 0.03);
