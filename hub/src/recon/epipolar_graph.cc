@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 namespace mocap {
 
@@ -31,20 +30,29 @@ bool ClosestPointsOfRays(const Eigen::Vector3d& center_a, const Eigen::Vector3d&
 void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
                           const EpipolarGraphOptions& options, const std::vector<char>& active) {
   const int n = views.NumObservations();
-  adjacency_.assign(n, {});
+  // Clear rather than reassign: the inner vectors keep their capacity from frame to frame.
+  if (static_cast<int>(adjacency_.size()) < n) adjacency_.resize(n);
+  for (int i = 0; i < n; ++i) adjacency_[i].clear();
+  adjacency_.resize(n);
   num_edges_ = 0;
   const int num_cameras = rig.NumCameras();
-  const auto is_active = [&](int i) { return active.empty() || active[i] != 0; };
+  // Active observations per camera first: after the prediction pass only a few blobs per
+  // camera are left, and the pair loops must not walk all the others.
+  std::vector<std::vector<int>> active_of_camera(num_cameras);
+  for (int c = 0; c < num_cameras; ++c) {
+    for (int i = views.camera_begin[c]; i < views.camera_begin[c + 1]; ++i) {
+      if (active.empty() || active[i] != 0) active_of_camera[c].push_back(i);
+    }
+  }
   RayPair pair;
   for (int ca = 0; ca < num_cameras; ++ca) {
+    if (active_of_camera[ca].empty()) continue;
     const Eigen::Vector3d& center_a = rig.camera(ca).center_in_world;
     for (int cb = ca + 1; cb < num_cameras; ++cb) {
       const Eigen::Vector3d& center_b = rig.camera(cb).center_in_world;
-      for (int i = views.camera_begin[ca]; i < views.camera_begin[ca + 1]; ++i) {
-        if (!is_active(i)) continue;
+      for (int i : active_of_camera[ca]) {
         const Eigen::Vector3d& ray_a = views.observations[i].ray_in_world;
-        for (int j = views.camera_begin[cb]; j < views.camera_begin[cb + 1]; ++j) {
-          if (!is_active(j)) continue;
+        for (int j : active_of_camera[cb]) {
           if (!ClosestPointsOfRays(center_a, ray_a, center_b, views.observations[j].ray_in_world,
                                    &pair)) {
             continue;
@@ -79,7 +87,7 @@ float EpipolarGraph::EdgeDistance(int a, int b) const {
 
 std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& rig,
                                                               const FrameViews& views) const {
-  std::set<std::vector<int>> unique;
+  std::vector<std::vector<int>> cliques;
   const int n = NumNodes();
   const int num_cameras = rig.NumCameras();
   std::vector<int> best_in_camera(num_cameras);
@@ -123,10 +131,13 @@ std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& ri
         if (adjacent_to_all) clique.push_back(k);
       }
       std::sort(clique.begin(), clique.end());
-      unique.insert(std::move(clique));
+      cliques.push_back(std::move(clique));
     }
   }
-  return {unique.begin(), unique.end()};
+  // Every edge of a k-view marker grows the same clique: keep one of each.
+  std::sort(cliques.begin(), cliques.end());
+  cliques.erase(std::unique(cliques.begin(), cliques.end()), cliques.end());
+  return cliques;
 }
 
 }  // namespace mocap

@@ -10,6 +10,7 @@ RigModel::RigModel(const Rig& rig) {
   for (const Camera& camera : rig.cameras) {
     CameraModel model;
     model.camera = &camera;
+    model.undistorter = std::make_shared<const Undistorter>(camera);
     model.cam_from_world_rotation = camera.rotation;
     model.cam_from_world_translation = camera.translation;
     model.center_in_world = camera.CenterInWorld();
@@ -61,7 +62,7 @@ void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews*
       obs.camera = c;
       obs.blob = b;
       obs.flags = blobs[b].flags;
-      obs.normalized = model.camera->UndistortPixel(blobs[b].pixel);
+      obs.normalized = model.undistorter->Undistort(blobs[b].pixel);
       obs.ray_in_world =
           (model.cam_from_world_rotation.transpose() * obs.normalized.homogeneous()).normalized();
     }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -11,11 +12,13 @@
 
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
+#include "recon/undistorter.h"
 
 namespace mocap {
 
 struct CameraModel {
   const Camera* camera = nullptr;
+  std::shared_ptr<const Undistorter> undistorter;
   Eigen::Matrix3d cam_from_world_rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d cam_from_world_translation = Eigen::Vector3d::Zero();
   Eigen::Vector3d center_in_world = Eigen::Vector3d::Zero();

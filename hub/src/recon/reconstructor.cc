@@ -23,6 +23,8 @@ void Reconstructor::Process(const FrameSet& frame_set,
     prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_);
   }
   const size_t from_predictions = triangulated_.size();
+  stats_.observations += views_.NumObservations();
+  for (int i = 0; i < views_.NumObservations(); ++i) stats_.leftover_observations += used_[i] == 0;
   matcher_->Match(rig_, views_, &used_, &triangulated_);
   // Matchers work on whole cliques; a view a clique missed (an edge just over the threshold)
   // joins its point here, before another point could claim it.

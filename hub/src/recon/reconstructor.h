@@ -28,6 +28,8 @@ struct ReconstructionStats {
   long long points = 0;
   long long points_from_predictions = 0;
   long long outlier_views_rejected = 0;
+  long long observations = 0;
+  long long leftover_observations = 0;  // not used by a prediction: the matcher's input
   long long unknown_camera_frames = 0;
 };
 

@@ -31,7 +31,10 @@ bool TriangulateLinear(const RigModel& rig, const FrameViews& views,
     }
   }
   const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
-  if (solver.info() != Eigen::Success || solver.rcond() < 1e-12) return false;
+  // Parallel rays leave the normal matrix (nearly) singular: compare its pivots. Cheaper than
+  // rcond(), which estimates a norm of the inverse.
+  const Eigen::Vector3d pivots = solver.vectorD().cwiseAbs();
+  if (solver.info() != Eigen::Success || !(pivots.minCoeff() > 1e-12 * pivots.maxCoeff())) return false;
   *point_in_world = solver.solve(rhs);
   return point_in_world->allFinite();
 }
@@ -62,8 +65,8 @@ bool RefinePoint(const RigModel& rig, const FrameViews& views, const std::vector
     const Eigen::Vector3d step = solver.solve(gradient);
     if (!step.allFinite()) return false;
     point -= step;
-    // Sub-micrometre steps change nothing measurable; stop early to save time.
-    if (step.squaredNorm() < 1e-8) break;
+    // Steps under a micrometre change nothing measurable; stop early to save time.
+    if (step.squaredNorm() < 1e-6) break;
   }
   *point_in_world = point;
   return true;

@@ -83,9 +83,12 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
       track.filter.Predict(static_cast<double>(frame_number - track.filter_frame) / options_.rate_hz);
       track.filter_frame = frame_number;
     }
-    // Only confirmed tracks: a tentative track's velocity rests on one or two differences, and
-    // its wide search would gather other markers' blobs; its points come from the matcher.
-    if (track.state == State::kActive) order.emplace_back(-track.age, slot);
+    // Confirmed tracks, and tentative ones measured twice: a track seen once has no velocity,
+    // and its wide search would gather other markers' blobs; its next point comes from the
+    // matcher.
+    if (track.state == State::kActive || (track.state == State::kTentative && track.hits >= 2)) {
+      order.emplace_back(-track.age, slot);
+    }
   }
   std::sort(order.begin(), order.end());
   for (const auto& [negative_age, slot] : order) {

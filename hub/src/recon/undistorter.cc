@@ -1,0 +1,67 @@
+// Table + Newton undistortion.
+#include "recon/undistorter.h"
+
+#include <cmath>
+
+#include <Eigen/Dense>
+
+namespace mocap {
+
+Eigen::Vector2d DistortWithJacobian(const std::array<double, 5>& d, const Eigen::Vector2d& p,
+                                    Eigen::Matrix2d* jacobian) {
+  const double k1 = d[0], k2 = d[1], p1 = d[2], p2 = d[3], k3 = d[4];
+  const double x = p.x(), y = p.y();
+  const double xx = x * x, yy = y * y, xy = x * y;
+  const double r2 = xx + yy;
+  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  const double radial_d = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r2
+  (*jacobian)(0, 0) = radial + 2.0 * xx * radial_d + 2.0 * p1 * y + 6.0 * p2 * x;
+  (*jacobian)(0, 1) = 2.0 * xy * radial_d + 2.0 * p1 * x + 2.0 * p2 * y;
+  (*jacobian)(1, 0) = 2.0 * xy * radial_d + 2.0 * p1 * x + 2.0 * p2 * y;
+  (*jacobian)(1, 1) = radial + 2.0 * yy * radial_d + 6.0 * p1 * y + 2.0 * p2 * x;
+  return {x * radial + 2.0 * p1 * xy + p2 * (r2 + 2.0 * xx),
+          y * radial + p1 * (r2 + 2.0 * yy) + 2.0 * p2 * xy};
+}
+
+Undistorter::Undistorter(const Camera& camera, int step_px) : camera_(&camera) {
+  distorted_ = camera.intrinsics.HasDistortion();
+  if (!distorted_) return;
+  step_ = step_px;
+  // A margin of two cells lets blobs just outside the nominal image still interpolate.
+  origin_ = -2.0 * step_;
+  const int extent = std::max(camera.intrinsics.width, camera.intrinsics.height);
+  cols_ = static_cast<int>(std::ceil((extent + 4.0 * step_) / step_)) + 1;
+  rows_ = cols_;
+  table_.resize(static_cast<size_t>(cols_) * rows_);
+  for (int r = 0; r < rows_; ++r) {
+    for (int c = 0; c < cols_; ++c) {
+      table_[static_cast<size_t>(r) * cols_ + c] =
+          camera.UndistortPixel(Eigen::Vector2d(origin_ + c * step_, origin_ + r * step_));
+    }
+  }
+}
+
+Eigen::Vector2d Undistorter::Undistort(const Eigen::Vector2d& pixel) const {
+  if (!distorted_) return camera_->UndistortPixel(pixel);
+  const double gx = (pixel.x() - origin_) / step_;
+  const double gy = (pixel.y() - origin_) / step_;
+  const int c = static_cast<int>(std::floor(gx));
+  const int r = static_cast<int>(std::floor(gy));
+  if (c < 0 || r < 0 || c + 1 >= cols_ || r + 1 >= rows_) return camera_->UndistortPixel(pixel);
+  const double fx = gx - c, fy = gy - r;
+  const Eigen::Vector2d* row0 = &table_[static_cast<size_t>(r) * cols_ + c];
+  const Eigen::Vector2d* row1 = row0 + cols_;
+  Eigen::Vector2d estimate = (1.0 - fy) * ((1.0 - fx) * row0[0] + fx * row0[1]) +
+                             fy * ((1.0 - fx) * row1[0] + fx * row1[1]);
+  const CameraIntrinsics& in = camera_->intrinsics;
+  const Eigen::Vector2d target((pixel.x() - in.cx) / in.fx, (pixel.y() - in.cy) / in.fy);
+  // The interpolated start is within ~1e-6 of the answer; Newton squares the error per step.
+  Eigen::Matrix2d jacobian;
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    const Eigen::Vector2d residual = DistortWithJacobian(in.distortion, estimate, &jacobian) - target;
+    estimate -= jacobian.inverse() * residual;
+  }
+  return estimate;
+}
+
+}  // namespace mocap

@@ -1,0 +1,71 @@
+// The table + Newton undistortion agrees with the camera's own iterative inverse.
+#include "recon/undistorter.h"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+Camera WideAngleCamera() {
+  Camera camera;
+  camera.intrinsics.width = 1280;
+  camera.intrinsics.height = 800;
+  camera.intrinsics.fx = 900.0;
+  camera.intrinsics.fy = 905.0;
+  camera.intrinsics.cx = 645.0;
+  camera.intrinsics.cy = 398.0;
+  camera.intrinsics.distortion = {-0.28, 0.09, 0.0008, -0.0005, -0.012};
+  return camera;
+}
+
+TEST(Undistorter, MatchesIterativeInverseOverTheImage) {
+  const Camera camera = WideAngleCamera();
+  const Undistorter undistorter(camera);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> x(-5.0, 1285.0), y(-5.0, 805.0);
+  double worst = 0.0;
+  for (int i = 0; i < 5000; ++i) {
+    const Eigen::Vector2d pixel(x(rng), y(rng));
+    worst = std::max(worst, (undistorter.Undistort(pixel) - camera.UndistortPixel(pixel)).norm());
+  }
+  EXPECT_LT(worst * camera.intrinsics.fx, 1e-6);  // in pixels
+}
+
+TEST(Undistorter, RoundTripsProjectedPoints) {
+  const Camera camera = WideAngleCamera();
+  const Undistorter undistorter(camera);
+  for (double u = -0.6; u <= 0.6; u += 0.1) {
+    for (double v = -0.4; v <= 0.4; v += 0.1) {
+      const Eigen::Vector2d pixel = camera.NormalizedToPixel(camera.DistortNormalized({u, v}));
+      EXPECT_LT((undistorter.Undistort(pixel) - Eigen::Vector2d(u, v)).norm(), 1e-10);
+    }
+  }
+}
+
+TEST(Undistorter, JacobianMatchesFiniteDifferences) {
+  const std::array<double, 5> d = {-0.28, 0.09, 0.0008, -0.0005, -0.012};
+  const Eigen::Vector2d p(0.31, -0.22);
+  Eigen::Matrix2d jacobian, unused;
+  DistortWithJacobian(d, p, &jacobian);
+  const double h = 1e-7;
+  for (int k = 0; k < 2; ++k) {
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    step[k] = h;
+    const Eigen::Vector2d numeric =
+        (DistortWithJacobian(d, p + step, &unused) - DistortWithJacobian(d, p - step, &unused)) / (2 * h);
+    EXPECT_LT((numeric - jacobian.col(k)).norm(), 1e-7);
+  }
+}
+
+TEST(Undistorter, PinholeCameraPassesThrough) {
+  Camera camera = WideAngleCamera();
+  camera.intrinsics.distortion = {0, 0, 0, 0, 0};
+  const Undistorter undistorter(camera);
+  const Eigen::Vector2d pixel(100.0, 700.0);
+  EXPECT_LT((undistorter.Undistort(pixel) - camera.UndistortPixel(pixel)).norm(), 1e-15);
+}
+
+}  // namespace
+}  // namespace mocap
