@@ -9,7 +9,7 @@ namespace mocap {
 
 struct KalmanOptions {
   // White-noise acceleration (mm/s^2, one sigma): human limbs reach a few g.
-  double acceleration_noise = 60000.0;
+  double acceleration_noise = 30000.0;
   double measurement_noise_mm = 0.5;
   double initial_velocity_std = 3000.0;  // mm/s, for a track born without a velocity
 

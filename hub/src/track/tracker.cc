@@ -103,6 +103,33 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
   return predictions_;
 }
 
+Eigen::Vector3d Tracker::NeighbourInnovation(int slot, const std::vector<char>& measured,
+                                             const std::vector<Eigen::Vector3d>& position_of_slot) const {
+  // The markers of one limb lag their predictions together when it accelerates hard: the
+  // nearest measured markers' innovations (measured - predicted) say by how much.
+  constexpr int kNeighbours = 3;
+  constexpr double kRadiusMm = 400.0;
+  const Eigen::Vector3d& centre = tracks_[slot].filter.position();
+  std::pair<double, int> nearest[kNeighbours];
+  int count = 0;
+  for (int other = 0; other < static_cast<int>(measured.size()); ++other) {
+    if (!measured[other]) continue;
+    const double d = (tracks_[other].filter.position() - centre).norm();
+    if (d > kRadiusMm) continue;
+    if (count < kNeighbours) {
+      nearest[count++] = {d, other};
+    } else {
+      auto* farthest = std::max_element(nearest, nearest + kNeighbours);
+      if (d < farthest->first) *farthest = {d, other};
+    }
+  }
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = 0; k < count; ++k) {
+    sum += position_of_slot[nearest[k].second] - tracks_[nearest[k].second].filter.position();
+  }
+  return count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero();
+}
+
 void Tracker::AssignByDistance(const std::vector<int>& slots,
                                const std::vector<Eigen::Vector3d>& centres,
                                const std::vector<double>& gates,
@@ -193,7 +220,8 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     if (point_of_slot[slot] >= 0) continue;
     if (track.state == State::kActive) {
       slots.push_back(slot);
-      centres.push_back(has_rigid[slot] ? rigid_position[slot] : track.filter.position());
+      centres.push_back(has_rigid[slot] ? rigid_position[slot]
+                                        : track.filter.position() + NeighbourInnovation(slot, measured, position_of_slot));
       gates.push_back(options_.wide_gate_mm);
     } else if (track.state == State::kLost) {
       slots.push_back(slot);

@@ -75,6 +75,8 @@ class Tracker {
   void FreeTrack(int slot);
   double GateOf(const Track& track) const;
   TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
+  Eigen::Vector3d NeighbourInnovation(int slot, const std::vector<char>& measured,
+                                      const std::vector<Eigen::Vector3d>& position_of_slot) const;
   void AssignByDistance(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& centres,
                         const std::vector<double>& gates, const std::vector<ReconstructedPoint>& points,
                         std::vector<int>* point_of_slot, std::vector<char>* point_taken);
