@@ -208,6 +208,10 @@ void WandCalibrationOptions::Check() const {
   if (!(min_coverage >= 0.0 && min_coverage <= 1.0)) throw std::invalid_argument("min_coverage must be in [0, 1]");
   if (coverage_grid < 1) throw std::invalid_argument("coverage_grid must be >= 1");
   if (!(max_camera_rms_px > 0.0)) throw std::invalid_argument("max_camera_rms_px must be > 0");
+  if (!(max_rms_ratio > 1.0)) throw std::invalid_argument("max_rms_ratio must be > 1");
+  if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0)) {
+    throw std::invalid_argument("min_inlier_fraction must be in [0, 1]");
+  }
 }
 
 bool WandCalibrationResult::AllAccepted() const {
@@ -361,75 +365,131 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
   result.frames_used = frames.size();
   result.reference_camera_id = intrinsics.cameras[init.reference_camera].id;
 
-  // Report: residuals, coverage and independently triangulated wand lengths.
-  const int grid = options.coverage_grid;
-  std::vector<std::vector<bool>> cells(n, std::vector<bool>(static_cast<size_t>(grid * grid), false));
-  std::vector<double> sum_sq(n, 0.0);
-  std::vector<size_t> coordinates(n, 0);
-  std::vector<std::vector<double>> length_errors(n);
-  std::vector<double> all_length_errors;
-  double total_sq = 0.0;
-  size_t total_coordinates = 0;
-  const size_t last = wand.MarkerCount() - 1;
-  for (size_t f = 0; f < frames.size(); ++f) {
-    std::vector<PointView> first, second;
-    for (const WandView& view : frames[f].views) {
-      const Camera& camera = cameras[view.camera];
-      CameraCalibrationReport& report = result.cameras[view.camera];
-      ++report.views_used;
-      for (size_t k = 0; k < view.pixels.size(); ++k) {
-        Eigen::Vector2d projected;
-        camera.ProjectToPixel(poses[f].Marker(wand, k), &projected);
-        const double sq = (projected - view.pixels[k]).squaredNorm();
-        sum_sq[view.camera] += sq;
-        coordinates[view.camera] += 2;
-        total_sq += sq;
-        total_coordinates += 2;
-        const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
-        const int cy = std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
-        cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
+  // Report: residuals, coverage and independently triangulated wand lengths, then acceptance.
+  // Returns the cameras refused by this evaluation.
+  auto evaluate = [&]() {
+    const int grid = options.coverage_grid;
+    std::vector<std::vector<bool>> cells(n, std::vector<bool>(static_cast<size_t>(grid * grid), false));
+    std::vector<double> sum_sq(n, 0.0);
+    std::vector<size_t> coordinates(n, 0);
+    std::vector<std::vector<double>> length_errors(n);
+    std::vector<double> all_length_errors;
+    std::vector<size_t> views_used(n, 0);
+    double total_sq = 0.0;
+    size_t total_coordinates = 0;
+    const size_t last = wand.MarkerCount() - 1;
+    for (size_t f = 0; f < frames.size(); ++f) {
+      std::vector<PointView> first, second;
+      for (const WandView& view : frames[f].views) {
+        const Camera& camera = cameras[view.camera];
+        ++views_used[view.camera];
+        for (size_t k = 0; k < view.pixels.size(); ++k) {
+          Eigen::Vector2d projected;
+          camera.ProjectToPixel(poses[f].Marker(wand, k), &projected);
+          const double sq = (projected - view.pixels[k]).squaredNorm();
+          sum_sq[view.camera] += sq;
+          coordinates[view.camera] += 2;
+          total_sq += sq;
+          total_coordinates += 2;
+          const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
+          const int cy = std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
+          cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
+        }
+        // Normalized coordinates again: the intrinsics may have been refined.
+        first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
+        second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
       }
-      // Normalized coordinates again: the intrinsics may have been refined.
-      first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
-      second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
+      Eigen::Vector3d a, b;
+      if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
+      const double error = (b - a).norm() - wand.LengthMm();
+      all_length_errors.push_back(error);
+      for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
     }
-    Eigen::Vector3d a, b;
-    if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
-    const double error = (b - a).norm() - wand.LengthMm();
-    all_length_errors.push_back(error);
-    for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
-  }
-  result.wand_length = SummarizeLengthErrors(all_length_errors);
-  result.reprojection_rms_px = total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
+    result.wand_length = SummarizeLengthErrors(all_length_errors);
+    result.reprojection_rms_px = total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
 
-  for (size_t i = 0; i < n; ++i) {
-    CameraCalibrationReport& report = result.cameras[i];
-    const std::string id = std::to_string(report.id);
-    report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
-    report.reprojection_rms_px = coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
-    report.wand_length = SummarizeLengthErrors(length_errors[i]);
-    if (!active[i]) continue;  // reason already set
-    char buffer[256];
-    if (static_cast<int>(report.views_used) < options.min_views_per_camera) {
-      report.reason = "only " + std::to_string(report.views_used) + " wand views survived outlier rejection (need " +
-                      std::to_string(options.min_views_per_camera) + "): wave the wand more in camera " + id +
-                      "'s view";
-    } else if (report.coverage < options.min_coverage) {
-      std::snprintf(buffer, sizeof(buffer),
-                    "the wand covered %.0f %% of the image (need %.0f %%): wave it towards the edges and corners "
-                    "of camera %s's view",
-                    100.0 * report.coverage, 100.0 * options.min_coverage, id.c_str());
-      report.reason = buffer;
-    } else if (report.reprojection_rms_px > options.max_camera_rms_px) {
-      std::snprintf(buffer, sizeof(buffer),
-                    "reprojection RMS %.2f px exceeds %.2f px: check camera %s's intrinsics and that it did not "
-                    "move, then record the wand again",
-                    report.reprojection_rms_px, options.max_camera_rms_px, id.c_str());
-      report.reason = buffer;
-    } else {
-      report.accepted = true;
-      result.rig.cameras.push_back(cameras[i]);
+    for (size_t i = 0; i < n; ++i) {
+      if (!active[i]) continue;  // a camera refused earlier keeps the figures it was refused on
+      CameraCalibrationReport& report = result.cameras[i];
+      report.views_used = views_used[i];
+      report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
+      report.reprojection_rms_px = coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
+      report.wand_length = SummarizeLengthErrors(length_errors[i]);
     }
+    std::vector<double> active_rms;
+    for (size_t i = 0; i < n; ++i) {
+      if (active[i] && result.cameras[i].views_used > 0) active_rms.push_back(result.cameras[i].reprojection_rms_px);
+    }
+    double median_rms = 0.0;
+    if (!active_rms.empty()) {
+      std::nth_element(active_rms.begin(), active_rms.begin() + static_cast<long>(active_rms.size() / 2), active_rms.end());
+      median_rms = active_rms[active_rms.size() / 2];
+    }
+    result.rig.cameras.clear();
+    std::vector<size_t> refused;
+    for (size_t i = 0; i < n; ++i) {
+      CameraCalibrationReport& report = result.cameras[i];
+      const std::string id = std::to_string(report.id);
+      if (!active[i]) continue;  // reason already set
+      char buffer[320];
+      const double inliers = report.views_selected > 0
+                                 ? static_cast<double>(report.views_used) / static_cast<double>(report.views_selected)
+                                 : 0.0;
+      if (static_cast<int>(report.views_used) < options.min_views_per_camera) {
+        report.reason = "only " + std::to_string(report.views_used) + " wand views survived outlier rejection (need " +
+                        std::to_string(options.min_views_per_camera) + "): wave the wand more in camera " + id +
+                        "'s view";
+      } else if (report.coverage < options.min_coverage) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "the wand covered %.0f %% of the image (need %.0f %%): wave it towards the edges and corners "
+                      "of camera %s's view",
+                      100.0 * report.coverage, 100.0 * options.min_coverage, id.c_str());
+        report.reason = buffer;
+      } else if (report.reprojection_rms_px > options.max_camera_rms_px ||
+                 report.reprojection_rms_px > options.max_rms_ratio * median_rms) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "reprojection RMS %.2f px (limit %.2f px, %.1f times the rig's median %.2f px): check camera "
+                      "%s's intrinsics and that it did not move, then record the wand again",
+                      report.reprojection_rms_px, options.max_camera_rms_px, options.max_rms_ratio, median_rms,
+                      id.c_str());
+        report.reason = buffer;
+      } else if (inliers < options.min_inlier_fraction) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "only %.0f %% of its wand views agree with the other cameras (need %.0f %%): check camera %s's "
+                      "intrinsics and that it did not move, then record the wand again",
+                      100.0 * inliers, 100.0 * options.min_inlier_fraction, id.c_str());
+        report.reason = buffer;
+      } else {
+        report.accepted = true;
+        result.rig.cameras.push_back(cameras[i]);
+      }
+      if (!report.accepted) refused.push_back(i);
+    }
+    return refused;
+  };
+  const std::vector<size_t> refused = evaluate();
+  if (!refused.empty()) {
+    // A refused camera must not bend the others: solve once more without it.
+    for (size_t i : refused) active[i] = false;
+    std::vector<WandFrame> kept_frames;
+    std::vector<WandPose> kept_poses;
+    for (size_t f = 0; f < frames.size(); ++f) {
+      auto& views = frames[f].views;
+      views.erase(std::remove_if(views.begin(), views.end(), [&](const WandView& v) { return !active[v.camera]; }),
+                  views.end());
+      if (views.size() < 2) continue;
+      kept_frames.push_back(std::move(frames[f]));
+      kept_poses.push_back(poses[f]);
+    }
+    frames = std::move(kept_frames);
+    poses = std::move(kept_poses);
+    if (active[init.reference_camera]) {
+      solve(bundle.max_iterations);
+      reject();
+      result.frames_used = frames.size();
+      evaluate();
+    }
+    result.bundle_seconds = seconds_since(stage_start);
   }
   return result;
 }

@@ -107,6 +107,29 @@ TEST(WandCalibrationTest, CameraThatHardlySawTheWandIsRefusedWithAdvice) {
   EXPECT_LT(errors.max_centre_mm, 2.0);
 }
 
+TEST(WandCalibrationTest, CameraWithWrongIntrinsicsIsRefusedAsABadSolve) {
+  const Rig truth = testing::RingRig(8, 35);
+  Rig intrinsics = truth;
+  // Camera 5's entry in the intrinsics file belongs to another lens: 12 % longer focal length.
+  intrinsics.cameras[4].intrinsics.fx *= 1.12;
+  intrinsics.cameras[4].intrinsics.fy *= 1.12;
+  const WandGeometry wand = WandGeometry::TwoMarker(500.0);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 1000, 0.15, 36);
+  const WandCalibrationResult result = CalibrateWand(scene.frames, intrinsics, wand, WandCalibrationOptions());
+  EXPECT_FALSE(result.cameras[4].accepted);
+  EXPECT_NE(result.cameras[4].reason.find("check camera 5's intrinsics"), std::string::npos)
+      << result.cameras[4].reason;
+  for (size_t i = 0; i < result.cameras.size(); ++i) {
+    if (i != 4) {
+      EXPECT_TRUE(result.cameras[i].accepted) << result.cameras[i].reason;
+    }
+  }
+  // The others were solved again without it and keep their accuracy.
+  const Errors errors = CompareToTruth(truth, result.rig);
+  EXPECT_LT(errors.max_centre_mm, 1.0);
+  EXPECT_LT(errors.max_rotation_deg, 0.03);
+}
+
 TEST(WandCalibrationTest, ThreeMarkerWand) {
   const Rig truth = testing::RingRig(8, 41);
   const WandGeometry wand = WandGeometry::ThreeMarker(600.0, 200.0);
