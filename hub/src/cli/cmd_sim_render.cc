@@ -76,6 +76,7 @@ void AddSimRenderCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--flicker", o.render.flicker, "Marker brightness varies by up to this fraction per frame")
       ->capture_default_str();
+  command->add_option("--blur-px", o.blur_px, "Lens/sensor blur (PSF sigma), px")->capture_default_str();
   command->add_option("--gain", o.gain, "Marker brightness factor (exposure x gain)")->capture_default_str();
   command->add_option("--reflections", o.reflections, "Static reflections (fixed false spots) per camera")
       ->capture_default_str();

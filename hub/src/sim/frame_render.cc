@@ -44,6 +44,7 @@ void FrameRenderOptions::Check() const {
   if (reflections < 0 || reflections > 1000) throw std::invalid_argument("--reflections must be 0..1000");
   if (!(flicker_spots >= 0.0 && flicker_spots <= 1000.0))
     throw std::invalid_argument("--flicker-spots must be 0..1000");
+  if (!(blur_px >= 0.0 && blur_px <= 20.0)) throw std::invalid_argument("--blur-px must be 0..20");
   if (!(gain > 0.0 && gain <= 100.0)) throw std::invalid_argument("--gain must be in (0, 100]");
   if (zlib_level < 0 || zlib_level > 9) throw std::invalid_argument("--zlib-level must be 0..9");
 }
@@ -113,8 +114,10 @@ FrameRenderStats RenderFrames(const MarkerTrajectories& motion, const Rig& rig, 
       spots = out.reflections;
       for (const FaultyProjector::MarkerImage& image : projector.ImageMarkers(i, points)) {
         ++cameras_seeing[image.marker];
-        spots.push_back({image.pixel.x(), image.pixel.y(), image.radius,
-                         options.gain * FaultyProjector::MarkerPeak(image.depth)});
+        // The renderer draws a Gaussian of sigma = radius / 2 (the disc's second moments); the
+        // blur adds its variance.
+        const double radius = std::sqrt(image.radius * image.radius + 4.0 * options.blur_px * options.blur_px);
+        spots.push_back({image.pixel.x(), image.pixel.y(), radius, options.gain * FaultyProjector::MarkerPeak(image.depth)});
       }
       if (options.flicker_spots > 0.0) {
         std::uniform_real_distribution<double> unit(0.0, 1.0);

@@ -26,6 +26,9 @@ struct FrameRenderOptions {
   int reflections = 0;
   // Flickering false spots per camera per frame (Poisson mean; each lasts one frame).
   double flicker_spots = 0.0;
+  // Sigma of the lens and sensor point-spread function, px: a marker's image is its disc
+  // blurred by it, so even a far marker lights a few pixels, as on a real camera.
+  double blur_px = 0.7;
   // Multiplies the marker brightness of the projector's model (exposure x gain). Above 1, near
   // markers saturate, as a real exposure is set so the faintest far marker clears the threshold.
   double gain = 2.5;

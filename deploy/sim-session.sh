@@ -1,0 +1,199 @@
+#!/usr/bin/env bash
+# Simulated capture session as real processes: renders (or reuses) camera frames, starts
+# `mocap-hub record` and one `mocap-node` per camera replaying its frames with a simulated trigger
+# on a shared epoch (each node in its own network namespace when possible), stops them, fills
+# gaps with `reconstruct` and evaluates both TRCs against the truth, printing accuracy and latency.
+set -euo pipefail
+
+usage() {
+    cat <<'EOF'
+usage: deploy/sim-session.sh --motion M.trc | --frames-dir DIR   [options]
+  --motion M.trc       render this motion (ring rig of --cameras cameras) into OUT/frames
+  --frames-dir DIR     reuse frames written by `mocap-hub sim render` (cam<ID>/, truth.trc,
+                       calibration.json, visibility.tsv); --motion is then not needed
+  --cameras N          cameras of the rendered rig (default 8)
+  --out DIR            session output directory (default sim-session)
+  --bin DIR            where mocap-hub and mocap-node are (default build/bin)
+  --render-args "..."  extra `sim render` options (default "--occlusion 0.02 --noise 1.5")
+  --reconstruct-args "..."  extra `reconstruct` options for the final TRC (default
+                       "--max-ray-distance-mm 5": rendered centroids are precise to ~0.1 px)
+  --threshold T        node detection threshold (default 32: background 12, noise sigma 1.5)
+  --network MODE       netns: one network namespace + veth per node (default when root and
+                       `ip netns` works); loopback: every node on 127.0.0.1; auto (default)
+  --json               print the final figures as one JSON object on stdout
+Exit status: 0 done, 1 bad arguments or a step failed.
+EOF
+}
+
+die() { echo "sim-session: error: $*" >&2; exit 1; }
+
+motion="" frames_dir="" cameras=8 out=sim-session bin=build/bin threshold=32 network=auto json=0
+reconstruct_args="--max-ray-distance-mm 5"
+render_args="--occlusion 0.02 --noise 1.5"
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --motion) motion=${2:?}; shift 2 ;;
+        --frames-dir) frames_dir=${2:?}; shift 2 ;;
+        --cameras) cameras=${2:?}; shift 2 ;;
+        --out) out=${2:?}; shift 2 ;;
+        --bin) bin=${2:?}; shift 2 ;;
+        --render-args) render_args=${2?}; shift 2 ;;
+        --reconstruct-args) reconstruct_args=${2?}; shift 2 ;;
+        --threshold) threshold=${2:?}; shift 2 ;;
+        --network) network=${2:?}; shift 2 ;;
+        --json) json=1; shift ;;
+        -h|--help) usage; exit 0 ;;
+        *) usage >&2; die "unknown argument '$1'" ;;
+    esac
+done
+hub="$bin/mocap-hub"
+node="$bin/mocap-node"
+[ -x "$hub" ] || die "$hub not found (build it first, or pass --bin)"
+[ -x "$node" ] || die "$node not found (build it first, or pass --bin)"
+case "$network" in auto|netns|loopback) ;; *) die "--network must be auto, netns or loopback" ;; esac
+[[ "$cameras" =~ ^[0-9]+$ ]] && [ "$cameras" -ge 2 ] || die "--cameras must be a number >= 2"
+[[ "$threshold" =~ ^[0-9]+$ ]] || die "--threshold must be a number 1..255"
+log() { [ "$json" = 1 ] && echo "$*" >&2 || echo "$*"; }
+
+mkdir -p "$out"
+if [ -z "$frames_dir" ]; then
+    [ -n "$motion" ] || die "give --motion M.trc or --frames-dir DIR"
+    [ -f "$motion" ] || die "$motion: no such motion file"
+    frames_dir="$out/frames"
+    rm -rf "$frames_dir"
+    "$hub" sim rig --motion "$motion" --cameras "$cameras" -o "$out/rig.json" >&2
+    # shellcheck disable=SC2086  # render_args is a list of options
+    "$hub" sim render --motion "$motion" --rig "$out/rig.json" -o "$frames_dir" $render_args >&2
+fi
+for f in truth.trc calibration.json visibility.tsv; do
+    [ -f "$frames_dir/$f" ] || die "$frames_dir/$f missing (not written by mocap-hub sim render?)"
+done
+# Rate and frame count from the truth TRC's header (line 3: DataRate CameraRate NumFrames ...).
+read -r rate frames < <(awk 'NR == 3 { print $1, $3 }' "$frames_dir/truth.trc")
+[[ "$frames" =~ ^[0-9]+$ ]] && [ "$frames" -gt 0 ] || die "$frames_dir/truth.trc: cannot read the frame count"
+ids=()
+for d in "$frames_dir"/cam*/; do
+    [ -f "$d/frames.mcf" ] && ids+=("$(basename "$d" | sed 's/^cam//')")
+done
+[ "${#ids[@]}" -ge 2 ] || die "$frames_dir: fewer than two cam<ID>/frames.mcf"
+
+# ---- network: one namespace per node with its own address, or loopback ----
+session_tag=$$
+netns_ok=0
+if [ "$network" != loopback ]; then
+    if [ "$(id -u)" = 0 ] && command -v ip > /dev/null && ip netns add "mocap-probe-$session_tag" 2> /dev/null; then
+        ip netns del "mocap-probe-$session_tag"
+        netns_ok=1
+    elif [ "$network" = netns ]; then
+        die "network namespaces are unavailable (needs root and iproute2's ip netns)"
+    else
+        log "network: namespaces unavailable (needs root and ip netns); every node sends over loopback"
+    fi
+fi
+namespaces=()
+pids=()
+cleanup() {
+    for p in "${pids[@]}"; do kill "$p" 2> /dev/null || true; done
+    for ns in "${namespaces[@]}"; do ip netns del "$ns" 2> /dev/null || true; done
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM
+
+# The hub picks a free port and reports it.
+session="$out/session"
+rm -rf "$session"
+# Frame 0 a few seconds ahead, so every process is up before the first trigger.
+epoch=$(( $(date +%s%N) + 3000000000 ))
+: > "$out/record.log"
+# Nodes stop at the end of their recording; the hub stops after all frame sets or 3 s of silence.
+"$hub" record --listen 0.0.0.0:0 --calibration "$frames_dir/calibration.json" -o "$session" \
+    --rate "$rate" --epoch-ns "$epoch" --frames "$frames" --idle-timeout 3 \
+    > "$out/record.out" 2> "$out/record.log" &
+hub_pid=$!
+pids+=("$hub_pid")
+port=""
+for _ in $(seq 100); do
+    port=$(sed -n 's/.*(port \([0-9]*\)).*/\1/p' "$out/record.log" | head -1)
+    [ -n "$port" ] && break
+    kill -0 "$hub_pid" 2> /dev/null || { cat "$out/record.log" >&2; die "mocap-hub record failed"; }
+    sleep 0.05
+done
+[ -n "$port" ] || die "mocap-hub record did not report its port"
+
+prefix=$(( session_tag % 200 + 20 ))
+i=0
+for id in "${ids[@]}"; do
+    i=$((i + 1))
+    run=()
+    hub_addr=127.0.0.1
+    if [ "$netns_ok" = 1 ]; then
+        # A /30 per node: hub side .1 on the host, node side .2 in the namespace.
+        ns="mocap-$session_tag-$id"
+        host_if="mh${session_tag}x$i"
+        node_if="mn${session_tag}x$i"
+        ip netns add "$ns"
+        namespaces+=("$ns")
+        ip link add "${host_if:0:15}" type veth peer name "${node_if:0:15}"
+        ip link set "${node_if:0:15}" netns "$ns"
+        ip addr add "10.$prefix.$i.1/30" dev "${host_if:0:15}"
+        ip link set "${host_if:0:15}" up
+        ip -n "$ns" addr add "10.$prefix.$i.2/30" dev "${node_if:0:15}"
+        ip -n "$ns" link set "${node_if:0:15}" up
+        ip -n "$ns" link set lo up
+        hub_addr="10.$prefix.$i.1"
+        run=(ip netns exec "$ns")
+    fi
+    "${run[@]}" "$node" --source "replay:$frames_dir/cam$id" --sync "sim:$rate" --epoch-ns "$epoch" \
+        --hub "$hub_addr:$port" --id "$id" --threshold "$threshold" --log-level warning \
+        > "$out/node$id.log" 2>&1 &
+    pids+=("$!")
+done
+if [ "$netns_ok" = 1 ]; then
+    log "network: ${#ids[@]} nodes, each in its own namespace (10.$prefix.N.2 -> hub 10.$prefix.N.1:$port)"
+else
+    log "network: ${#ids[@]} nodes on loopback -> hub 127.0.0.1:$port"
+fi
+log "session: ${#ids[@]} cameras x $frames frames at $rate Hz from $frames_dir"
+
+# Nodes end with their recording; allow the replay's length plus start-up and a margin.
+limit=$(awk -v n="$frames" -v r="$rate" 'BEGIN { printf "%d", n / r + 15 }')
+failed=0
+start=$SECONDS
+for p in "${pids[@]:1}"; do
+    while kill -0 "$p" 2> /dev/null && [ $((SECONDS - start)) -lt "$limit" ]; do sleep 0.2; done
+    if kill -0 "$p" 2> /dev/null; then kill -INT "$p" 2> /dev/null || true; fi
+    wait "$p" || failed=1
+done
+[ "$failed" = 0 ] || log "warning: a node exited with an error (see $out/node*.log)"
+while kill -0 "$hub_pid" 2> /dev/null && [ $((SECONDS - start)) -lt $((limit + 5)) ]; do sleep 0.2; done
+kill -INT "$hub_pid" 2> /dev/null || true
+wait "$hub_pid" || { cat "$out/record.log" >&2; die "mocap-hub record failed"; }
+pids=()
+[ -s "$session/markers.trc" ] || die "$session/markers.trc was not written"
+
+# Gap filling needs hindsight: reconstruct the recorded 2D log again offline.
+# shellcheck disable=SC2086  # reconstruct_args is a list of options
+"$hub" reconstruct "$session" --calibration "$frames_dir/calibration.json" -o "$session/filled.trc" $reconstruct_args \
+    > "$out/reconstruct.log" 2>&1 \
+    || { cat "$out/reconstruct.log" >&2; die "reconstruct failed"; }
+live=$("$hub" eval --truth "$frames_dir/truth.trc" --result "$session/markers.trc" --visibility "$frames_dir/visibility.tsv" --json)
+filled=$("$hub" eval --truth "$frames_dir/truth.trc" --result "$session/filled.trc" --visibility "$frames_dir/visibility.tsv" --json)
+latency=$(sed -n 's/.*latency \(.*\)$/\1/p' "$out/record.out")
+sets=$(sed -n 's/^[^:]*: \([0-9]*\) frame sets, \([0-9]*\) incomplete.*/\1 \2/p' "$out/record.out")
+
+if [ "$json" = 1 ]; then
+    printf '{"trc": "%s", "live_trc": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \
+        "$session/filled.trc" "$session/markers.trc" "${#ids[@]}" "$frames" "$rate" \
+        "$([ "$netns_ok" = 1 ] && echo netns || echo loopback)" "${sets%% *}" \
+        "$(echo "$latency" | awk '{ printf "{\"trigger_to_send_p50\": %s, \"trigger_to_send_p99\": %s, \"send_to_result_p50\": %s, \"send_to_result_p99\": %s}", $3, $6, $10, $13 }')" \
+        "$live" "$filled"
+else
+    echo "frame sets: ${sets%% *} (${sets##* } incomplete)"
+    echo "latency: $latency"
+    echo
+    echo "live TRC (recorded while the nodes ran): $session/markers.trc"
+    "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/markers.trc" --visibility "$frames_dir/visibility.tsv"
+    echo
+    echo "final TRC (reconstructed from the recorded 2D log, gaps filled): $session/filled.trc"
+    "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/filled.trc" --visibility "$frames_dir/visibility.tsv"
+fi

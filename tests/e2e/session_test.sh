@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# ctest e2e: a small simulated session through real processes (sim render -> one mocap-node per
+# camera -> mocap-hub record over UDP -> reconstruct -> eval) must meet the accuracy targets.
+# usage: session_test.sh BIN_DIR WORK_DIR
+set -euo pipefail
+bin=${1:?usage: session_test.sh BIN_DIR WORK_DIR}
+work=${2:?usage: session_test.sh BIN_DIR WORK_DIR}
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work"
+mkdir -p "$work"
+
+"$bin/mocap-hub" sim motion -o "$work/motion.trc" --markers 16 --frames 90 --rate 60 --up y --seed 3
+"$here/../../deploy/sim-session.sh" --motion "$work/motion.trc" --cameras 4 --out "$work" --bin "$bin" \
+    --json > "$work/result.json"
+cat "$work/result.json"
+
+# The final TRC (gap-filled) must meet the project's targets; the live one must be close.
+python3 - "$work/result.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+failures = []
+def need(what, value, limit):
+    print(f"{what} = {value:.4f} (limit {limit})")
+    if not value <= limit:
+        failures.append(f"{what} = {value:.4f} > {limit}")
+f, l = d["filled"], d["live"]
+need("final rmse_mm", f["rmse_mm"], 1.5)
+need("final ghosts_per_frame", f["ghosts_per_frame"], 0.02)
+need("final missing_per_frame", f["missing_per_frame"], 0.01)
+need("live rmse_mm", l["rmse_mm"], 1.5)
+need("live ghosts_per_frame", l["ghosts_per_frame"], 0.1)
+need("frames not assembled", d["frames"] - d["frame_sets"], 0)
+need("final fragmentation - 1", f["fragmentation"] - 1.0, 0.25)
+lat = d["latency_ms"]
+if not (0 < lat["trigger_to_send_p50"] <= lat["trigger_to_send_p99"] and
+        0 < lat["send_to_result_p50"] <= lat["send_to_result_p99"]):
+    failures.append(f"latency figures missing or inconsistent: {lat}")
+for failure in failures:
+    print("session_test: FAILED: " + failure, file=sys.stderr)
+sys.exit(1 if failures else 0)
+PY
