@@ -35,7 +35,12 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
     if (kept == 2 && gathered.size() >= 4) continue;
     // A marker seen in only two views could be two other markers' blobs that happen to fall in
     // the gates; the shift check bounds how far such a combination may land.
-    const double max_shift = (kept == 2 ? 1.0 : options_.max_shift_factor) * prediction.gate_mm;
+    // Few views leave a wrong blob near an epipolar line free to drag the point along it; such a
+    // point must stay closer to the prediction.
+    const double factor = kept == 2 ? 0.5 * options_.max_shift_factor
+                          : kept == 3 ? 0.75 * options_.max_shift_factor
+                                      : options_.max_shift_factor;
+    const double max_shift = factor * prediction.gate_mm;
     if ((point.point_in_world - prediction.point_in_world).norm() > max_shift) continue;
     MarkUsed(point, used);
     points->push_back(point);
