@@ -100,7 +100,9 @@ DltResult CalibrateDlt(const std::vector<ControlPoint>& points, const DltOptions
   }
   for (int i = 0; i < 3; ++i) result.parameters[8 + i] = p(2, i);
   double sum = 0.0;
-  for (const ControlPoint& point : points) sum += (ProjectDlt(result.parameters, point.point_in_world) - point.pixel).squaredNorm();
+  for (const ControlPoint& point : points) {
+    sum += (ProjectDlt(result.parameters, point.point_in_world) - point.pixel).squaredNorm();
+  }
   result.linear_rms_px = std::sqrt(sum / (2.0 * static_cast<double>(n)));
 
   // RQ decomposition of the left 3x3 block: M = K R, K upper triangular with positive diagonal.

@@ -32,7 +32,8 @@ Camera TrueCamera() {
 // Board texture: white margin, squares_x x squares_y squares, top-left square black.
 cv::Mat CheckerboardTexture(const CalibrationTarget& target) {
   const int width = static_cast<int>(std::lround((target.squares_x * target.square_mm + 2 * kMarginMm) * kPixelsPerMm));
-  const int height = static_cast<int>(std::lround((target.squares_y * target.square_mm + 2 * kMarginMm) * kPixelsPerMm));
+  const int height =
+      static_cast<int>(std::lround((target.squares_y * target.square_mm + 2 * kMarginMm) * kPixelsPerMm));
   cv::Mat texture(height, width, CV_8U, cv::Scalar(255));
   const int square = static_cast<int>(std::lround(target.square_mm * kPixelsPerMm));
   const int margin = static_cast<int>(std::lround(kMarginMm * kPixelsPerMm));

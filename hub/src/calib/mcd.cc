@@ -109,7 +109,9 @@ McdRecording ParseMcd(const std::string& text, const std::string& source) {
       lines.Fail("frame numbers must increase");
     }
     for (long c = 0; c < camera_count; ++c) {
-      if (lines.Done()) lines.Fail("frame " + std::to_string(number) + " ends before its camera " + std::to_string(c + 1));
+      if (lines.Done()) {
+        lines.Fail("frame " + std::to_string(number) + " ends before its camera " + std::to_string(c + 1));
+      }
       CameraFrame frame;
       frame.camera_id = static_cast<uint32_t>(c + 1);
       frame.frame_number = set.frame_number;

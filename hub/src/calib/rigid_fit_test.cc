@@ -26,7 +26,9 @@ TEST(RigidFitTest, RecoversKnownRigidTransformWithNoise) {
       Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.2, -0.5, 0.8).normalized()).toRotationMatrix();
   const Eigen::Vector3d translation(120.0, -40.0, 3000.0);
   std::vector<Eigen::Vector3d> target;
-  for (const auto& p : source) target.push_back(rotation * p + translation + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+  for (const auto& p : source) {
+    target.push_back(rotation * p + translation + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+  }
   const SimilarityTransform fit = FitRigid(source, target);
   EXPECT_DOUBLE_EQ(fit.scale, 1.0);
   EXPECT_LT(Eigen::AngleAxisd(fit.rotation.transpose() * rotation).angle(), 1e-3);

@@ -41,7 +41,8 @@ Rig RingRig(int n, uint32_t seed) {
     camera.intrinsics.fy = camera.intrinsics.fx * (1.0 + 0.002 * jitter(rng));
     camera.intrinsics.cx += 8.0 * jitter(rng);
     camera.intrinsics.cy += 8.0 * jitter(rng);
-    camera.intrinsics.distortion = {-0.22 + 0.03 * jitter(rng), 0.07, 0.0008 * jitter(rng), 0.0008 * jitter(rng), -0.01};
+    camera.intrinsics.distortion = {-0.22 + 0.03 * jitter(rng), 0.07, 0.0008 * jitter(rng), 0.0008 * jitter(rng),
+                                    -0.01};
     rig.cameras.push_back(camera);
   }
   return rig;

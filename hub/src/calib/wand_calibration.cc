@@ -392,7 +392,8 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
           total_sq += sq;
           total_coordinates += 2;
           const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
-          const int cy = std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
+          const int cy =
+              std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
           cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
         }
         // Normalized coordinates again: the intrinsics may have been refined.
@@ -406,14 +407,16 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
       for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
     }
     result.wand_length = SummarizeLengthErrors(all_length_errors);
-    result.reprojection_rms_px = total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
+    result.reprojection_rms_px =
+        total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
 
     for (size_t i = 0; i < n; ++i) {
       if (!active[i]) continue;  // a camera refused earlier keeps the figures it was refused on
       CameraCalibrationReport& report = result.cameras[i];
       report.views_used = views_used[i];
       report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
-      report.reprojection_rms_px = coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
+      report.reprojection_rms_px =
+          coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
       report.wand_length = SummarizeLengthErrors(length_errors[i]);
     }
     std::vector<double> active_rms;
@@ -422,7 +425,8 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
     }
     double median_rms = 0.0;
     if (!active_rms.empty()) {
-      std::nth_element(active_rms.begin(), active_rms.begin() + static_cast<long>(active_rms.size() / 2), active_rms.end());
+      std::nth_element(active_rms.begin(), active_rms.begin() + static_cast<long>(active_rms.size() / 2),
+                       active_rms.end());
       median_rms = active_rms[active_rms.size() / 2];
     }
     result.rig.cameras.clear();
