@@ -71,6 +71,14 @@ std::vector<Eigen::Vector3d> ParsePointList(const std::string& text, const std::
   return points;
 }
 
+// The session's frames; damage the reader skipped is reported on stderr, not hidden.
+std::vector<FrameSet> LoadFramesReporting(const std::string& session) {
+  std::vector<std::string> warnings;
+  std::vector<FrameSet> frames = LoadSessionFrames(session, &warnings);
+  for (const std::string& warning : warnings) std::fprintf(stderr, "mocap-hub: warning: %s\n", warning.c_str());
+  return frames;
+}
+
 void WriteJsonFile(const nlohmann::json& document, const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ignored;
@@ -209,7 +217,7 @@ void RunCalibrateWand(CalibrateWandArgs args) {
     args.options.initialization.reference_camera = static_cast<int>(reference - intrinsics.cameras.data());
   }
   args.options.Check();
-  const std::vector<FrameSet> frames = LoadSessionFrames(args.session);
+  const std::vector<FrameSet> frames = LoadFramesReporting(args.session);
   const WandCalibrationResult result = CalibrateWand(frames, intrinsics, wand, args.options);
   const nlohmann::json report = ReportJson(result, wand);
   if (args.json) {
@@ -279,7 +287,7 @@ void RunCalibrateWorld(const CalibrateWorldArgs& args) {
   if (up_axis < 0) throw std::invalid_argument("--up must be x, y or z");
   args.options.Check();
   const Rig rig = LoadRigJson(args.calibration);
-  const std::vector<FrameSet> frames = LoadSessionFrames(args.session);
+  const std::vector<FrameSet> frames = LoadFramesReporting(args.session);
   WorldFrameFit fit;
   std::vector<Eigen::Vector3d> model;
   if (args.floor) {
