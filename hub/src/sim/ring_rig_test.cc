@@ -3,10 +3,12 @@
 #include "sim/ring_rig.h"
 
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
+#include "io/trc.h"
 #include "sim/synthetic_motion.h"
 
 namespace mocap {
@@ -92,6 +94,32 @@ TEST(RingRigTest, SeededAndOptionsChecked) {
   bad = RingRigOptions();
   bad.width = 0;
   EXPECT_THROW(bad.Check(), std::invalid_argument);
+}
+
+// The shared real motions (README of ../shared/data): Y-up OpenSim walks and runs, a Z-up
+// OptiTrack serve and a Z-up walk with gaps; an 8-camera ring must see every marker everywhere.
+TEST(RingRigTest, SharedRealMotions) {
+  const std::string dir = std::string(MOCAP_SHARED_DIR) + "/data/motions";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "no shared data at " << dir;
+  for (const auto& [file, up] : {std::pair<const char*, int>{"walk.trc", 1}, {"running.trc", 1},
+                                 {"tennis_serve.trc", 2}, {"gaps_blank_cells.trc", 2}}) {
+    SCOPED_TRACE(file);
+    const MarkerTrajectories motion = ReadTrc(dir + "/" + file);
+    EXPECT_EQ(DetectUpAxis(motion), up);
+    const Rig rig = MakeRingRig(ComputeMotionVolume(motion), RingRigOptions());
+    size_t seen = 0, total = 0;
+    for (const Camera& camera : rig.cameras) {
+      for (size_t f = 0; f < motion.NumFrames(); ++f) {
+        for (size_t m = 0; m < motion.NumMarkers(); ++m) {
+          if (!motion.Has(f, m)) continue;
+          Eigen::Vector2d pixel;
+          ++total;
+          seen += camera.ProjectToPixel(motion.At(f, m), &pixel) && camera.InImage(pixel);
+        }
+      }
+    }
+    EXPECT_EQ(seen, total);
+  }
 }
 
 }  // namespace
