@@ -1,0 +1,108 @@
+// End-to-end tests of the calibration commands through the mocap-hub executable: a simulated
+// wand session with an L-frame, calibrate wand, calibrate world and eval-calibration without
+// any alignment; refusals and bad input end as one line on stderr with a non-zero status.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+struct HubRun {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class CalibrateCliTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDir() + "/calibrate_cli";
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+
+  HubRun Hub(const std::string& args) const {
+    const std::string command = std::string("cd '") + dir_ + "' && '" + MOCAP_HUB_EXE + "' " + args +
+                                " > stdout.txt 2> stderr.txt";
+    HubRun run;
+    const int raw = std::system(command.c_str());
+    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    run.out = ReadAll(dir_ + "/stdout.txt");
+    run.err = ReadAll(dir_ + "/stderr.txt");
+    return run;
+  }
+
+  void ExpectOneLineError(const HubRun& run, const std::string& cause) const {
+    EXPECT_NE(run.status, 0);
+    EXPECT_EQ(run.err.rfind("mocap-hub: error: ", 0), 0u) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find(cause), std::string::npos) << run.err;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {
+  ASSERT_EQ(Hub("sim motion -o walk.trc --frames 120").status, 0);
+  ASSERT_EQ(Hub("sim rig --motion walk.trc --cameras 8 -o rig.json").status, 0);
+  const HubRun wave = Hub("sim wand --rig rig.json -o wand --frames 1500 --noise-px 0.15 --occlusion 0.01 "
+                       "--spurious 0.3 --lframe-frames 60 --seed 2");
+  ASSERT_EQ(wave.status, 0) << wave.err;
+  EXPECT_TRUE(std::filesystem::exists(dir_ + "/wand/calibration.json"));
+
+  const HubRun wand = Hub("calibrate wand wand --intrinsics rig.json --wand-length 500 -o cal.json --json");
+  ASSERT_EQ(wand.status, 0) << wand.err;
+  const nlohmann::json report = nlohmann::json::parse(wand.out);
+  EXPECT_EQ(report["cameras"].size(), 8u);
+  for (const auto& camera : report["cameras"]) EXPECT_TRUE(camera["accepted"].get<bool>()) << camera.dump();
+  EXPECT_LT(report["reprojection_rms_px"].get<double>(), 0.18);
+
+  const HubRun world = Hub("calibrate world wand --calibration cal.json -o world.json");
+  ASSERT_EQ(world.status, 0) << world.err;
+  const HubRun eval = Hub("eval-calibration --truth rig.json --result world.json --no-align --json");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  const nlohmann::json errors = nlohmann::json::parse(eval.out);
+  EXPECT_EQ(errors["cameras_matched"].get<int>(), 8);
+  EXPECT_LT(errors["centre_max_mm"].get<double>(), 2.0);
+  EXPECT_LT(errors["rotation_max_deg"].get<double>(), 0.03);
+  EXPECT_LT(errors["reprojection_rms_px"].get<double>(), 0.18);
+  // The report written into the calibration survives the world step.
+  const nlohmann::json written = nlohmann::json::parse(ReadAll(dir_ + "/world.json"));
+  EXPECT_EQ(written["calibration"]["method"], "wand");
+  EXPECT_EQ(written["world_frame"]["method"], "lframe");
+}
+
+TEST_F(CalibrateCliTest, BadInputIsOneLineWithNonZeroStatus) {
+  ExpectOneLineError(Hub("calibrate wand missing --intrinsics missing.json --wand-length 500 -o out.json"),
+                     "missing.json");
+  {
+    std::ofstream points(dir_ + "/points.txt");
+    points << "0 0 0 10 10\n1 2 3 4\n";
+  }
+  ExpectOneLineError(Hub("calibrate dlt points.txt --width 640 --height 480 -o out.json"), "points.txt:2");
+  {
+    std::ofstream mcd(dir_ + "/bad.mcd");
+    mcd << "CameraCount: 3\n1\n2\n";
+  }
+  ExpectOneLineError(Hub("calibrate import-mcd bad.mcd -o session"), "19 values");
+  ExpectOneLineError(Hub("calibrate intrinsics nothing-here -o out.json"), "nothing-here");
+  ExpectOneLineError(Hub("sim wand --rig missing.json -o s --wand-length 20"), "--wand-length");
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/out.json"));
+}
+
+}  // namespace
