@@ -74,3 +74,42 @@ TEST(ReconstructorOptions, CheckRejectsBadValues) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// Two markers on one ray of camera 0 make one blob there (flagged merged): it serves both.
+TEST(Reconstructor, MergedBlobServesTwoMarkers) {
+  const Rig rig = testing::MakeRingRig(5, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
+  const Eigen::Vector3d first(100.0, -50.0, 1100.0);
+  const Eigen::Vector3d ray = (first - rig.cameras[0].CenterInWorld()).normalized();
+  const std::vector<Eigen::Vector3d> markers = {first, first + 40.0 * ray};
+  FrameSet frame_set;
+  for (size_t c = 0; c < rig.cameras.size(); ++c) {
+    CameraFrame frame;
+    frame.camera_id = rig.cameras[c].id;
+    for (size_t m = 0; m < markers.size(); ++m) {
+      Blob blob;
+      ASSERT_TRUE(rig.cameras[c].ProjectToPixel(markers[m], &blob.pixel));
+      if (c == 0 && m == 1) {
+        frame.blobs[0].flags |= kBlobMerged;  // the same pixel as marker 0: one blob
+        continue;
+      }
+      frame.blobs.push_back(blob);
+    }
+    frame_set.cameras.push_back(frame);
+  }
+  Reconstructor reconstructor(rig, ReconstructorOptions());
+  std::vector<ReconstructedPoint> points;
+  reconstructor.Process(frame_set, {}, &points);
+  ASSERT_EQ(points.size(), 2u);
+  for (const ReconstructedPoint& point : points) {
+    EXPECT_EQ(point.num_views, 5);  // camera 0's merged blob is one of each point's views
+    const double error = std::min((point.point_in_world - markers[0]).norm(),
+                                  (point.point_in_world - markers[1]).norm());
+    EXPECT_LT(error, 1e-3);
+  }
+}
+
+}  // namespace
+}  // namespace mocap
