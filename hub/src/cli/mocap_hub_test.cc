@@ -141,6 +141,30 @@ TEST_F(MocapHubTest, SimMotionWritesASyntheticTrc) {
   ExpectOneLineError(Hub("sim motion --markers 0 -o " + dir + "/x.trc"), "markers must be");
 }
 
+TEST_F(MocapHubTest, SimRenderWritesFramesPerCamera) {
+  ASSERT_EQ(Hub("sim rig --motion " + dir + "/motion.trc --cameras 3 --width 640 --height 400 -o " + dir +
+                "/rig.json").status,
+            0);
+  const HubRun run = Hub("sim render --motion " + dir + "/motion.trc --rig " + dir + "/rig.json -o " + dir +
+                         "/frames --occlusion 0.1 --reflections 2 --seed 9 --json");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json summary = nlohmann::json::parse(run.out);
+  EXPECT_EQ(summary["cameras"], 3);
+  EXPECT_EQ(summary["frames"], 60);
+  EXPECT_EQ(summary["camera_frames"], 180);
+  // Mostly dark frames: far below the 256 kB of a raw 640x400 frame per camera frame.
+  EXPECT_LT(summary["bytes"].get<double>() / 180.0, 25600.0);
+  for (const char* file : {"cam1/frames.mcf", "cam2/frames.mcf", "cam3/frames.mcf", "truth.trc", "calibration.json",
+                           "visibility.tsv"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/frames/" + file)) << file;
+  }
+  ExpectOneLineError(Hub("sim render --motion " + dir + "/motion.trc --rig " + dir + "/rig.json -o " + dir +
+                         "/f2 --gain 0"),
+                     "--gain must be");
+  ExpectOneLineError(Hub("sim render --motion " + dir + "/motion.trc --rig " + dir + "/nope.json -o " + dir + "/f3"),
+                     "nope.json: cannot open");
+}
+
 TEST_F(MocapHubTest, HelpSucceeds) {
   const HubRun help = Hub("--help");
   EXPECT_EQ(help.status, 0);
