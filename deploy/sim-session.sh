@@ -16,7 +16,7 @@ usage: deploy/sim-session.sh --motion M.trc | --frames-dir DIR   [options]
   --bin DIR            where mocap-hub and mocap-node are (default build/bin)
   --render-args "..."  extra `sim render` options (default "--occlusion 0.02 --noise 1.5")
   --reconstruct-args "..."  extra `reconstruct` options for the final TRC (default
-                       "--max-ray-distance-mm 5": rendered centroids are precise to ~0.1 px)
+                       "--max-ray-distance-mm 3": rendered centroids are precise to ~0.1 px)
   --threshold T        node detection threshold (default 32: background 12, noise sigma 1.5)
   --network MODE       netns: one network namespace + veth per node (default when root and
                        `ip netns` works); loopback: every node on 127.0.0.1; auto (default)
@@ -28,7 +28,7 @@ EOF
 die() { echo "sim-session: error: $*" >&2; exit 1; }
 
 motion="" frames_dir="" cameras=8 out=sim-session bin=build/bin threshold=32 network=auto json=0
-reconstruct_args="--max-ray-distance-mm 5"
+reconstruct_args="--max-ray-distance-mm 3"
 render_args="--occlusion 0.02 --noise 1.5"
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -81,13 +81,18 @@ done
 session_tag=$$
 netns_ok=0
 if [ "$network" != loopback ]; then
+    # The probe needs both a namespace and a veth pair (some containers allow one, not the other).
     if [ "$(id -u)" = 0 ] && command -v ip > /dev/null && ip netns add "mocap-probe-$session_tag" 2> /dev/null; then
+        if ip link add "mp${session_tag}a" type veth peer name "mp${session_tag}b" 2> /dev/null; then
+            ip link del "mp${session_tag}a" 2> /dev/null || true
+            netns_ok=1
+        fi
         ip netns del "mocap-probe-$session_tag"
-        netns_ok=1
-    elif [ "$network" = netns ]; then
-        die "network namespaces are unavailable (needs root and iproute2's ip netns)"
-    else
-        log "network: namespaces unavailable (needs root and ip netns); every node sends over loopback"
+    fi
+    if [ "$netns_ok" != 1 ] && [ "$network" = netns ]; then
+        die "network namespaces are unavailable (needs root, iproute2's ip netns and veth)"
+    elif [ "$netns_ok" != 1 ]; then
+        log "network: namespaces unavailable (needs root, ip netns and veth); every node sends over loopback"
     fi
 fi
 namespaces=()
@@ -131,15 +136,17 @@ for id in "${ids[@]}"; do
         ns="mocap-$session_tag-$id"
         host_if="mh${session_tag}x$i"
         node_if="mn${session_tag}x$i"
-        ip netns add "$ns"
+        host_if=${host_if:0:15} node_if=${node_if:0:15}
         namespaces+=("$ns")
-        ip link add "${host_if:0:15}" type veth peer name "${node_if:0:15}"
-        ip link set "${node_if:0:15}" netns "$ns"
-        ip addr add "10.$prefix.$i.1/30" dev "${host_if:0:15}"
-        ip link set "${host_if:0:15}" up
-        ip -n "$ns" addr add "10.$prefix.$i.2/30" dev "${node_if:0:15}"
-        ip -n "$ns" link set "${node_if:0:15}" up
-        ip -n "$ns" link set lo up
+        { ip netns add "$ns" &&
+          ip link add "$host_if" type veth peer name "$node_if" &&
+          ip link set "$node_if" netns "$ns" &&
+          ip addr add "10.$prefix.$i.1/30" dev "$host_if" &&
+          ip link set "$host_if" up &&
+          ip -n "$ns" addr add "10.$prefix.$i.2/30" dev "$node_if" &&
+          ip -n "$ns" link set "$node_if" up &&
+          ip -n "$ns" link set lo up; } ||
+            die "network namespace for node $id could not be set up (try --network loopback)"
         hub_addr="10.$prefix.$i.1"
         run=(ip netns exec "$ns")
     fi
