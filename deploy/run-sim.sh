@@ -19,8 +19,9 @@ case "$path" in
     *) echo "run-sim: error: MOCAP_SIM_PATH must be e2e or project, not '$path'" >&2; exit 1 ;;
 esac
 
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release > "$build.configure.log" 2>&1 \
-    || { cat "$build.configure.log"; exit 1; }
+mkdir -p "$build"
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release > "$build/configure.log" 2>&1 \
+    || { cat "$build/configure.log"; exit 1; }
 cmake --build "$build" -j "$(nproc)" --target mocap-hub mocap-node
 hub="$build/bin/mocap-hub"
 mkdir -p "$out"
