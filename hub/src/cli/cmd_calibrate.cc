@@ -26,6 +26,7 @@
 #include "calib/wand_calibration.h"
 #include "calib/world_frame.h"
 #include "cli/commands.h"
+#include "cli/fault_options.h"
 #include "cli/progress.h"
 #include "eval/calibration_eval.h"
 #include "ingest/session.h"
@@ -573,17 +574,7 @@ void AddSimWandCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--lframe", args->lframe,
                       "L-frame markers in world mm, 'x,y,z;x,y,z;...' (default: 4-marker L on the floor)");
-  command->add_option("--noise-px", p.noise_px, "Centroid noise sigma, px")->capture_default_str();
-  command->add_option("--occlusion", p.occlusion, "Probability a marker is hidden from one camera at a frame")
-      ->capture_default_str();
-  command->add_option("--occlusion-frames", p.occlusion_frames, "Mean length of an occlusion, frames")
-      ->capture_default_str();
-  command->add_option("--spurious", p.spurious, "False blobs per camera per frame (half static, half flicker)")
-      ->capture_default_str();
-  command->add_option("--drop-frames", p.drop_frames, "Probability a camera's whole frame is lost")
-      ->capture_default_str();
-  command->add_option("--marker-mm", p.marker_diameter_mm, "Marker diameter (sets blob size), mm")
-      ->capture_default_str();
+  AddCameraFaultOptions(command, &p);
   command->add_option("--seed", w.seed, "Seed of the path and of every fault")->capture_default_str();
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
   command->callback([args] { RunSimWand(*args); });

@@ -19,6 +19,7 @@
 #include "ingest/session.h"
 #include "ingest/udp_socket.h"
 #include "io/calibration_json.h"
+#include "io/marker_trajectories.h"
 #include "io/trc.h"
 #include "recon/reconstructor.h"
 #include "track/tracker.h"
@@ -111,11 +112,7 @@ void RunRecord(const RecordArgs& args) {
   Tracker tracker(tracker_options);
   TrcWriter trc;
   std::vector<std::string> names;
-  for (int i = 1; i <= args.max_markers; ++i) {
-    char name[16];
-    std::snprintf(name, sizeof name, "M%03d", i);
-    names.push_back(name);
-  }
+  for (int i = 0; i < args.max_markers; ++i) names.push_back(DefaultMarkerName(static_cast<size_t>(i)));
   if (!args.no_trc) trc.Open((std::filesystem::path(args.output) / "markers.trc").string(), names, args.rate_hz);
 
   std::signal(SIGINT, OnSignal);

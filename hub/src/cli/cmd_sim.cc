@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/fault_options.h"
 #include "cli/progress.h"
 #include "io/calibration_json.h"
 #include "io/trc.h"
@@ -133,23 +134,13 @@ void AddSimProjectCommand(CLI::App& app) {
   command->add_option("--motion", args->motion, "Motion (TRC): the ground truth")->required();
   command->add_option("--rig", args->rig, "Rig / calibration JSON")->required();
   command->add_option("-o,--output", args->output, "Session directory to write")->required();
-  command->add_option("--noise-px", p.noise_px, "Centroid noise sigma, px")->capture_default_str();
-  command->add_option("--occlusion", p.occlusion, "Probability a marker is hidden from one camera at a frame")
-      ->capture_default_str();
-  command->add_option("--occlusion-frames", p.occlusion_frames, "Mean length of an occlusion, frames")
-      ->capture_default_str();
-  command->add_option("--spurious", p.spurious, "False blobs per camera per frame (half static, half flicker)")
-      ->capture_default_str();
+  AddCameraFaultOptions(command, &p);
   command->add_option("--merge-px", p.merge_px,
                       "Blobs closer than this merge; negative (default) = when they touch, from blob size")
-      ->capture_default_str();
-  command->add_option("--drop-frames", p.drop_frames, "Probability a camera's whole frame is lost")
       ->capture_default_str();
   command->add_option("--late", p.late, "Probability a camera frame's datagrams arrive late")
       ->capture_default_str();
   command->add_option("--late-frames", p.late_frames, "How many frames a late camera frame lags")
-      ->capture_default_str();
-  command->add_option("--marker-mm", p.marker_diameter_mm, "Marker diameter (sets blob size), mm")
       ->capture_default_str();
   command->add_option("--seed", p.seed, "Seed of every fault")->capture_default_str();
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
