@@ -1,7 +1,7 @@
 /* Marker blob detector: a vectorisable scan for bright 64-pixel chunks, scanline seed fill of
  * each bright region into a span list, optional per-blob morphology on a small bit patch, then
  * blob statistics from the spans. Every buffer comes from mn_detector_new; running never
- * allocates, and the visited bitmap is cleared only where a frame touched it. */
+ * allocates, and the fill consumes the bright bitmap, so nothing needs clearing per frame. */
 #include "detect/detect.h"
 
 #include <errno.h>
@@ -77,16 +77,11 @@ struct mn_detector *mn_detector_new(const struct mn_detect_config *cfg, uint32_t
     det->cap_radius = cfg->morph_radius;
     det->row_words = (max_w + 63) / 64;
     size_t bitmap_words = det->row_words * max_h;
-    det->visited = calloc(bitmap_words, sizeof(uint64_t));
+    det->bright = calloc(bitmap_words, sizeof(uint64_t));
     det->mask = calloc(bitmap_words, sizeof(uint64_t));
-    det->dirty_lo = malloc(max_h * sizeof(uint32_t));
-    det->dirty_hi = malloc(max_h * sizeof(uint32_t));
-    if (!det->visited || !det->mask || !det->dirty_lo || !det->dirty_hi)
+    det->seeds = malloc(bitmap_words * sizeof *det->seeds);
+    if (!det->bright || !det->mask || !det->seeds)
         goto fail_free;
-    for (uint32_t y = 0; y < max_h; y++) {
-        det->dirty_lo[y] = UINT32_MAX;
-        det->dirty_hi[y] = 0;
-    }
 
     /* The patch holds the largest accepted bbox plus the morphology margin on each side. */
     size_t patch_side = (size_t)det->cap_bbox + 2u * det->cap_radius;
@@ -109,9 +104,7 @@ struct mn_detector *mn_detector_new(const struct mn_detect_config *cfg, uint32_t
         cap = 16384;
     det->spans_cap = cap;
     det->spans = malloc(cap * sizeof *det->spans);
-    det->seed_cap = (MN_SEED_LAG + 1) * det->row_words;
-    det->seeds = malloc(det->seed_cap * sizeof *det->seeds);
-    if (!det->spans || !det->seeds)
+    if (!det->spans)
         goto fail_free;
     return det;
 
@@ -130,10 +123,8 @@ void mn_detector_free(struct mn_detector *det)
     free(det->spans);
     for (int i = 0; i < MN_PATCH_PLANES; i++)
         free(det->patch[i]);
-    free(det->dirty_hi);
-    free(det->dirty_lo);
     free(det->mask);
-    free(det->visited);
+    free(det->bright);
     free(det);
 }
 

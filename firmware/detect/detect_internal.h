@@ -21,10 +21,9 @@ struct mn_span {
 /* Rows between finding a bright chunk and filling its regions (see detect_run.c). */
 #define MN_SEED_LAG 24u
 
-/* Bright, unmasked pixels of one 64-pixel chunk awaiting their fill. */
-struct mn_seed_chunk {
-    uint32_t y, x;
-    uint64_t bits;
+/* A 64-pixel chunk of row y (word k of the bright bitmap) that held bright pixels. */
+struct mn_seed_word {
+    uint32_t y, k;
 };
 
 struct mn_detector {
@@ -32,16 +31,17 @@ struct mn_detector {
     uint32_t max_w, max_h;
     uint16_t cap_bbox;   /* max_bbox at creation: sizes the morphology patch */
     uint8_t cap_radius;  /* morph_radius at creation: likewise */
-    size_t row_words;    /* uint64 words per row of the visited and mask bitmaps */
-    uint64_t *visited;   /* 1 = pixel already belongs to a region this frame */
+    size_t row_words;    /* uint64 words per row of the bright and mask bitmaps */
+    /* 1 = bright, unmasked pixel not yet taken by a region. The scan sets bits, the fill
+     * consumes them, so the bitmap is all zero again when a frame is done. */
+    uint64_t *bright;
     uint64_t *mask;      /* 1 = pixel hidden by the hub's mask */
     int has_mask;
-    uint32_t *dirty_lo;  /* per row: first and last visited word set this frame, so that */
-    uint32_t *dirty_hi;  /* clearing costs the regions' size instead of the frame's */
     struct mn_span *spans;
     size_t spans_cap;
-    struct mn_seed_chunk *seeds; /* ring of MN_SEED_LAG + 1 rows of chunks */
-    size_t seed_cap, seed_head, seed_count;
+    struct mn_seed_word *seeds; /* bright words in scan order, up to one per bitmap word */
+    size_t seed_head, seed_count;
+    uint32_t scanned_rows; /* rows of the current frame the scan has read */
     uint64_t *patch[MN_PATCH_PLANES]; /* morphology bit planes, patch_rows x patch_words */
     size_t patch_words;
     size_t patch_rows;
@@ -80,12 +80,32 @@ static inline void mn_bits_set_range(uint64_t *row, uint32_t x0, uint32_t x1)
 /* Threshold for this frame from a sampled histogram (auto mode). */
 uint8_t mn_detect_auto_threshold(const struct mn_detector *det, const struct mn_frame_view *f);
 
+/* Scans rows up to and including y if the scan has not reached them yet (detect_run.c). */
+void mn_detect_scan_through(struct mn_detector *det, const struct mn_frame_view *f, uint32_t y);
+
+/* Spans of one 8-connected set of bits, taken out of a bitmap (detect_fill.c). */
+struct mn_fill {
+    size_t n;          /* spans written */
+    uint32_t bbox[4];  /* x0, y0, x1, y1 */
+    int complete;      /* 0 when the span list overflowed: the rest stays in the bitmap */
+};
+
+/* The region of the bright bitmap through (x, y), into det->spans; rows below the scan are
+ * scanned on demand, so a region taller than the seed lag is still whole. */
+struct mn_fill mn_fill_image(struct mn_detector *det, const struct mn_frame_view *f, uint32_t x,
+                             uint32_t y);
+
+/* The component through (x, y) of a w x h bit plane (rows stride words apart, bits beyond w
+ * in the row's last used word zero), into spans (room for the plane's worst case). */
+struct mn_fill mn_fill_plane(uint64_t *plane, size_t stride, uint32_t w, uint32_t h, uint32_t x,
+                             uint32_t y, struct mn_span *spans, size_t cap);
+
 /* Computes a blob from n spans; returns 1 if it passes the filters (counted in stats if not). */
 int mn_detect_blob_from_spans(struct mn_detector *det, const struct mn_frame_view *f,
                               const struct mn_span *spans, size_t n, struct mn_blob *out);
 
 /* Opening then closing of one region's spans on a bit patch; the resulting components are
- * handed to emit one by one as span lists. */
+ * handed to emit one by one as span lists. The region's spans are det->spans[0, n). */
 typedef void (*mn_emit_fn)(struct mn_detector *det, const struct mn_frame_view *f,
                            const struct mn_span *spans, size_t n, void *ctx);
 void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view *f, size_t n,

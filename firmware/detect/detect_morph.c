@@ -82,93 +82,6 @@ static inline void morph3_one_word(const struct patch *p, const uint64_t *src, u
 #undef MN_HROW
 }
 
-static void clear_range(uint64_t *row, uint32_t x0, uint32_t x1)
-{
-    uint32_t w0 = x0 >> 6, w1 = x1 >> 6;
-    uint64_t lo = ~0ull << (x0 & 63);
-    uint64_t hi = ~0ull >> (63 - (x1 & 63));
-    if (w0 == w1) {
-        row[w0] &= ~(lo & hi);
-        return;
-    }
-    row[w0] &= ~lo;
-    for (uint32_t k = w0 + 1; k < w1; k++)
-        row[k] = 0;
-    row[w1] &= ~hi;
-}
-
-/* Takes the run of set bits through bit x out of a patch row (words long), returning its
- * ends; found a word at a time with count-trailing/leading-zeros. */
-static void take_run(uint64_t *row, size_t words, uint32_t x, uint32_t *a, uint32_t *b)
-{
-    uint32_t k = x >> 6, off = x & 63;
-    /* Rightwards: clear bits above x within the word, then whole words while full. */
-    uint64_t stop = ~(row[k] >> off);
-    uint32_t hi;
-    if (stop != 0 && (uint32_t)__builtin_ctzll(stop) < 64 - off) {
-        hi = x + (uint32_t)__builtin_ctzll(stop) - 1;
-    } else {
-        uint32_t kk = k + 1;
-        while (kk < words && row[kk] == ~0ull)
-            kk++;
-        hi = kk < words ? kk * 64 + (uint32_t)__builtin_ctzll(~row[kk]) - 1 : kk * 64 - 1;
-    }
-    /* Leftwards, the mirror image. */
-    uint64_t lstop = ~(row[k] << (63 - off));
-    uint32_t lo;
-    if (lstop != 0 && (uint32_t)__builtin_clzll(lstop) <= off) {
-        lo = x + 1 - (uint32_t)__builtin_clzll(lstop);
-    } else {
-        uint32_t kk = k;
-        while (kk > 0 && row[kk - 1] == ~0ull)
-            kk--;
-        lo = kk > 0 ? kk * 64 - (uint32_t)__builtin_clzll(~row[kk - 1]) : 0;
-    }
-    clear_range(row, lo, hi);
-    *a = lo;
-    *b = hi;
-}
-
-/* Consumes the 8-connected component through (x, y) into det->spans (patch coordinates). */
-static size_t take_component(struct mn_detector *det, uint64_t *plane, const struct patch *p,
-                             uint32_t x, uint32_t y)
-{
-    struct mn_span *spans = det->spans;
-    size_t n = 0;
-    uint32_t a, b;
-    take_run(prow(plane, p, y), p->words, x, &a, &b);
-    spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, y};
-    for (size_t i = 0; i < n; i++) {
-        struct mn_span s = spans[i];
-        uint32_t lo = s.x0 > 0 ? s.x0 - 1u : 0u;
-        uint32_t hi = s.x1 + 1u < p->w ? s.x1 + 1u : p->w - 1u;
-        for (int dir = -1; dir <= 1; dir += 2) {
-            if ((dir < 0 && s.y == 0) || (dir > 0 && s.y + 1 >= p->h))
-                continue;
-            uint32_t ny = s.y + (uint32_t)dir;
-            uint64_t *row = prow(plane, p, ny);
-            uint32_t nx = lo;
-            while (nx <= hi) {
-                uint32_t k = nx >> 6;
-                uint64_t word = row[k] & (~0ull << (nx & 63));
-                if (!word) {
-                    nx = (k + 1) * 64;
-                    continue;
-                }
-                nx = k * 64 + (uint32_t)__builtin_ctzll(word);
-                if (nx > hi)
-                    break;
-                /* The patch holds at most half its pixels as runs, and spans_cap was sized
-                 * for that at creation, so this append cannot overflow. */
-                take_run(row, p->words, nx, &a, &b);
-                spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, ny};
-                nx = b + 2;
-            }
-        }
-    }
-    return n;
-}
-
 static void clear_plane(const struct patch *p, uint64_t *plane)
 {
     for (uint32_t r = 0; r < p->h; r++) {
@@ -298,7 +211,8 @@ void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view 
         for (size_t k = 0; k < p.words; k++) {
             while (row[k]) {
                 uint32_t x = (uint32_t)(k * 64 + (uint32_t)__builtin_ctzll(row[k]));
-                size_t m = take_component(det, a, &p, x, y);
+                size_t m = mn_fill_plane(a, p.stride, p.w, p.h, x, y, det->spans,
+                                         det->spans_cap).n;
                 if (!first || !plane_empty(&p, a, y)) {
                     clear_plane(&p, c);
                     paint_spans(&p, c, det->spans, m);

@@ -47,118 +47,6 @@ struct run_ctx {
     size_t n;
 };
 
-/* Bitmaps and frame of one fill, copied into locals: stores into the visited bitmap could
- * alias the detector's own fields, which would force a reload after every store. */
-struct fill_view {
-    const uint8_t *px;
-    size_t stride;
-    uint64_t *visited;
-    const uint64_t *mask; /* NULL without a mask */
-    size_t row_words;
-    uint32_t w, h;
-    uint8_t t;
-};
-
-static inline int is_free_fg(const struct fill_view *v, const uint8_t *row,
-                             const uint64_t *vrow, const uint64_t *mrow, uint32_t x)
-{
-    if (row[x] <= v->t)
-        return 0;
-    if ((vrow[x >> 6] >> (x & 63)) & 1u)
-        return 0;
-    return !(mrow && ((mrow[x >> 6] >> (x & 63)) & 1u));
-}
-
-static void mark_span(struct mn_detector *det, uint64_t *vrow, uint32_t x0, uint32_t x1,
-                      uint32_t y)
-{
-    mn_bits_set_range(vrow, x0, x1);
-    uint32_t w0 = x0 >> 6, w1 = x1 >> 6;
-    if (w0 < det->dirty_lo[y])
-        det->dirty_lo[y] = w0;
-    if (w1 > det->dirty_hi[y])
-        det->dirty_hi[y] = w1;
-}
-
-/* Fills the region holding free foreground pixel (sx, sy) with 8-connectivity. Returns the
- * number of spans in det->spans and its bbox; *complete is 0 when the queue overflowed. */
-static size_t fill_region(struct mn_detector *det, const struct mn_frame_view *f, uint32_t sx,
-                          uint32_t sy, uint32_t bbox[4], int *complete)
-{
-    const struct fill_view v = {f->px, f->stride, det->visited,
-                                det->has_mask ? det->mask : NULL, det->row_words, f->w, f->h,
-                                f->t};
-    struct mn_span *spans = det->spans;
-    const size_t cap = det->spans_cap;
-    size_t n = 0;
-    *complete = 1;
-
-    const uint8_t *row = v.px + (size_t)sy * v.stride;
-    uint64_t *vrow = v.visited + (size_t)sy * v.row_words;
-    const uint64_t *mrow = v.mask ? v.mask + (size_t)sy * v.row_words : NULL;
-    uint32_t a = sx, b = sx;
-    while (a > 0 && is_free_fg(&v, row, vrow, mrow, a - 1))
-        a--;
-    while (b + 1 < v.w && is_free_fg(&v, row, vrow, mrow, b + 1))
-        b++;
-    mark_span(det, vrow, a, b, sy);
-    spans[n++] = (struct mn_span){(uint16_t)a, (uint16_t)b, sy};
-    uint32_t bx0 = a, bx1 = b, by0 = sy, by1 = sy;
-
-    for (size_t i = 0; i < n; i++) {
-        struct mn_span s = spans[i];
-        uint32_t lo = s.x0 > 0 ? s.x0 - 1u : 0u;
-        uint32_t hi = s.x1 + 1u < v.w ? s.x1 + 1u : v.w - 1u;
-        for (int dir = -1; dir <= 1; dir += 2) {
-            if ((dir < 0 && s.y == 0) || (dir > 0 && s.y + 1 >= v.h))
-                continue;
-            uint32_t ny = s.y + (uint32_t)dir;
-            const uint8_t *nrow = v.px + (size_t)ny * v.stride;
-            uint64_t *nvrow = v.visited + (size_t)ny * v.row_words;
-            const uint64_t *nmrow = v.mask ? v.mask + (size_t)ny * v.row_words : NULL;
-            uint32_t x = lo;
-            while (x <= hi) {
-                /* Jump over visited and masked pixels a word at a time: the row a span was
-                 * found from is mostly visited already. */
-                uint64_t taken = nvrow[x >> 6] | (nmrow ? nmrow[x >> 6] : 0u);
-                uint64_t free_bits = ~taken >> (x & 63);
-                if (!free_bits) {
-                    x = (x | 63u) + 1u;
-                    continue;
-                }
-                x += (uint32_t)__builtin_ctzll(free_bits);
-                if (x > hi)
-                    break;
-                if (nrow[x] <= v.t) {
-                    x++;
-                    continue;
-                }
-                uint32_t ra = x, rb = x;
-                while (ra > 0 && is_free_fg(&v, nrow, nvrow, nmrow, ra - 1))
-                    ra--;
-                while (rb + 1 < v.w && is_free_fg(&v, nrow, nvrow, nmrow, rb + 1))
-                    rb++;
-                x = rb + 2; /* rb + 1 is background or the frame edge */
-                if (n == cap) {
-                    *complete = 0;
-                    continue;
-                }
-                mark_span(det, nvrow, ra, rb, ny);
-                spans[n++] = (struct mn_span){(uint16_t)ra, (uint16_t)rb, ny};
-                bx0 = ra < bx0 ? ra : bx0;
-                bx1 = rb > bx1 ? rb : bx1;
-                by0 = ny < by0 ? ny : by0;
-                by1 = ny > by1 ? ny : by1;
-            }
-        }
-    }
-    bbox[0] = bx0;
-    bbox[1] = by0;
-    bbox[2] = bx1;
-    bbox[3] = by1;
-    return n;
-}
-
 static void emit_blob(struct mn_detector *det, const struct mn_frame_view *f,
                       const struct mn_span *spans, size_t n, void *vctx)
 {
@@ -176,11 +64,11 @@ static void emit_blob(struct mn_detector *det, const struct mn_frame_view *f,
 static void process_region(struct mn_detector *det, const struct mn_frame_view *f, uint32_t x,
                            uint32_t y, struct run_ctx *ctx)
 {
-    uint32_t bbox[4];
-    int complete;
-    size_t n = fill_region(det, f, x, y, bbox, &complete);
+    const struct mn_fill r = mn_fill_image(det, f, x, y);
+    const uint32_t *bbox = r.bbox;
+    const size_t n = r.n;
     det->stats.candidates++;
-    if (!complete) {
+    if (!r.complete) {
         det->stats.rejected_complex++;
         return;
     }
@@ -197,37 +85,31 @@ static void process_region(struct mn_detector *det, const struct mn_frame_view *
     mn_detect_morph_region(det, f, n, bbox[0], bbox[1], bbox[2], bbox[3], emit_blob, ctx);
 }
 
-/* The last w % 64 pixels of a row, one by one. */
 /* Seeds wait MN_SEED_LAG rows before their regions are filled: by then the scan has just read
- * the rows a marker spans, so the fill finds them in the first-level cache instead of meeting
- * one cache miss per row (measured: that stall was a third of the per-blob time). */
-static void push_seeds(struct mn_detector *det, uint32_t x, uint32_t y, uint64_t bits)
+ * the rows a marker spans, so the centroid pass finds them in the first-level cache instead of
+ * meeting one cache miss per row (measured: that stall was a third of the per-blob time). */
+static inline void push_seeds(struct mn_detector *det, uint32_t x, uint32_t y, uint64_t bits)
 {
+    const size_t word = (size_t)y * det->row_words + (x >> 6);
     if (det->has_mask)
-        bits &= ~det->mask[(size_t)y * det->row_words + (x >> 6)];
+        bits &= ~det->mask[word];
     if (!bits)
         return;
-    size_t slot = (det->seed_head + det->seed_count) % det->seed_cap;
-    det->seeds[slot] = (struct mn_seed_chunk){y, x, bits};
-    det->seed_count++;
+    det->bright[word] = bits;
+    det->seeds[det->seed_head + det->seed_count++] = (struct mn_seed_word){y, x >> 6};
 }
 
-/* Fills the regions of queued seed chunks from rows up to last_y, in scan order. */
+/* Fills the regions of queued seed words from rows up to last_y, in scan order. A word's bits
+ * that an earlier fill took are gone from the bitmap already. */
 static void drain_seeds(struct mn_detector *det, const struct mn_frame_view *f, uint32_t last_y,
                         struct run_ctx *ctx)
 {
     while (det->seed_count > 0 && det->seeds[det->seed_head].y <= last_y) {
-        struct mn_seed_chunk c = det->seeds[det->seed_head];
-        det->seed_head = (det->seed_head + 1) % det->seed_cap;
+        const struct mn_seed_word c = det->seeds[det->seed_head++];
         det->seed_count--;
-        const uint64_t *vword = det->visited + (size_t)c.y * det->row_words + (c.x >> 6);
-        uint64_t seeds = c.bits & ~*vword;
-        while (seeds) {
-            uint32_t i = (uint32_t)__builtin_ctzll(seeds);
-            process_region(det, f, c.x + i, c.y, ctx);
-            /* The fill may have visited more of this chunk; drop bits up to i as well. */
-            seeds = c.bits & ~*vword & (~1ull << i);
-        }
+        const uint64_t *word = det->bright + (size_t)c.y * det->row_words + c.k;
+        while (*word)
+            process_region(det, f, c.k * 64 + (uint32_t)__builtin_ctzll(*word), c.y, ctx);
     }
 }
 
@@ -259,18 +141,10 @@ static void scan_row(struct mn_detector *det, const struct mn_frame_view *f, uin
         push_seeds(det, full64, y, tail);
 }
 
-static void clear_visited(struct mn_detector *det, uint32_t h)
+void mn_detect_scan_through(struct mn_detector *det, const struct mn_frame_view *f, uint32_t y)
 {
-    for (uint32_t y = 0; y < h; y++) {
-        uint32_t lo = det->dirty_lo[y], hi = det->dirty_hi[y];
-        if (lo > hi)
-            continue;
-        uint64_t *row = det->visited + (size_t)y * det->row_words;
-        for (uint32_t k = lo; k <= hi; k++)
-            row[k] = 0;
-        det->dirty_lo[y] = UINT32_MAX;
-        det->dirty_hi[y] = 0;
-    }
+    for (; det->scanned_rows <= y; det->scanned_rows++)
+        scan_row(det, f, det->scanned_rows);
 }
 
 int mn_detector_run(struct mn_detector *det, const uint8_t *pixels, uint32_t w, uint32_t h,
@@ -289,13 +163,14 @@ int mn_detector_run(struct mn_detector *det, const uint8_t *pixels, uint32_t w, 
 
     struct run_ctx ctx = {out, cap, 0};
     det->seed_head = det->seed_count = 0;
+    det->scanned_rows = 0;
     for (uint32_t y = 0; y < h; y++) {
-        scan_row(det, &f, y);
+        if (y >= det->scanned_rows)
+            mn_detect_scan_through(det, &f, y);
         if (y >= MN_SEED_LAG)
             drain_seeds(det, &f, y - MN_SEED_LAG, &ctx);
     }
     drain_seeds(det, &f, UINT32_MAX, &ctx);
-    clear_visited(det, h);
     *n_out = ctx.n;
     return 0;
 }
