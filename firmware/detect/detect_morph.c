@@ -135,6 +135,43 @@ static int plane_empty(const struct patch *p, const uint64_t *plane, uint32_t y)
     return any == 0;
 }
 
+/* The component's dilation by r (r >= 1) into one of the planes grown and spare; returns it. */
+static uint64_t *dilate(const struct patch *p, uint32_t r, uint64_t *comp, uint64_t *grown,
+                        uint64_t *spare, uint64_t *tmp)
+{
+    morph_step(p, comp, grown, tmp, 0);
+    for (uint32_t i = 1; i < r; i++) {
+        morph_step(p, grown, spare, tmp, 0);
+        uint64_t *swap = grown;
+        grown = spare;
+        spare = swap;
+    }
+    return grown;
+}
+
+/* For one-word patches: true when the plane is one 8-connected set by the simplest proof,
+ * nonempty rows consecutive, each a single run touching the one above. True for nearly every
+ * marker; false does not mean the opposite (the general labelling then decides). */
+static int one_simple_component(const struct patch *p, const uint64_t *plane)
+{
+    uint64_t prev = 0;
+    int state = 0; /* 0 before the set, 1 inside, 2 after */
+    for (uint32_t r = 0; r < p->h; r++) {
+        const uint64_t c = plane[(size_t)r * p->stride];
+        if (!c) {
+            state = state ? 2 : 0;
+            continue;
+        }
+        if (state == 2 || (c & (c + (c & (0 - c)))) != 0)
+            return 0; /* a second piece below, or more than one run in this row */
+        if (state == 1 && !(c & (prev | (prev << 1) | (prev >> 1))))
+            return 0;
+        state = 1;
+        prev = c;
+    }
+    return state != 0;
+}
+
 /* Writes every run of the plane as spans in image coordinates. */
 static size_t plane_spans(const struct patch *p, const uint64_t *plane, struct mn_span *out)
 {
@@ -202,6 +239,20 @@ void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view 
         }
     }
 
+    if (p.words == 1 && one_simple_component(&p, a)) {
+        /* The usual marker: one component, a. When its final set (see below) is the whole
+         * region, the fill's own spans are the blob's, with nothing to relabel. */
+        uint64_t *grown = dilate(&p, r, a, d, b, tmp), diff = 0;
+        for (uint32_t y = 0; y < p.h; y++) {
+            const size_t i = (size_t)y * p.stride;
+            const uint64_t g = (grown[i] & region[i]) | a[i];
+            diff |= g ^ region[i];
+            grown[i] = g;
+        }
+        emit(det, f, det->spans, diff ? plane_spans(&p, grown, det->spans) : n, ctx);
+        return;
+    }
+
     /* Components in raster order. Nearly always there is just one: then the plane itself (kept
      * in c before take_component empties a) is the component, with no repainting. */
     copy_plane(&p, a, c);
@@ -220,14 +271,7 @@ void mn_detect_morph_region(struct mn_detector *det, const struct mn_frame_view 
                 first = 0;
                 /* Final set: the component, plus the region's pixels within r of it that no
                  * earlier component claimed. */
-                uint64_t *grown = d, *spare = b;
-                morph_step(&p, c, grown, tmp, 0);
-                for (uint32_t i = 1; i < r; i++) {
-                    morph_step(&p, grown, spare, tmp, 0);
-                    uint64_t *swap = grown;
-                    grown = spare;
-                    spare = swap;
-                }
+                uint64_t *grown = dilate(&p, r, c, d, b, tmp);
                 for (uint32_t row_i = 0; row_i < p.h; row_i++) {
                     uint64_t *g = prow(grown, &p, row_i), *reg = prow(region, &p, row_i);
                     const uint64_t *comp = prow(c, &p, row_i);

@@ -310,6 +310,34 @@ static void test_opening_splits_neck(void **state)
     mn_detector_free(opened);
 }
 
+/* Two squares joined by a one-pixel neck, the second starting on the row after the first ends:
+ * once the opening cuts the neck, the pieces sit on consecutive rows without touching. They
+ * are two blobs, each with the neck pixel next to it (within the radius) and not the others. */
+static void test_opening_splits_stepped_neck(void **state)
+{
+    (void)state;
+    const uint32_t w = 24, h = 16;
+    uint8_t px[24 * 16];
+    memset(px, 10, sizeof px);
+    for (uint32_t y = 2; y <= 7; y++)
+        memset(px + y * w + 2, 200, 6);
+    for (uint32_t y = 8; y <= 13; y++)
+        memset(px + y * w + 12, 200, 6);
+    px[7 * w + 8] = px[7 * w + 9] = px[7 * w + 10] = px[8 * w + 11] = 200;
+    struct mn_blob b[8];
+    size_t n = 0;
+    struct mn_detector *det = make_detector(100, 1, w, h);
+    assert_int_equal(mn_detector_run(det, px, w, h, w, b, 8, &n), 0);
+    assert_int_equal(n, 2);
+    assert_int_equal(b[0].area, 37);
+    assert_int_equal(b[1].area, 37);
+    assert_true(fabs(b[0].x - (36 * 4.5 + 8) / 37) < 1e-9);
+    assert_true(fabs(b[0].y - (36 * 4.5 + 7) / 37) < 1e-9);
+    assert_true(fabs(b[1].x - (36 * 14.5 + 11) / 37) < 1e-9);
+    assert_true(fabs(b[1].y - (36 * 10.5 + 8) / 37) < 1e-9);
+    mn_detector_free(det);
+}
+
 /* Closing fills a one-pixel hole; opening removes a lone bright pixel. */
 static void test_closing_and_specks(void **state)
 {
@@ -716,6 +744,7 @@ int main(void)
         cmocka_unit_test(test_morphology_matches_whole_frame),
         cmocka_unit_test(test_merged_and_touching),
         cmocka_unit_test(test_opening_splits_neck),
+        cmocka_unit_test(test_opening_splits_stepped_neck),
         cmocka_unit_test(test_closing_and_specks),
         cmocka_unit_test(test_border_blobs),
         cmocka_unit_test(test_masks),
