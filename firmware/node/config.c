@@ -47,6 +47,10 @@ static const struct setting settings[] = {
     {"auto_threshold", T_BOOL, OFF(auto_threshold), 0, 1, NULL, "threshold from histogram"},
     {"min_area", T_U32, OFF(min_area), 1, 100000, NULL, "smallest blob, pixels"},
     {"max_area", T_U32, OFF(max_area), 1, 1000000, NULL, "largest blob, pixels"},
+    {"morph_radius", T_U32, OFF(morph_radius), 0, 8, NULL,
+     "per-blob opening + closing radius (0 = none)"},
+    {"binary_centroid", T_BOOL, OFF(binary_centroid), 0, 1, NULL,
+     "plain mean of blob pixels instead of intensity-weighted"},
     {"rate", T_DOUBLE, OFF(rate_hz), 0.1, 1000.0, NULL, "trigger rate, Hz"},
     {"epoch_ns", T_I64, OFF(epoch_ns), 0, 9.2e18, NULL, "realtime ns of frame 0 (0 = start)"},
     {"trigger_delay_us", T_I32, OFF(trigger_delay_us), -1000000, 1000000, NULL,
@@ -86,6 +90,7 @@ void mn_config_defaults(struct mn_config *cfg)
     cfg->threshold = 128;
     cfg->min_area = 2;
     cfg->max_area = 5000;
+    cfg->morph_radius = 1;
     cfg->rate_hz = 100.0;
     cfg->pair_window_pct = 25;
     cfg->sim_seed = 1;

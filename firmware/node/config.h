@@ -50,6 +50,8 @@ struct mn_config {
     uint32_t threshold;
     bool auto_threshold;
     uint32_t min_area, max_area;   /* blob area filter, pixels */
+    uint32_t morph_radius;         /* per-blob opening + closing, (2r+1)^2 square; 0 = none */
+    bool binary_centroid;          /* the seed's plain mean instead of the weighted centroid */
 
     double rate_hz;                /* trigger rate */
     int64_t epoch_ns;              /* CLOCK_REALTIME of global frame 0; 0 = start time */

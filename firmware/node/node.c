@@ -218,6 +218,8 @@ struct mn_node *mn_node_new(const struct mn_config *cfg, char *err, size_t errle
     dc.threshold = (uint8_t)cfg->threshold;
     dc.min_area = cfg->min_area;
     dc.max_area = cfg->max_area;
+    dc.morph_radius = (uint8_t)cfg->morph_radius;
+    dc.centroid_mode = cfg->binary_centroid ? MN_CENTROID_BINARY : MN_CENTROID_WEIGHTED;
     dc.max_blobs = MAX_BLOBS;
     const char *bad = mn_detect_config_check(&dc);
     if (bad != NULL) {

@@ -36,6 +36,8 @@ static void good_file(void **state)
                             "  threshold=90  \n"
                             "\n"
                             "auto_threshold = yes\n"
+                            "morph_radius = 2\n"
+                            "binary_centroid = yes\n"
                             "trigger_delay_us = -250\n"
                             "rate = 120\n"
                             "sim_missed = 0.25\n"
@@ -55,6 +57,8 @@ static void good_file(void **state)
     assert_int_equal(cfg.hub_port, 7000);
     assert_int_equal(cfg.threshold, 90);
     assert_true(cfg.auto_threshold);
+    assert_int_equal(cfg.morph_radius, 2);
+    assert_true(cfg.binary_centroid);
     assert_int_equal(cfg.trigger_delay_us, -250);
     assert_true(cfg.rate_hz == 120.0);
     assert_true(cfg.sim_missed == 0.25);
@@ -89,6 +93,7 @@ static void bad_files(void **state)
     expect_bad_line("rate = fast\n", 1, "not a number");
     expect_bad_line("rate = 5000\n", 1, "out of range");
     expect_bad_line("auto_threshold = maybe\n", 1, "yes/no");
+    expect_bad_line("morph_radius = 9\n", 1, "out of range 0..8");
     expect_bad_line("source = webcam\n", 1, "v4l2:/dev/videoN");
     expect_bad_line("source = replay:\n", 1, "lacks its argument");
     expect_bad_line("source = libcamera:x\n", 1, "camera index");
