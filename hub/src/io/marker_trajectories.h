@@ -49,4 +49,10 @@ struct MarkerTrajectories {
 // M001, M002, ... (1-based) for output markers that have no name from a marker list.
 std::string DefaultMarkerName(size_t index);
 
+// The axis along which a body is tallest: the median over frames of the spread of the markers
+// along each axis. A standing, walking or running person is 1.5-1.9 m tall and at most about
+// 1 m wide or deep in any one frame, whatever the distance travelled. Returns -1 when no frame
+// has at least three markers.
+int DetectUpAxis(const MarkerTrajectories& motion);
+
 }  // namespace mocap

@@ -17,14 +17,9 @@ struct MotionVolume {
   Eigen::Vector3d Up() const { return Eigen::Vector3d::Unit(up_axis); }
 };
 
-// The axis along which a body is tallest: the median over frames of the spread of the markers
-// along each axis. A standing, walking or running person is 1.5-1.9 m tall and at most about
-// 1 m wide or deep in any one frame, whatever the distance travelled. Returns -1 when no frame
-// has at least three markers.
-int DetectUpAxis(const MarkerTrajectories& motion);
-
 // Bounding box of every present point. Throws std::runtime_error when the motion has no points.
-// up_axis < 0 detects it (and throws when it cannot be detected).
+// up_axis < 0 detects it with DetectUpAxis (io/marker_trajectories.h), and throws when it
+// cannot be detected.
 MotionVolume ComputeMotionVolume(const MarkerTrajectories& motion, int up_axis = -1);
 
 }  // namespace mocap

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/marker_trajectories.h"
 #include "io/trc.h"
 #include "recon/reconstructor.h"
 #include "recon/testing/synthetic_scene.h"
@@ -18,41 +19,12 @@
 namespace mocap {
 namespace {
 
-// Axis along which the markers of a frame spread most, as a median over frames: a person is
-// taller than wide.
-int UpAxis(const MarkerTrajectories& motion) {
-  std::vector<double> spreads[3];
-  for (size_t f = 0; f < motion.NumFrames(); f += 10) {
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(1e18), high = -low;
-    int present = 0;
-    for (size_t m = 0; m < motion.NumMarkers(); ++m) {
-      if (!motion.Has(f, m)) continue;
-      low = low.cwiseMin(motion.At(f, m));
-      high = high.cwiseMax(motion.At(f, m));
-      ++present;
-    }
-    if (present < 3) continue;
-    for (int a = 0; a < 3; ++a) spreads[a].push_back(high[a] - low[a]);
-  }
-  int best = 2;
-  double best_median = -1.0;
-  for (int a = 0; a < 3; ++a) {
-    if (spreads[a].empty()) continue;
-    std::nth_element(spreads[a].begin(), spreads[a].begin() + spreads[a].size() / 2, spreads[a].end());
-    const double median = spreads[a][spreads[a].size() / 2];
-    if (median > best_median) {
-      best_median = median;
-      best = a;
-    }
-  }
-  return best;
-}
-
 class RealMotion : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(RealMotion, MeetsTheIssueThresholds) {
   const MarkerTrajectories motion = ReadTrc(GetParam());
-  const int up = UpAxis(motion);
+  const int up = DetectUpAxis(motion);
+  ASSERT_GE(up, 0);
   // Permute axes so that up is z, the convention of the synthetic ring rig.
   const auto z_up = [up](const Eigen::Vector3d& p) {
     return Eigen::Vector3d(p[(up + 1) % 3], p[(up + 2) % 3], p[up]);
