@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "track/assignment.h"
+#include "util/assignment.h"
 
 namespace mocap {
 
@@ -155,6 +156,93 @@ void Tracker::AssignByDistance(const std::vector<int>& slots,
   }
 }
 
+void Tracker::ReassignAroundMisses(const std::vector<ReconstructedPoint>& points,
+                                   std::vector<int>* point_of_slot, std::vector<char>* point_taken,
+                                   std::vector<char>* moved) {
+  const int num_slots = static_cast<int>(tracks_.size());
+  // Confirmed tracks whose constant-velocity prediction failed: no point within the gate, or a
+  // point (from the prediction pass, which allows more) beyond it.
+  std::vector<int> misses;
+  for (int slot = 0; slot < num_slots; ++slot) {
+    const Track& track = tracks_[slot];
+    if (track.state != State::kActive) continue;
+    const int p = (*point_of_slot)[slot];
+    if (p < 0 || (points[p].point_in_world - track.filter.position()).norm() > GateOf(track)) {
+      misses.push_back(slot);
+    }
+  }
+  if (misses.empty()) return;
+  const double radius = options_.wide_gate_mm;
+  const double radius2 = radius * radius;
+  auto near_a_miss = [&](const Eigen::Vector3d& x) {
+    for (int miss : misses) {
+      if ((x - tracks_[miss].filter.position()).squaredNorm() <= radius2) return true;
+    }
+    return false;
+  };
+  // The neighbourhood: confirmed tracks predicted near a miss, with the points they hold and
+  // the free points near a miss.
+  std::vector<int> slots;
+  std::vector<int> cluster_points;
+  for (int slot = 0; slot < num_slots; ++slot) {
+    if (tracks_[slot].state != State::kActive || !near_a_miss(tracks_[slot].filter.position())) continue;
+    slots.push_back(slot);
+    if ((*point_of_slot)[slot] >= 0) cluster_points.push_back((*point_of_slot)[slot]);
+  }
+  for (int p = 0; p < static_cast<int>(points.size()); ++p) {
+    if (!(*point_taken)[p] && near_a_miss(points[p].point_in_world)) cluster_points.push_back(p);
+  }
+  if (slots.size() < 2 || cluster_points.empty()) return;
+
+  // A limb that accelerates hard drags all its markers off their predictions alike: what tells
+  // them apart is where they sit relative to each other. Each track's centre is its prediction
+  // shifted by the mean innovation of the nearest tracks holding a point (itself included), and
+  // the neighbourhood is assigned again against these centres. Two markers that traded points
+  // leave that mean unchanged, so the shift does not depend on the assignment being right.
+  constexpr int kNeighbours = 4;
+  const int n = static_cast<int>(slots.size());
+  std::vector<int> point_of_row(n);
+  for (int r = 0; r < n; ++r) point_of_row[r] = (*point_of_slot)[slots[r]];
+  std::vector<Eigen::Vector3d> centres(n);
+  Eigen::MatrixXd cost(n, cluster_points.size());
+  std::vector<std::pair<double, int>> nearest;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int r = 0; r < n; ++r) {
+      const Eigen::Vector3d& prediction = tracks_[slots[r]].filter.position();
+      nearest.clear();
+      for (int o = 0; o < n; ++o) {
+        if (point_of_row[o] < 0) continue;
+        nearest.emplace_back((tracks_[slots[o]].filter.position() - prediction).squaredNorm(), o);
+      }
+      const int k = std::min<int>(kNeighbours, static_cast<int>(nearest.size()));
+      std::partial_sort(nearest.begin(), nearest.begin() + k, nearest.end());
+      Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+      for (int j = 0; j < k; ++j) {
+        const int o = nearest[j].second;
+        shift += points[point_of_row[o]].point_in_world - tracks_[slots[o]].filter.position();
+      }
+      centres[r] = k > 0 ? Eigen::Vector3d(prediction + shift / k) : prediction;
+      for (size_t c = 0; c < cluster_points.size(); ++c) {
+        cost(r, c) = (points[cluster_points[c]].point_in_world - centres[r]).norm();
+      }
+    }
+    const std::vector<int> column_of_row = SolveAssignment(cost, radius);
+    for (int r = 0; r < n; ++r) {
+      point_of_row[r] = column_of_row[r] < 0 ? -1 : cluster_points[column_of_row[r]];
+    }
+  }
+  for (int r = 0; r < n; ++r) {
+    const int before = (*point_of_slot)[slots[r]];
+    if (before >= 0) (*point_taken)[before] = 0;
+  }
+  for (int r = 0; r < n; ++r) {
+    const int slot = slots[r];
+    if (point_of_row[r] != (*point_of_slot)[slot]) (*moved)[slot] = 1;
+    (*point_of_slot)[slot] = point_of_row[r];
+    if (point_of_row[r] >= 0) (*point_taken)[point_of_row[r]] = 1;
+  }
+}
+
 void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
                      std::vector<TrackSample>* samples) {
   if (!predicted_ || predicted_frame_ != frame_number) Predict(frame_number);
@@ -185,6 +273,8 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     }
   }
   AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
+  std::vector<char> moved(num_slots, 0);
+  ReassignAroundMisses(points, &point_of_slot, &point_taken, &moved);
 
   // 3. Rigid-model predictions for confirmed tracks still without a point, from the markers
   // measured so far this frame.
@@ -234,6 +324,12 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     const std::vector<int> before = point_of_slot;
     AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
     for (int slot : slots) found_wide[slot] = before[slot] < 0 && point_of_slot[slot] >= 0;
+  }
+  for (int slot = 0; slot < num_slots; ++slot) {
+    if (moved[slot] && point_of_slot[slot] >= 0 &&
+        (points[point_of_slot[slot]].point_in_world - tracks_[slot].filter.position()).norm() > GateOf(tracks_[slot])) {
+      found_wide[slot] = 1;
+    }
   }
 
   // 5. Measurement updates.

@@ -77,6 +77,8 @@ class Tracker {
   TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
   Eigen::Vector3d NeighbourInnovation(int slot, const std::vector<char>& measured,
                                       const std::vector<Eigen::Vector3d>& position_of_slot) const;
+  void ReassignAroundMisses(const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
+                            std::vector<char>* point_taken, std::vector<char>* moved);
   void AssignByDistance(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& centres,
                         const std::vector<double>& gates, const std::vector<ReconstructedPoint>& points,
                         std::vector<int>* point_of_slot, std::vector<char>* point_taken);

@@ -160,6 +160,75 @@ TEST(Tracker, GreedyAssignmentAlsoTracks) {
   EXPECT_EQ(metrics.swaps, 0);
 }
 
+// A hand of four markers 60 mm apart along its swing swings at 20 mm per frame (50 Hz), then
+// accelerates hard: in one frame it moves 50 mm further than predicted, so every marker lands
+// 10 mm short of its neighbour's prediction. Nearest-prediction assignment (and the prediction
+// pass, which serves each prediction the nearest point) would shift every identity by one
+// marker; the limb's common innovation tells them apart. A fifth marker stays still far away.
+// Points go straight to the tracker: with_hints emulates the prediction pass (each prediction,
+// most trusted first, takes the nearest free point within 1.5 gates).
+int SwapsInFastSwing(bool with_hints) {
+  TrackerOptions options;
+  options.rate_hz = 50.0;
+  Tracker tracker(options);
+  const int frames = 50;
+  const int jump_frame = 30;
+  auto truth_at = [&](int f) {
+    double x = 20.0 * f;
+    if (f >= jump_frame) x += 50.0 * (f - jump_frame + 1);  // 70 mm per frame after the jump
+    std::vector<Eigen::Vector3d> markers;
+    for (int m = 0; m < 4; ++m) markers.emplace_back(x + 60.0 * m, 0.0, 1000.0);
+    markers.emplace_back(0.0, 1500.0, 1000.0);
+    return markers;
+  };
+  std::map<int, int> truth_of_marker;
+  int swaps = 0;
+  int measured_after_jump = 0;
+  std::vector<TrackSample> samples;
+  for (int f = 0; f < frames; ++f) {
+    const auto truth = truth_at(f);
+    std::vector<ReconstructedPoint> points(truth.size());
+    for (size_t m = 0; m < truth.size(); ++m) {
+      points[m].point_in_world = truth[m];
+      points[m].num_views = 6;
+    }
+    const std::vector<PointPrediction> predictions = tracker.Predict(f);
+    if (with_hints) {
+      for (const PointPrediction& prediction : predictions) {
+        int best = -1;
+        double best_distance = 1.5 * prediction.gate_mm;
+        for (size_t m = 0; m < points.size(); ++m) {
+          const double d = (points[m].point_in_world - prediction.point_in_world).norm();
+          if (points[m].track_hint < 0 && d < best_distance) {
+            best = static_cast<int>(m);
+            best_distance = d;
+          }
+        }
+        if (best >= 0) points[best].track_hint = prediction.track_id;
+      }
+    }
+    samples.clear();
+    tracker.Update(f, points, &samples);
+    for (const TrackSample& sample : samples) {
+      for (size_t m = 0; m < truth.size(); ++m) {
+        if ((sample.position - truth_at(static_cast<int>(sample.frame_number))[m]).norm() > 1e-6) continue;
+        auto it = truth_of_marker.find(sample.marker);
+        if (it != truth_of_marker.end() && it->second != static_cast<int>(m)) ++swaps;
+        truth_of_marker[sample.marker] = static_cast<int>(m);
+        if (f >= jump_frame && sample.kind == SampleKind::kMeasured) ++measured_after_jump;
+      }
+    }
+  }
+  EXPECT_EQ(tracker.NumMarkers(), 5);
+  EXPECT_EQ(measured_after_jump, 5 * (frames - jump_frame)) << "with_hints " << with_hints;
+  return swaps;
+}
+
+TEST(Tracker, FastSwingKeepsIdentities) {
+  EXPECT_EQ(SwapsInFastSwing(false), 0);
+  EXPECT_EQ(SwapsInFastSwing(true), 0);
+}
+
 TEST(TrackerOptions, CheckRejectsBadValues) {
   TrackerOptions options;
   EXPECT_NO_THROW(options.Check());
