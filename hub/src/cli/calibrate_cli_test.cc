@@ -1,32 +1,17 @@
 // End-to-end tests of the calibration commands through the mocap-hub executable: a simulated
 // wand session with an L-frame, calibrate wand, calibrate world and eval-calibration without
 // any alignment; refusals and bad input end as one line on stderr with a non-zero status.
-#include <sys/wait.h>
-
-#include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/hub_process_testing.h"
+
+namespace mocap {
 namespace {
-
-struct HubRun {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 class CalibrateCliTest : public testing::Test {
  protected:
@@ -36,23 +21,7 @@ class CalibrateCliTest : public testing::Test {
     std::filesystem::create_directories(dir_);
   }
 
-  HubRun Hub(const std::string& args) const {
-    const std::string command = std::string("cd '") + dir_ + "' && '" + MOCAP_HUB_EXE + "' " + args +
-                                " > stdout.txt 2> stderr.txt";
-    HubRun run;
-    const int raw = std::system(command.c_str());
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    run.out = ReadAll(dir_ + "/stdout.txt");
-    run.err = ReadAll(dir_ + "/stderr.txt");
-    return run;
-  }
-
-  void ExpectOneLineError(const HubRun& run, const std::string& cause) const {
-    EXPECT_NE(run.status, 0);
-    EXPECT_EQ(run.err.rfind("mocap-hub: error: ", 0), 0u) << run.err;
-    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
-    EXPECT_NE(run.err.find(cause), std::string::npos) << run.err;
-  }
+  HubRun Hub(const std::string& args) const { return RunHub(dir_, args); }
 
   std::string dir_;
 };
@@ -106,3 +75,4 @@ TEST_F(CalibrateCliTest, BadInputIsOneLineWithNonZeroStatus) {
 }
 
 }  // namespace
+}  // namespace mocap

@@ -1,54 +1,20 @@
 // End-to-end tests of mocap-hub: the sim -> eval pipeline on a self-made motion, and one-line
 // errors with a non-zero status for bad input.
-#include <sys/wait.h>
-
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/hub_process_testing.h"
 #include "io/trc.h"
 #include "sim/synthetic_motion.h"
 
 namespace mocap {
 namespace {
 
-struct HubRun {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-HubRun Hub(const std::string& args) {
-  const std::string dir = testing::TempDir();
-  const std::string command = std::string("'") + MOCAP_HUB_EXE + "' " + args + " > " + dir + "/hub_out.txt 2> " +
-                              dir + "/hub_err.txt";
-  HubRun run;
-  const int raw = std::system(command.c_str());
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  run.out = ReadAll(dir + "/hub_out.txt");
-  run.err = ReadAll(dir + "/hub_err.txt");
-  return run;
-}
-
-// A failure is exactly one line on stderr, naming the cause, with a non-zero status.
-void ExpectOneLineError(const HubRun& run, const std::string& cause) {
-  EXPECT_NE(run.status, 0);
-  EXPECT_EQ(run.err.rfind("mocap-hub: error: ", 0), 0u) << run.err;
-  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
-  EXPECT_NE(run.err.find(cause), std::string::npos) << run.err;
-}
+HubRun Hub(const std::string& args) { return RunHub(testing::TempDir(), args); }
 
 class MocapHubTest : public testing::Test {
  protected:
