@@ -67,10 +67,7 @@ static void recording_vanishes_and_returns(void **state)
     cfg.reopen_min_ms = 20;
     cfg.reopen_max_ms = 80;
     cfg.log_level = MN_LOG_ERR;
-    char err[MN_CONFIG_ERR];
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     memset(&rx, 0, sizeof(rx));
 
     step_until(node, hub, 2000, twenty_frames);
@@ -124,10 +121,7 @@ static void hub_unreachable(void **state)
     test_node_config(&cfg, dir, port);
     cfg.as_fast_as_possible = true;
     cfg.frames = 50;
-    char err[MN_CONFIG_ERR];
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     assert_int_equal(mn_node_run(node), 0);
     struct mn_node_stats st;
     mn_node_get_stats(node, &st);

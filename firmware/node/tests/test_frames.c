@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "framefile/framefile.h"
+#include "node/node.h"
 #include "wire/wire.h"
 
 #define CELL 40 /* spots sit one per 40 x 40 cell, away from the borders */
@@ -161,4 +162,13 @@ void test_drain(int fd, struct test_rx *rx)
             rx->bad_datagrams++;
         }
     }
+}
+
+struct mn_node *test_node_new(const struct mn_config *cfg)
+{
+    char err[MN_CONFIG_ERR];
+    struct mn_node *node = mn_node_new(cfg, err, sizeof(err));
+    if (node == NULL)
+        fail_msg("node: %s", err);
+    return node;
 }

@@ -26,6 +26,10 @@ int test_hub_socket(uint16_t *port);
 /* Node config for a replay of dir sending to 127.0.0.1:hub_port. */
 void test_node_config(struct mn_config *cfg, const char *dir, uint16_t hub_port);
 
+struct mn_node;
+/* mn_node_new that fails the test, with the node's reason, when the node cannot start. */
+struct mn_node *test_node_new(const struct mn_config *cfg);
+
 #endif
 
 /* What a test "hub" received, decoded with the wire module. */

@@ -68,9 +68,7 @@ static void replay_as_fast_as_possible(void **state)
     cfg.frames = FRAMES;
     char err[MN_CONFIG_ERR];
     assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     assert_int_equal(mn_node_run(node), 0);
     struct mn_node_stats st;
     mn_node_get_stats(node, &st);
@@ -155,10 +153,7 @@ static void paced_replay_with_control(void **state)
     cfg.rate_hz = 200.0;
     cfg.replay_loop = true;
     cfg.wait_for_start = true;
-    char err[MN_CONFIG_ERR];
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     uint16_t node_port = mn_node_local_port(node);
     memset(&rx, 0, sizeof(rx));
 
@@ -307,10 +302,7 @@ static void control_reaches_detector(void **state)
     cfg.rate_hz = 200.0;
     cfg.replay_loop = true;
     snprintf(cfg.identify_led, sizeof(cfg.identify_led), "%s", led);
-    char err[MN_CONFIG_ERR];
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     uint16_t node_port = mn_node_local_port(node);
     memset(&rx, 0, sizeof(rx));
     run_for(node, hub, 150);
@@ -395,10 +387,7 @@ static void hub_found_by_announce(void **state)
     cfg.hub_host[0] = '\0';
     cfg.announce_port = announce_port;
     cfg.replay_loop = true;
-    char err[MN_CONFIG_ERR];
-    struct mn_node *node = mn_node_new(&cfg, err, sizeof(err));
-    if (node == NULL)
-        fail_msg("node: %s", err);
+    struct mn_node *node = test_node_new(&cfg);
     memset(&rx, 0, sizeof(rx));
     run_for(node, hub, 100);
     struct mn_node_stats st;
