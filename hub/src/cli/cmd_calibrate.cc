@@ -365,7 +365,8 @@ void RunCalibrateIntrinsics(CalibrateIntrinsicsArgs args) {
                              {"target", TargetTypeName(args.target.type)},
                              {"rms_px", result.rms_px},
                              {"images", views}};
-  document["cameras"][0]["note"] = "intrinsics only: rotation and translation are placeholders";
+  document["cameras"][0]["note"] =
+      "intrinsics only: rotation is identity and translation zero until calibrate wand solves them";
   WriteJsonFile(document, args.output);
   if (args.json) {
     std::printf("%s\n", document["calibration"].dump().c_str());
