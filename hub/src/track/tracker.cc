@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "track/assignment.h"
 #include "util/assignment.h"
@@ -105,22 +106,22 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
 }
 
 Eigen::Vector3d Tracker::NeighbourInnovation(int slot, const std::vector<char>& measured,
-                                             const std::vector<Eigen::Vector3d>& position_of_slot) const {
+                                             const std::vector<Eigen::Vector3d>& position_of_slot, int neighbours,
+                                             double radius_mm) const {
   // The markers of one limb lag their predictions together when it accelerates hard: the
   // nearest measured markers' innovations (measured - predicted) say by how much.
-  constexpr int kNeighbours = 3;
-  constexpr double kRadiusMm = 400.0;
   const Eigen::Vector3d& centre = tracks_[slot].filter.position();
-  std::pair<double, int> nearest[kNeighbours];
+  std::pair<double, int> nearest[kMaxNeighbours];
+  neighbours = std::min(neighbours, kMaxNeighbours);
   int count = 0;
   for (int other = 0; other < static_cast<int>(measured.size()); ++other) {
     if (!measured[other]) continue;
     const double d = (tracks_[other].filter.position() - centre).norm();
-    if (d > kRadiusMm) continue;
-    if (count < kNeighbours) {
+    if (d > radius_mm) continue;
+    if (count < neighbours) {
       nearest[count++] = {d, other};
     } else {
-      auto* farthest = std::max_element(nearest, nearest + kNeighbours);
+      auto* farthest = std::max_element(nearest, nearest + neighbours);
       if (d < farthest->first) *farthest = {d, other};
     }
   }
@@ -199,31 +200,25 @@ void Tracker::ReassignAroundMisses(const std::vector<ReconstructedPoint>& points
   // shifted by the mean innovation of the nearest tracks holding a point (itself included), and
   // the neighbourhood is assigned again against these centres. Two markers that traded points
   // leave that mean unchanged, so the shift does not depend on the assignment being right.
-  constexpr int kNeighbours = 4;
   const int n = static_cast<int>(slots.size());
   std::vector<int> point_of_row(n);
   for (int r = 0; r < n; ++r) point_of_row[r] = (*point_of_slot)[slots[r]];
-  std::vector<Eigen::Vector3d> centres(n);
+  // Only the neighbourhood's tracks, with the points this round gave them, count as measured.
+  std::vector<char> measured(num_slots, 0);
+  std::vector<Eigen::Vector3d> position_of_slot(num_slots);
   Eigen::MatrixXd cost(n, cluster_points.size());
-  std::vector<std::pair<double, int>> nearest;
   for (int pass = 0; pass < 2; ++pass) {
     for (int r = 0; r < n; ++r) {
-      const Eigen::Vector3d& prediction = tracks_[slots[r]].filter.position();
-      nearest.clear();
-      for (int o = 0; o < n; ++o) {
-        if (point_of_row[o] < 0) continue;
-        nearest.emplace_back((tracks_[slots[o]].filter.position() - prediction).squaredNorm(), o);
-      }
-      const int k = std::min<int>(kNeighbours, static_cast<int>(nearest.size()));
-      std::partial_sort(nearest.begin(), nearest.begin() + k, nearest.end());
-      Eigen::Vector3d shift = Eigen::Vector3d::Zero();
-      for (int j = 0; j < k; ++j) {
-        const int o = nearest[j].second;
-        shift += points[point_of_row[o]].point_in_world - tracks_[slots[o]].filter.position();
-      }
-      centres[r] = k > 0 ? Eigen::Vector3d(prediction + shift / k) : prediction;
+      measured[slots[r]] = point_of_row[r] >= 0;
+      if (measured[slots[r]]) position_of_slot[slots[r]] = points[point_of_row[r]].point_in_world;
+    }
+    for (int r = 0; r < n; ++r) {
+      const Eigen::Vector3d centre =
+          tracks_[slots[r]].filter.position() +
+          NeighbourInnovation(slots[r], measured, position_of_slot, kMaxNeighbours,
+                              std::numeric_limits<double>::infinity());
       for (size_t c = 0; c < cluster_points.size(); ++c) {
-        cost(r, c) = (points[cluster_points[c]].point_in_world - centres[r]).norm();
+        cost(r, c) = (points[cluster_points[c]].point_in_world - centre).norm();
       }
     }
     const std::vector<int> column_of_row = SolveAssignment(cost, radius);
@@ -311,7 +306,8 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     if (track.state == State::kActive) {
       slots.push_back(slot);
       centres.push_back(has_rigid[slot] ? rigid_position[slot]
-                                        : track.filter.position() + NeighbourInnovation(slot, measured, position_of_slot));
+                                        : track.filter.position() +
+                                              NeighbourInnovation(slot, measured, position_of_slot, 3, 400.0));
       gates.push_back(options_.wide_gate_mm);
     } else if (track.state == State::kLost) {
       slots.push_back(slot);

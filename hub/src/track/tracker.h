@@ -75,8 +75,12 @@ class Tracker {
   void FreeTrack(int slot);
   double GateOf(const Track& track) const;
   TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
+  // Mean innovation (measured - predicted) of the `neighbours` measured tracks predicted
+  // nearest to slot's prediction, within radius_mm (neighbours <= kMaxNeighbours).
+  static constexpr int kMaxNeighbours = 4;
   Eigen::Vector3d NeighbourInnovation(int slot, const std::vector<char>& measured,
-                                      const std::vector<Eigen::Vector3d>& position_of_slot) const;
+                                      const std::vector<Eigen::Vector3d>& position_of_slot, int neighbours,
+                                      double radius_mm) const;
   void ReassignAroundMisses(const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
                             std::vector<char>* point_taken, std::vector<char>* moved);
   void AssignByDistance(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& centres,
