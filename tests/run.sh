@@ -8,6 +8,8 @@ cd "$(dirname "$0")/.."
 
 build=${MOCAP_BUILD_DIR:-build}
 jobs=$(nproc)
+# ccache (when installed) keys on paths relative to the checkout, so every clone shares hits.
+export CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1
 
 # Test-side validators from PyPI live in a virtual environment of their own.
 if [ -f tests/requirements.txt ]; then
