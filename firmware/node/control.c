@@ -16,7 +16,8 @@ struct mn_control {
     mocap_v1_Packet packet; /* decode scratch: large, so kept here rather than on the stack */
     uint8_t mask_bits[MN_CONTROL_MAX_MASK_CELLS / 8];
     uint32_t mask_cell_px, mask_cells_x, mask_cells_y, mask_chunk_count;
-    uint64_t mask_chunks_seen; /* bit i: chunk i arrived */
+    uint32_t mask_first_sequence; /* sequence of chunk 0 of the image being assembled */
+    uint64_t mask_chunks_seen;    /* bit i: chunk i arrived; all set once the image is applied */
 };
 
 struct mn_control *mn_control_new(uint32_t node_id)
@@ -40,25 +41,32 @@ static enum mn_control_result reject(const char **reason, const char *why)
 }
 
 static enum mn_control_result mask_chunk(struct mn_control *ctl, const mocap_v1_SetMask *m,
-                                         struct mn_command *out, const char **reason)
+                                         uint32_t sequence, struct mn_command *out,
+                                         const char **reason)
 {
     uint64_t cells = (uint64_t)m->cells_x * m->cells_y;
     if (cells > MN_CONTROL_MAX_MASK_CELLS)
         return reject(reason, "control: mask image larger than the node accepts");
     if (m->chunk_count > MAX_MASK_CHUNKS)
         return reject(reason, "control: mask image in too many chunks");
-    /* A chunk of another image, or one seen already (the hub sends the mask again), starts a
-     * new assembly; chunks of one image may arrive in any order. */
+    /* Chunks of one image may arrive in any order and more than once; a chunk of another image
+     * (another first sequence or shape) starts a new assembly. Unsigned wrap-around keeps the
+     * first sequence right across 2^32. */
+    uint32_t first_sequence = sequence - m->chunk_index;
     uint64_t bit = UINT64_C(1) << m->chunk_index;
     if (m->cell_px != ctl->mask_cell_px || m->cells_x != ctl->mask_cells_x ||
         m->cells_y != ctl->mask_cells_y || m->chunk_count != ctl->mask_chunk_count ||
-        (ctl->mask_chunks_seen & bit) != 0) {
+        first_sequence != ctl->mask_first_sequence) {
         memset(ctl->mask_bits, 0, sizeof(ctl->mask_bits));
         ctl->mask_chunks_seen = 0;
         ctl->mask_cell_px = m->cell_px;
         ctl->mask_cells_x = m->cells_x;
         ctl->mask_cells_y = m->cells_y;
         ctl->mask_chunk_count = m->chunk_count;
+        ctl->mask_first_sequence = first_sequence;
+    } else if ((ctl->mask_chunks_seen & bit) != 0) {
+        *reason = "control: mask chunk already stored";
+        return MN_CONTROL_IGNORED;
     }
     /* The wire checked bit_offset + bits against the image size (rounded up to a byte). */
     memcpy(ctl->mask_bits + m->bit_offset / 8, m->bits.bytes, m->bits.size);
@@ -68,7 +76,6 @@ static enum mn_control_result mask_chunk(struct mn_control *ctl, const mocap_v1_
         out->kind = MN_CMD_NONE;
         return MN_CONTROL_ACCEPTED;
     }
-    ctl->mask_chunks_seen = 0;
     out->kind = MN_CMD_MASK_BITS;
     out->u.bits.cell_px = m->cell_px;
     out->u.bits.cells_x = m->cells_x;
@@ -78,12 +85,13 @@ static enum mn_control_result mask_chunk(struct mn_control *ctl, const mocap_v1_
 }
 
 static enum mn_control_result set_mask(struct mn_control *ctl, const mocap_v1_SetMask *m,
-                                       struct mn_command *out, const char **reason)
+                                       uint32_t sequence, struct mn_command *out,
+                                       const char **reason)
 {
     if (m->bits.size > 0) {
         if (m->rects_count > 0 || m->clear)
             return reject(reason, "control: mask mixes an image with rectangles or clear");
-        return mask_chunk(ctl, m, out, reason);
+        return mask_chunk(ctl, m, sequence, out, reason);
     }
     if (m->rects_count > 0) {
         if (m->clear)
@@ -108,9 +116,6 @@ static enum mn_control_result set_mask(struct mn_control *ctl, const mocap_v1_Se
 static enum mn_control_result control(struct mn_control *ctl, const mocap_v1_Control *c,
                                       struct mn_command *out, const char **reason)
 {
-    if (c->node_id != 0 && c->node_id != ctl->node_id)
-        return MN_CONTROL_IGNORED;
-    out->sequence = c->sequence;
     switch (c->which_command) {
     case mocap_v1_Control_start_tag:
         if (c->command.start.rate_millihz < 100 || c->command.start.rate_millihz > 1000000)
@@ -143,7 +148,7 @@ static enum mn_control_result control(struct mn_control *ctl, const mocap_v1_Con
         out->u.exposure.gain_milli = c->command.set_exposure.gain_milli;
         return MN_CONTROL_ACCEPTED;
     case mocap_v1_Control_set_mask_tag:
-        return set_mask(ctl, &c->command.set_mask, out, reason);
+        return set_mask(ctl, &c->command.set_mask, c->sequence, out, reason);
     case mocap_v1_Control_preview_request_tag:
         out->kind = MN_CMD_PREVIEW;
         out->u.preview.thresholded =
@@ -167,9 +172,24 @@ enum mn_control_result mn_control_handle(struct mn_control *ctl, const uint8_t *
 {
     memset(out, 0, sizeof(*out));
     const char *why = NULL;
-    if (mn_wire_decode(data, len, &ctl->packet, &why) < 0)
+    if (mn_wire_parse(data, len, &ctl->packet, &why) < 0)
         return reject(reason, why);
     const mocap_v1_Packet *p = &ctl->packet;
+    /* A v1 Control for this node is answered even when refused below, so the hub learns why;
+     * one that breaks the wire rules is refused before the address check, as it always was. */
+    bool control_packet = !announce_socket && p->version == MN_WIRE_VERSION &&
+                          p->which_body == mocap_v1_Packet_control_tag;
+    bool for_us = control_packet && (p->body.control.node_id == 0 ||
+                                     p->body.control.node_id == ctl->node_id);
+    if (for_us) {
+        out->acknowledge = true;
+        out->sequence = p->body.control.sequence;
+    }
+    why = mn_wire_validate(p);
+    if (why != NULL)
+        return reject(reason, why);
+    if (control_packet && !for_us)
+        return MN_CONTROL_IGNORED;
     if (announce_socket) {
         if (p->which_body != mocap_v1_Packet_hub_announce_tag)
             return reject(reason, "announce port: not a HubAnnounce");

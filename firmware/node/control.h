@@ -33,6 +33,9 @@ struct mn_mask_rect {
 
 struct mn_command {
     enum mn_command_kind kind;
+    /* The datagram was a v1 Control for this node (or every node), whatever its fate: the node
+     * answers `sequence` with a ControlAck. False for anything it could not read as one. */
+    bool acknowledge;
     uint32_t sequence;
     union {
         struct { int64_t epoch_ns; uint32_t rate_millihz; } start;       /* also ANNOUNCE */
@@ -49,7 +52,8 @@ struct mn_command {
 
 enum mn_control_result {
     MN_CONTROL_ACCEPTED = 0,
-    MN_CONTROL_IGNORED = 1,  /* well-formed but addressed to another node */
+    MN_CONTROL_IGNORED = 1,  /* well-formed but addressed to another node, or nothing to do (a
+                                mask chunk already stored) */
     MN_CONTROL_REJECTED = -1,
 };
 
@@ -61,7 +65,11 @@ struct mn_control *mn_control_new(uint32_t node_id);
 void mn_control_free(struct mn_control *ctl);
 
 /* Decodes one datagram. announce_socket: it arrived on the broadcast socket, where only
- * HubAnnounce is valid (and Control is not). On MN_CONTROL_REJECTED *reason says why. */
+ * HubAnnounce is valid (and Control is not). On MN_CONTROL_REJECTED, and on MN_CONTROL_IGNORED
+ * with out->acknowledge, *reason says why.
+ * Mask image chunks: one image's chunks carry consecutive sequences (proto/mocap.proto), so the
+ * assembly is keyed on the sequence of chunk 0; a chunk stored already is ignored (the hub sent
+ * it again because an ack was lost), a chunk with another first sequence starts a new image. */
 enum mn_control_result mn_control_handle(struct mn_control *ctl, const uint8_t *data, size_t len,
                                          bool announce_socket, struct mn_command *out,
                                          const char **reason);

@@ -6,6 +6,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,7 @@ struct mn_node {
     uint8_t datagram[MN_WIRE_MAX_DATAGRAM];
     uint8_t rx[MN_WIRE_MAX_DATAGRAM + 1];
     struct preview_state preview;
+    char apply_error[MN_WIRE_MAX_ACK_REASON + 1]; /* why the last command failed, for its ack */
 
     int stop_fd;
     int64_t start_ns, end_ns;    /* end_ns 0: no time bound */
@@ -365,8 +367,25 @@ static void set_identify_led(struct mn_node *n, bool on)
         close(fd);
 }
 
-static void apply_command(struct mn_node *n, const struct mn_command *cmd, uint32_t from_ipv4)
+/* Logs why a command could not be applied and keeps the text for its ControlAck. */
+static const char *apply_failed(struct mn_node *n, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+
+static const char *apply_failed(struct mn_node *n, const char *fmt, ...)
 {
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(n->apply_error, sizeof(n->apply_error), fmt, ap);
+    va_end(ap);
+    mn_log_warn("%s", n->apply_error);
+    return n->apply_error;
+}
+
+/* NULL when the command took effect, otherwise why not (valid until the next command). */
+static const char *apply_command(struct mn_node *n, const struct mn_command *cmd,
+                                 uint32_t from_ipv4)
+{
+    const char *failed = NULL;
     switch (cmd->kind) {
     case MN_CMD_NONE:
         break;
@@ -397,10 +416,12 @@ static void apply_command(struct mn_node *n, const struct mn_command *cmd, uint3
             n->gain_milli = cmd->u.exposure.gain_milli;
         if (n->capture != NULL && cmd->u.exposure.exposure_us != 0 &&
             mn_capture_set_exposure(n->capture, n->exposure_us) < 0)
-            mn_log_warn("cannot set exposure %u us: %s", n->exposure_us, strerror(errno));
+            failed = apply_failed(n, "cannot set exposure %u us: %s", n->exposure_us,
+                                  strerror(errno));
         if (n->capture != NULL && cmd->u.exposure.gain_milli != 0 &&
-            mn_capture_set_gain(n->capture, n->gain_milli) < 0)
-            mn_log_warn("cannot set gain %u/1000: %s", n->gain_milli, strerror(errno));
+            mn_capture_set_gain(n->capture, n->gain_milli) < 0 && failed == NULL)
+            failed = apply_failed(n, "cannot set gain %u/1000: %s", n->gain_milli,
+                                  strerror(errno));
         break;
     case MN_CMD_MASK_CLEAR:
         mn_detector_clear_mask(n->detector);
@@ -415,7 +436,7 @@ static void apply_command(struct mn_node *n, const struct mn_command *cmd, uint3
             rects[i].h = cmd->u.rects.rects[i].h;
         }
         if (mn_detector_set_mask_rects(n->detector, rects, cmd->u.rects.n) < 0)
-            mn_log_warn("mask rectangles refused: %s", strerror(errno));
+            failed = apply_failed(n, "mask rectangles refused: %s", strerror(errno));
         else
             mn_log_info("mask: %zu rectangles", cmd->u.rects.n);
         break;
@@ -423,7 +444,7 @@ static void apply_command(struct mn_node *n, const struct mn_command *cmd, uint3
     case MN_CMD_MASK_BITS:
         if (mn_detector_set_mask_bits(n->detector, cmd->u.bits.cell_px, cmd->u.bits.cells_x,
                                       cmd->u.bits.cells_y, cmd->u.bits.bits) < 0)
-            mn_log_warn("mask image refused: %s", strerror(errno));
+            failed = apply_failed(n, "mask image refused: %s", strerror(errno));
         else
             mn_log_info("mask: %ux%u cells of %u px", cmd->u.bits.cells_x, cmd->u.bits.cells_y,
                         cmd->u.bits.cell_px);
@@ -449,6 +470,28 @@ static void apply_command(struct mn_node *n, const struct mn_command *cmd, uint3
             set_grid(n, cmd->u.announce.epoch_ns, cmd->u.announce.rate_millihz);
         break;
     }
+    return failed;
+}
+
+/* Answers one Control addressed to this node, so the hub knows its request's fate. */
+static void send_ack(struct mn_node *n, uint32_t sequence, enum mn_control_result r,
+                     const char *why)
+{
+    switch (r) {
+    case MN_CONTROL_ACCEPTED:
+        mn_wire_control_ack(n->cfg.node_id, sequence, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED,
+                            NULL, &n->packet);
+        break;
+    case MN_CONTROL_IGNORED:
+        mn_wire_control_ack(n->cfg.node_id, sequence, mocap_v1_ControlResult_CONTROL_RESULT_IGNORED,
+                            why, &n->packet);
+        break;
+    case MN_CONTROL_REJECTED:
+        mn_wire_control_ack(n->cfg.node_id, sequence,
+                            mocap_v1_ControlResult_CONTROL_RESULT_REJECTED, why, &n->packet);
+        break;
+    }
+    send_packet(n);
 }
 
 static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
@@ -465,6 +508,7 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
         const char *why = NULL;
         struct mn_command cmd;
         enum mn_control_result r;
+        memset(&cmd, 0, sizeof(cmd));
         if (!announce_socket && !from_hub) {
             r = MN_CONTROL_REJECTED; /* control only from the hub we send to */
             why = mn_net_hub_known(n->net) ? "control from a host that is not the hub"
@@ -481,10 +525,14 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
                         announce_socket ? "announce" : "control", len, why);
         } else if (r == MN_CONTROL_IGNORED) {
             n->stats.control_ignored++;
+        } else if ((why = apply_command(n, &cmd, from_ipv4)) != NULL) {
+            r = MN_CONTROL_REJECTED; /* well-formed, but the camera or detector refused it */
+            n->stats.control_rejected++;
         } else {
             n->stats.control_accepted++;
-            apply_command(n, &cmd, from_ipv4);
         }
+        if (cmd.acknowledge)
+            send_ack(n, cmd.sequence, r, why);
     }
 }
 

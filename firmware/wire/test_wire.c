@@ -164,6 +164,87 @@ static void test_status_version_must_be_utf8(void **state)
 	assert_non_null(mn_wire_validate(&packet));
 }
 
+/* Acks: the result decides whether a reason is required, and long reasons are cut whole. */
+static void test_control_ack_rules(void **state)
+{
+	static mocap_v1_Packet packet, back;
+	uint8_t buf[MN_WIRE_MAX_DATAGRAM];
+	char long_reason[200];
+	size_t size, i;
+	const char *reason;
+	(void)state;
+
+	mn_wire_control_ack(3, 4000000000u, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED, NULL,
+			    &packet);
+	assert_int_equal(mn_wire_encode(&packet, buf, sizeof buf, &size, &reason), 0);
+	assert_int_equal(mn_wire_decode(buf, size, &back, &reason), 0);
+	assert_int_equal(back.which_body, mocap_v1_Packet_control_ack_tag);
+	assert_int_equal(back.body.control_ack.node_id, 3);
+	assert_int_equal(back.body.control_ack.sequence, 4000000000u);
+	assert_string_equal(back.body.control_ack.reason, "");
+
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED, "", &packet);
+	assert_string_equal(mn_wire_validate(&packet), "control ack: rejected without a reason");
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED, "why", &packet);
+	assert_string_equal(mn_wire_validate(&packet), "control ack: applied with a reason");
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_IGNORED, "", &packet);
+	assert_null(mn_wire_validate(&packet));
+	mn_wire_control_ack(0, 1, mocap_v1_ControlResult_CONTROL_RESULT_IGNORED, "x", &packet);
+	assert_string_equal(mn_wire_validate(&packet), "control ack: node_id 0");
+	mn_wire_control_ack(3, 1, (mocap_v1_ControlResult)3, "x", &packet);
+	assert_string_equal(mn_wire_validate(&packet), "control ack: unknown result");
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED, "bad \xc3", &packet);
+	assert_string_equal(mn_wire_validate(&packet), "control ack: reason is not UTF-8");
+
+	/* 94 ASCII bytes then a two-byte character straddling the 95-byte limit: cut before it. */
+	memset(long_reason, 'a', sizeof long_reason);
+	long_reason[94] = (char)0xc3;
+	long_reason[95] = (char)0xa9;
+	long_reason[sizeof long_reason - 1] = '\0';
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED, long_reason,
+			    &packet);
+	assert_int_equal(strlen(packet.body.control_ack.reason), 94);
+	assert_null(mn_wire_validate(&packet));
+	long_reason[94] = 'a';
+	long_reason[95] = 'a';
+	mn_wire_control_ack(3, 1, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED, long_reason,
+			    &packet);
+	assert_int_equal(strlen(packet.body.control_ack.reason), MN_WIRE_MAX_ACK_REASON);
+	assert_int_equal(mn_wire_encode(&packet, buf, sizeof buf, &size, &reason), 0);
+	assert_int_equal(mn_wire_decode(buf, size, &back, &reason), 0);
+	for (i = 0; i < MN_WIRE_MAX_ACK_REASON; i++)
+		assert_int_equal(back.body.control_ack.reason[i], 'a');
+}
+
+/* The parse step alone keeps a packet the rules refuse, so a node can still read its sequence. */
+static void test_parse_without_rules(void **state)
+{
+	static mocap_v1_Packet packet;
+	uint8_t buf[MN_WIRE_MAX_DATAGRAM];
+	const uint8_t garbage[] = {0xff, 0xff, 0xff, 0xff, 0x0f};
+	size_t size;
+	const char *reason;
+	(void)state;
+
+	packet = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+	packet.version = 1;
+	packet.which_body = mocap_v1_Packet_control_tag;
+	packet.body.control.node_id = 4;
+	packet.body.control.sequence = 77;
+	packet.body.control.which_command = mocap_v1_Control_preview_request_tag;
+	packet.body.control.command.preview_request.downscale = 8;
+	assert_int_equal(mn_wire_encode(&packet, buf, sizeof buf, &size, &reason), 0);
+	buf[size - 1] = 3; /* downscale 8 -> 3: well-formed protobuf, against the rules */
+	assert_int_equal(mn_wire_decode(buf, size, &packet, &reason), -1);
+	assert_string_equal(reason, "control: preview downscale must be 1, 2, 4 or 8");
+	packet = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+	assert_int_equal(mn_wire_parse(buf, size, &packet, &reason), 0);
+	assert_int_equal(packet.body.control.sequence, 77);
+	assert_non_null(mn_wire_validate(&packet));
+	assert_int_equal(mn_wire_parse(garbage, sizeof garbage, &packet, &reason), -1);
+	assert_int_equal(mn_wire_parse(buf, 0, &packet, &reason), -1);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -173,6 +254,8 @@ int main(void)
 		cmocka_unit_test(test_rejects_wrong_version_and_bad_fields),
 		cmocka_unit_test(test_control_rules),
 		cmocka_unit_test(test_status_version_must_be_utf8),
+		cmocka_unit_test(test_control_ack_rules),
+		cmocka_unit_test(test_parse_without_rules),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

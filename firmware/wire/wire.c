@@ -2,6 +2,7 @@
 #include "wire/wire.h"
 
 #include <math.h>
+#include <string.h>
 #include <pb_decode.h>
 #include <pb_encode.h>
 
@@ -145,6 +146,27 @@ static const char *validate_control(const mocap_v1_Control *c)
 	}
 }
 
+static const char *validate_control_ack(const mocap_v1_ControlAck *a)
+{
+	const char *end = memchr(a->reason, '\0', sizeof(a->reason));
+	size_t len;
+
+	if (a->node_id == 0)
+		return "control ack: node_id 0";
+	if (a->result < _mocap_v1_ControlResult_MIN || a->result > _mocap_v1_ControlResult_MAX)
+		return "control ack: unknown result";
+	if (end == NULL)
+		return "control ack: reason too long";
+	len = (size_t)(end - a->reason);
+	if (!is_utf8(a->reason))
+		return "control ack: reason is not UTF-8";
+	if (a->result == mocap_v1_ControlResult_CONTROL_RESULT_APPLIED && len > 0)
+		return "control ack: applied with a reason";
+	if (a->result == mocap_v1_ControlResult_CONTROL_RESULT_REJECTED && len == 0)
+		return "control ack: rejected without a reason";
+	return NULL;
+}
+
 static const char *validate_preview_chunk(const mocap_v1_PreviewChunk *p)
 {
 	if (p->node_id == 0)
@@ -178,6 +200,8 @@ const char *mn_wire_validate(const mocap_v1_Packet *packet)
 		if (packet->body.hub_announce.port == 0 || packet->body.hub_announce.port > 65535)
 			return "hub announce: port out of range";
 		return NULL;
+	case mocap_v1_Packet_control_ack_tag:
+		return validate_control_ack(&packet->body.control_ack);
 	default:
 		return "packet without body";
 	}
@@ -190,10 +214,9 @@ static int fail(const char **reason, const char *why)
 	return -1;
 }
 
-int mn_wire_decode(const uint8_t *data, size_t size, mocap_v1_Packet *packet, const char **reason)
+int mn_wire_parse(const uint8_t *data, size_t size, mocap_v1_Packet *packet, const char **reason)
 {
 	pb_istream_t stream;
-	const char *problem;
 
 	if (size == 0)
 		return fail(reason, "empty datagram");
@@ -202,6 +225,15 @@ int mn_wire_decode(const uint8_t *data, size_t size, mocap_v1_Packet *packet, co
 	stream = pb_istream_from_buffer(data, size);
 	if (!pb_decode(&stream, mocap_v1_Packet_fields, packet))
 		return fail(reason, "not a protocol buffer packet");
+	return 0;
+}
+
+int mn_wire_decode(const uint8_t *data, size_t size, mocap_v1_Packet *packet, const char **reason)
+{
+	const char *problem;
+
+	if (mn_wire_parse(data, size, packet, reason) < 0)
+		return -1;
 	problem = mn_wire_validate(packet);
 	if (problem)
 		return fail(reason, problem);
@@ -221,6 +253,29 @@ int mn_wire_encode(const mocap_v1_Packet *packet, uint8_t *out, size_t cap, size
 		return fail(reason, "datagram does not fit the buffer or 1400 bytes");
 	*size = stream.bytes_written;
 	return 0;
+}
+
+void mn_wire_control_ack(uint32_t node_id, uint32_t sequence, mocap_v1_ControlResult result,
+			 const char *reason, mocap_v1_Packet *packet)
+{
+	mocap_v1_ControlAck *a;
+	size_t len = reason ? strlen(reason) : 0;
+
+	*packet = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
+	packet->version = MN_WIRE_VERSION;
+	packet->which_body = mocap_v1_Packet_control_ack_tag;
+	a = &packet->body.control_ack;
+	a->node_id = node_id;
+	a->sequence = sequence;
+	a->result = result;
+	if (len > MN_WIRE_MAX_ACK_REASON) {
+		len = MN_WIRE_MAX_ACK_REASON;
+		while (len > 0 && ((unsigned char)reason[len] & 0xc0) == 0x80)
+			len--; /* never cut a multi-byte character */
+	}
+	if (len > 0)
+		memcpy(a->reason, reason, len);
+	a->reason[len] = '\0';
 }
 
 uint32_t mn_wire_chunk_count(size_t n_markers)

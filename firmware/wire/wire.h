@@ -29,6 +29,8 @@ extern "C" {
 #define MN_WIRE_MARKER_FLAGS_MASK 7u
 #define MN_WIRE_FRAME_FLAGS_MASK 3u
 #define MN_WIRE_SUBPIXEL_SCALE 256.0
+/* ControlAck.reason: bytes of text (mocap.options max_size less nanopb's NUL). */
+#define MN_WIRE_MAX_ACK_REASON 95u
 
 /* One marker as the detector reports it, before fixed-point encoding. */
 struct mn_wire_marker {
@@ -41,6 +43,10 @@ struct mn_wire_marker {
 
 /* NULL when the packet obeys every v1 rule, else the first broken rule. */
 const char *mn_wire_validate(const mocap_v1_Packet *packet);
+
+/* Parses one datagram into *packet without checking the v1 rules: for a receiver that needs a
+ * field (a Control's sequence) of a packet it will still refuse; mn_wire_validate says why. */
+int mn_wire_parse(const uint8_t *data, size_t size, mocap_v1_Packet *packet, const char **reason);
 
 /* Parses and validates one datagram into *packet. */
 int mn_wire_decode(const uint8_t *data, size_t size, mocap_v1_Packet *packet, const char **reason);
@@ -57,6 +63,11 @@ uint32_t mn_wire_chunk_count(size_t n_markers);
 int mn_wire_frame_chunk(const mocap_v1_MarkerFrame *header, const struct mn_wire_marker *markers,
 			size_t n_markers, uint32_t chunk_index, mocap_v1_Packet *packet,
 			const char **reason);
+
+/* Builds the ControlAck of one Control: reason NULL or "" when applied, otherwise cut to
+ * MN_WIRE_MAX_ACK_REASON bytes at a UTF-8 character boundary. */
+void mn_wire_control_ack(uint32_t node_id, uint32_t sequence, mocap_v1_ControlResult result,
+			 const char *reason, mocap_v1_Packet *packet);
 
 uint32_t mn_wire_to_subpixel(double px);
 double mn_wire_from_subpixel(uint32_t q);

@@ -69,7 +69,8 @@ INSTANTIATE_TEST_SUITE_P(AllVectors, Golden, ::testing::Range(0, GOLDEN_VECTOR_C
 TEST(GoldenReject, HubRefusesEveryRejectVector) {
   for (const char* name : {"wrong_version", "truncated", "oversized", "garbage", "chunk_count_mismatch",
                            "marker_outside_image", "extra_marker", "node_zero", "control_without_command",
-                           "preview_bad_downscale", "empty_frame_fields"}) {
+                           "preview_bad_downscale", "empty_frame_fields",
+                           "ack_rejected_without_reason"}) {
     const std::string bytes = ReadFile(kDir + "/reject/" + name + ".bin");
     const auto r = mocap::wire::Decode(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
     EXPECT_FALSE(r.ok) << name;

@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
   p.set_version(1);
   p.mutable_marker_frame();
   WriteFile(dir + "/reject/empty_frame_fields.bin", Serialize(p));
+  p.Clear();
+  p.set_version(1);
+  p.mutable_control_ack()->set_node_id(5);
+  p.mutable_control_ack()->set_result(mocap::v1::CONTROL_RESULT_REJECTED);
+  WriteFile(dir + "/reject/ack_rejected_without_reason.bin", Serialize(p));
   std::cout << "golden vectors written to " << dir << "\n";
   return 0;
 }

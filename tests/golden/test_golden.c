@@ -58,6 +58,7 @@ static void test_reject_vectors_are_refused(void **state)
 		"wrong_version", "truncated", "oversized", "garbage", "chunk_count_mismatch",
 		"marker_outside_image", "extra_marker", "node_zero", "control_without_command",
 		"preview_bad_downscale", "empty_frame_fields",
+		"ack_rejected_without_reason",
 	};
 	static mocap_v1_Packet packet;
 	uint8_t buf[2048];

@@ -9,7 +9,8 @@ static const char *const names[GOLDEN_VECTOR_COUNT] = {
 	"marker_frame_small", "marker_frame_empty",  "marker_frame_chunk2of6", "node_status",
 	"control_start",      "control_stop",        "control_threshold",      "control_exposure",
 	"control_mask_rects", "control_mask_bits",   "control_preview",        "control_identify",
-	"preview_chunk",      "hub_announce",
+	"preview_chunk",      "hub_announce",        "control_ack_applied",    "control_ack_rejected",
+	"control_ack_ignored",
 };
 
 const char *golden_vector_name(int i)
@@ -162,6 +163,17 @@ void golden_vector_build(int i, mocap_v1_Packet *p)
 		p->body.hub_announce.port = 30001;
 		p->body.hub_announce.epoch_ns = 1763700000000000000ull;
 		p->body.hub_announce.rate_millihz = 120000;
+		break;
+	case 14:
+		mn_wire_control_ack(5, 4000000000u, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED, NULL, p);
+		break;
+	case 15:
+		mn_wire_control_ack(5, 17, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED,
+				    "control: threshold outside 1..255", p);
+		break;
+	case 16:
+		mn_wire_control_ack(4294967295u, 0, mocap_v1_ControlResult_CONTROL_RESULT_IGNORED,
+				    "control: mask chunk already stored", p);
 		break;
 	}
 }

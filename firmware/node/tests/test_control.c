@@ -1,6 +1,7 @@
 /* Hub-to-node datagrams through the node's control handler: every command decoded to the right
- * typed command, mask images assembled from chunks in any order, and malformed, out-of-range,
- * misdirected or wrong-kind datagrams rejected with a reason. */
+ * typed command, mask images assembled from chunks in any order, malformed, out-of-range,
+ * misdirected or wrong-kind datagrams rejected with a reason, and which of them the node
+ * acknowledges. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -124,34 +125,47 @@ static void commands(void **state)
     mn_control_free(ctl);
 }
 
-/* A 100 x 60 cell mask in chunks of 256 bytes (2048 cells), sent out of order. */
+/* A 100 x 60 cell mask in chunks of 256 bytes (2048 cells): chunk i of the image whose chunk 0
+ * has sequence first_sequence, with the image's bytes from truth. */
+enum { MASK_CX = 100, MASK_CY = 60, MASK_BYTES = (MASK_CX * MASK_CY + 7) / 8, MASK_CHUNK = 256,
+       MASK_CHUNKS = (MASK_BYTES + MASK_CHUNK - 1) / MASK_CHUNK };
+
+static mocap_v1_Packet mask_chunk_packet(const uint8_t *truth, uint32_t first_sequence, uint32_t i)
+{
+    mocap_v1_Packet p = control_packet(5, mocap_v1_Control_set_mask_tag);
+    p.body.control.sequence = first_sequence + i;
+    mocap_v1_SetMask *m = &p.body.control.command.set_mask;
+    m->cell_px = 8;
+    m->cells_x = MASK_CX;
+    m->cells_y = MASK_CY;
+    m->chunk_index = i;
+    m->chunk_count = MASK_CHUNKS;
+    m->bit_offset = i * MASK_CHUNK * 8;
+    uint32_t n = MASK_BYTES - i * MASK_CHUNK < MASK_CHUNK ? MASK_BYTES - i * MASK_CHUNK : MASK_CHUNK;
+    m->bits.size = (pb_size_t)n;
+    memcpy(m->bits.bytes, truth + i * MASK_CHUNK, n);
+    return p;
+}
+
+/* Chunks sent out of order assemble into the image. */
 static void mask_image_chunks(void **state)
 {
     (void)state;
     struct mn_control *ctl = mn_control_new(5);
-    enum { CX = 100, CY = 60, BYTES = (CX * CY + 7) / 8, CHUNK = 256 };
+    enum { CX = MASK_CX, CY = MASK_CY, BYTES = MASK_BYTES };
     uint8_t truth[BYTES];
     for (int i = 0; i < BYTES; i++)
         truth[i] = (uint8_t)(i * 37 + 11);
-    const uint32_t count = (BYTES + CHUNK - 1) / CHUNK;
+    const uint32_t count = MASK_CHUNKS;
     const uint32_t order[] = {2, 0, 1};
     assert_int_equal(count, 3);
     struct mn_command cmd;
     const char *why;
     for (uint32_t k = 0; k < count; k++) {
-        uint32_t i = order[k];
-        mocap_v1_Packet p = control_packet(5, mocap_v1_Control_set_mask_tag);
-        mocap_v1_SetMask *m = &p.body.control.command.set_mask;
-        m->cell_px = 8;
-        m->cells_x = CX;
-        m->cells_y = CY;
-        m->chunk_index = i;
-        m->chunk_count = count;
-        m->bit_offset = i * CHUNK * 8;
-        uint32_t n = BYTES - i * CHUNK < CHUNK ? BYTES - i * CHUNK : CHUNK;
-        m->bits.size = (pb_size_t)n;
-        memcpy(m->bits.bytes, truth + i * CHUNK, n);
+        mocap_v1_Packet p = mask_chunk_packet(truth, 100, order[k]);
         assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+        assert_true(cmd.acknowledge);
+        assert_int_equal(cmd.sequence, 100 + order[k]);
         if (k + 1 < count) {
             assert_int_equal(cmd.kind, MN_CMD_NONE);
         } else {
@@ -162,6 +176,109 @@ static void mask_image_chunks(void **state)
             assert_memory_equal(cmd.u.bits.bits, truth, BYTES);
         }
     }
+    mn_control_free(ctl);
+}
+
+/* A chunk sent again (its ack was lost) is stored once and ignored after; a chunk of an image
+ * with another first sequence starts that image afresh, so stale chunks never mix into it. */
+static void mask_chunks_again_and_new_image(void **state)
+{
+    (void)state;
+    struct mn_control *ctl = mn_control_new(5);
+    uint8_t first[MASK_BYTES], second[MASK_BYTES];
+    for (int i = 0; i < MASK_BYTES; i++) {
+        first[i] = (uint8_t)(i * 37 + 11);
+        second[i] = (uint8_t)(i * 11 + 5);
+    }
+    struct mn_command cmd;
+    const char *why;
+    mocap_v1_Packet p = mask_chunk_packet(first, UINT32_MAX - 1, 1); /* wraps past 2^32 */
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_int_equal(cmd.kind, MN_CMD_NONE);
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_IGNORED);
+    assert_true(cmd.acknowledge);
+    assert_int_equal(cmd.sequence, UINT32_MAX);
+    assert_string_equal(why, "control: mask chunk already stored");
+    p = mask_chunk_packet(first, UINT32_MAX - 1, 2);
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_int_equal(cmd.sequence, 0);
+    assert_int_equal(cmd.kind, MN_CMD_NONE);
+    p = mask_chunk_packet(first, UINT32_MAX - 1, 0);
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_int_equal(cmd.kind, MN_CMD_MASK_BITS);
+    assert_memory_equal(cmd.u.bits.bits, first, MASK_BYTES);
+    /* Applied: the same chunk again changes nothing. */
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_IGNORED);
+
+    /* The next image reuses the shape; only its own chunks make it. */
+    for (uint32_t i = 0; i < MASK_CHUNKS; i++) {
+        p = mask_chunk_packet(second, 500, i);
+        assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+        assert_int_equal(cmd.kind, i + 1 < MASK_CHUNKS ? MN_CMD_NONE : MN_CMD_MASK_BITS);
+    }
+    assert_memory_equal(cmd.u.bits.bits, second, MASK_BYTES);
+    mn_control_free(ctl);
+}
+
+/* Which datagrams the node answers with a ControlAck: every v1 Control for it (or for every
+ * node), applied or refused; nothing it cannot read as one, nothing for another node. */
+static void acknowledgements(void **state)
+{
+    (void)state;
+    struct mn_control *ctl = mn_control_new(5);
+    struct mn_command cmd;
+    const char *why;
+
+    mocap_v1_Packet p = control_packet(5, mocap_v1_Control_stop_tag);
+    p.body.control.sequence = 7;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_true(cmd.acknowledge);
+    assert_int_equal(cmd.sequence, 7);
+    p.body.control.node_id = 0;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_true(cmd.acknowledge);
+
+    /* Refused by the node's range, then by the wire's own rules: answered with the reason. */
+    p = control_packet(5, mocap_v1_Control_set_threshold_tag);
+    p.body.control.sequence = 8;
+    p.body.control.command.set_threshold.value = 0;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_REJECTED);
+    assert_true(cmd.acknowledge);
+    assert_int_equal(cmd.sequence, 8);
+    assert_string_equal(why, "control: threshold outside 1..255");
+    p = control_packet(0, mocap_v1_Control_preview_request_tag);
+    p.body.control.sequence = 9;
+    p.body.control.command.preview_request.downscale = 3;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_REJECTED);
+    assert_true(cmd.acknowledge);
+    assert_int_equal(cmd.sequence, 9);
+    assert_string_equal(why, "control: preview downscale must be 1, 2, 4 or 8");
+
+    /* Not answered: another node's (good or bad), other versions, the announce socket,
+     * garbage, and packets that are not a Control. */
+    p.body.control.node_id = 6;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_REJECTED);
+    assert_false(cmd.acknowledge);
+    p = control_packet(6, mocap_v1_Control_stop_tag);
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_IGNORED);
+    assert_false(cmd.acknowledge);
+    p = control_packet(5, mocap_v1_Control_stop_tag);
+    p.version = 2;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_REJECTED);
+    assert_false(cmd.acknowledge);
+    p.version = 1;
+    assert_int_equal(handle(ctl, &p, true, &cmd, &why), MN_CONTROL_REJECTED);
+    assert_false(cmd.acknowledge);
+    const uint8_t garbage[] = {0x08, 0x01, 0x62, 0xff, 0xff};
+    assert_int_equal(mn_control_handle(ctl, garbage, sizeof(garbage), false, &cmd, &why),
+                     MN_CONTROL_REJECTED);
+    assert_false(cmd.acknowledge);
+    mocap_v1_Packet a = mocap_v1_Packet_init_zero;
+    a.version = 1;
+    a.which_body = mocap_v1_Packet_hub_announce_tag;
+    a.body.hub_announce.port = 7001;
+    assert_int_equal(handle(ctl, &a, true, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_false(cmd.acknowledge);
     mn_control_free(ctl);
 }
 
@@ -242,6 +359,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(commands),
         cmocka_unit_test(mask_image_chunks),
+        cmocka_unit_test(mask_chunks_again_and_new_image),
+        cmocka_unit_test(acknowledgements),
         cmocka_unit_test(rejections),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -158,6 +158,17 @@ void test_drain(int fd, struct test_rx *rx)
             rx->preview_h = c->height;
             rx->preview_chunks = c->chunk_count;
             memcpy(rx->preview + c->offset, c->data.bytes, c->data.size);
+        } else if (p.which_body == mocap_v1_Packet_control_ack_tag) {
+            const mocap_v1_ControlAck *a = &p.body.control_ack;
+            rx->ack_datagrams++;
+            if (a->sequence >= TEST_MAX_ACKS) {
+                rx->bad_datagrams++;
+                continue;
+            }
+            struct test_ack *t = &rx->acks[a->sequence];
+            t->count++;
+            t->result = a->result;
+            memcpy(t->reason, a->reason, sizeof(t->reason));
         } else {
             rx->bad_datagrams++;
         }

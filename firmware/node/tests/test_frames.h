@@ -43,6 +43,13 @@ struct test_frame {
     double x[TEST_MAX_MARKERS], y[TEST_MAX_MARKERS];
 };
 
+/* One ControlAck, by the sequence it answers. */
+#define TEST_MAX_ACKS 16
+struct test_ack {
+    uint32_t count, result;
+    char reason[96];
+};
+
 struct test_rx {
     struct test_frame frames[TEST_MAX_FRAMES];
     uint32_t marker_datagrams, status_datagrams, preview_datagrams, bad_datagrams;
@@ -52,6 +59,8 @@ struct test_rx {
     bool saw_camera_error;
     uint32_t preview_w, preview_h, preview_chunks;
     uint8_t preview[160 * 200];
+    uint32_t ack_datagrams;
+    struct test_ack acks[TEST_MAX_ACKS];
 };
 
 /* Reads every queued datagram from fd into rx. */

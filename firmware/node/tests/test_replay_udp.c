@@ -1,6 +1,7 @@
 /* The real node, end to end on loopback: replay source -> pairing with the simulated trigger ->
  * detector -> wire -> UDP, decoded by a test "hub" socket; and the hub's control datagrams
- * (garbage, preview, threshold, start, stop) through the node's own socket and handler. */
+ * (garbage, preview, threshold, start, stop) through the node's own socket and handler, each
+ * answered with a ControlAck. */
 #include <arpa/inet.h>
 #include <math.h>
 #include <netinet/in.h>
@@ -173,9 +174,13 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(st.control_rejected, 2);
     assert_int_equal(rx.last_control_rejected, 2);
 
+    /* Garbage is not answered. */
+    assert_int_equal(rx.ack_datagrams, 0);
+
     /* A raw preview at half size shows the spots where they are. */
     mocap_v1_Control c = mocap_v1_Control_init_zero;
     c.node_id = 7;
+    c.sequence = 1;
     c.which_command = mocap_v1_Control_preview_request_tag;
     c.command.preview_request.mode = mocap_v1_PreviewMode_PREVIEW_MODE_RAW;
     c.command.preview_request.downscale = 2;
@@ -199,10 +204,13 @@ static void paced_replay_with_control(void **state)
             if (rx.preview[y * 160 + x] > peak)
                 peak = rx.preview[y * 160 + x];
     assert_true(peak > 60);
+    assert_int_equal(rx.acks[1].count, 1);
+    assert_int_equal(rx.acks[1].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
 
-    /* Another node's command is ignored, not rejected. */
+    /* Another node's command is ignored, not rejected, and not answered. */
     c = (mocap_v1_Control)mocap_v1_Control_init_zero;
     c.node_id = 8;
+    c.sequence = 2;
     c.which_command = mocap_v1_Control_stop_tag;
     send_control(hub, node_port, &c);
     /* Start a session 200 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. (The
@@ -210,6 +218,7 @@ static void paced_replay_with_control(void **state)
      * current slot, as a late camera would.) */
     c = (mocap_v1_Control)mocap_v1_Control_init_zero;
     c.node_id = 0;
+    c.sequence = 3;
     c.which_command = mocap_v1_Control_start_tag;
     c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 200000000;
     c.command.start.rate_millihz = 200000;
@@ -231,10 +240,37 @@ static void paced_replay_with_control(void **state)
                               5000000) <= 50000);
     }
     assert_int_equal(st.frames_dropped, 0);
+    assert_int_equal(rx.acks[2].count, 0);
+    assert_int_equal(rx.acks[3].count, 1);
+    assert_int_equal(rx.acks[3].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
+
+    /* Refused requests are answered with the node's reason: one out of the node's range, one
+     * the camera cannot apply (a recording's exposure is fixed). */
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.sequence = 4;
+    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c.command.set_threshold.value = 0;
+    send_control(hub, node_port, &c);
+    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.sequence = 5;
+    c.which_command = mocap_v1_Control_set_exposure_tag;
+    c.command.set_exposure.exposure_us = 800;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 50);
+    assert_int_equal(rx.acks[4].count, 1);
+    assert_int_equal(rx.acks[4].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
+    assert_string_equal(rx.acks[4].reason, "control: threshold outside 1..255");
+    assert_int_equal(rx.acks[5].count, 1);
+    assert_int_equal(rx.acks[5].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
+    if (strstr(rx.acks[5].reason, "cannot set exposure 800 us") == NULL)
+        fail_msg("exposure ack reason: '%s'", rx.acks[5].reason);
 
     /* Stop: nothing more is sent. */
     c = (mocap_v1_Control)mocap_v1_Control_init_zero;
     c.node_id = 7;
+    c.sequence = 6;
     c.which_command = mocap_v1_Control_stop_tag;
     send_control(hub, node_port, &c);
     run_for(node, hub, 50);
@@ -243,7 +279,11 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.marker_datagrams, after_stop);
     mn_node_get_stats(node, &st);
     assert_false(st.running);
-    assert_int_equal(st.control_rejected, 2);
+    assert_int_equal(st.control_rejected, 4); /* two garbage datagrams, threshold, exposure */
+    assert_int_equal(rx.acks[6].count, 1);
+    assert_int_equal(rx.acks[6].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
+    assert_int_equal(rx.ack_datagrams, 5);
+    assert_int_equal(rx.bad_datagrams, 0);
 
     mn_node_free(node);
     close(hub);

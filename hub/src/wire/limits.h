@@ -23,6 +23,8 @@ constexpr uint32_t kMaxMaskRects = 16;
 constexpr size_t kMaxMaskBitsBytes = 896;
 constexpr size_t kMaxPreviewChunkBytes = 1200;
 constexpr size_t kMaxFirmwareVersionChars = 32;
+// ControlAck.reason: nanopb's 96-byte field less its terminating NUL.
+constexpr size_t kMaxAckReasonBytes = 95;
 // Centroids travel as 1/256 px fixed point.
 constexpr double kSubpixelScale = 256.0;
 

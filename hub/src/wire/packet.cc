@@ -87,6 +87,17 @@ std::string ValidateControl(const v1::Control& c) {
   return "control: unknown command";
 }
 
+std::string ValidateControlAck(const v1::ControlAck& a) {
+  if (a.node_id() == 0) return "control ack: node_id 0";
+  if (!v1::ControlResult_IsValid(a.result())) return "control ack: unknown result";
+  if (a.reason().size() > kMaxAckReasonBytes) return "control ack: reason too long";
+  if (a.result() == v1::CONTROL_RESULT_APPLIED && !a.reason().empty())
+    return "control ack: applied with a reason";
+  if (a.result() == v1::CONTROL_RESULT_REJECTED && a.reason().empty())
+    return "control ack: rejected without a reason";
+  return {};
+}
+
 std::string ValidatePreviewChunk(const v1::PreviewChunk& p) {
   if (p.node_id() == 0) return "preview: node_id 0";
   if (!v1::PreviewMode_IsValid(p.mode())) return "preview: unknown mode";
@@ -113,6 +124,7 @@ std::string Validate(const v1::Packet& packet) {
       if (packet.hub_announce().port() == 0 || packet.hub_announce().port() > 65535)
         return "hub announce: port out of range";
       return {};
+    case v1::Packet::kControlAck: return ValidateControlAck(packet.control_ack());
     case v1::Packet::BODY_NOT_SET: return "packet without body";
   }
   return "unknown packet body";

@@ -133,5 +133,36 @@ TEST(Packet, ControlAndPreviewRules) {
   EXPECT_NE(Validate(q), "");
 }
 
+TEST(Packet, ControlAckRules) {
+  v1::Packet p;
+  p.set_version(1);
+  auto* ack = p.mutable_control_ack();
+  ack->set_node_id(4);
+  ack->set_sequence(99);
+  ack->set_result(v1::CONTROL_RESULT_APPLIED);
+  EXPECT_EQ(Validate(p), "");
+  ack->set_reason("done");
+  EXPECT_EQ(Validate(p), "control ack: applied with a reason");
+  ack->set_result(v1::CONTROL_RESULT_IGNORED);
+  EXPECT_EQ(Validate(p), "");
+  ack->set_result(v1::CONTROL_RESULT_REJECTED);
+  ack->set_reason(std::string(kMaxAckReasonBytes, 'r'));
+  EXPECT_EQ(Validate(p), "");
+  const auto bytes = Encode(p);
+  const DecodeResult back = Decode(bytes.data(), bytes.size());
+  ASSERT_TRUE(back.ok) << back.reason;
+  EXPECT_EQ(back.packet.control_ack().reason(), ack->reason());
+  ack->set_reason(std::string(kMaxAckReasonBytes + 1, 'r'));
+  EXPECT_EQ(Validate(p), "control ack: reason too long");
+  ack->clear_reason();
+  EXPECT_EQ(Validate(p), "control ack: rejected without a reason");
+  ack->set_reason("x");
+  ack->set_result(static_cast<v1::ControlResult>(7));
+  EXPECT_EQ(Validate(p), "control ack: unknown result");
+  ack->set_result(v1::CONTROL_RESULT_REJECTED);
+  ack->set_node_id(0);
+  EXPECT_EQ(Validate(p), "control ack: node_id 0");
+}
+
 }  // namespace
 }  // namespace mocap::wire
