@@ -4,13 +4,27 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include "util/assignment.h"
 
 namespace mocap {
+namespace {
+
+// Both assigners index gates by row: a short vector would be read out of bounds.
+void CheckGates(const Eigen::MatrixXd& cost, const std::vector<double>& gates) {
+  if (static_cast<Eigen::Index>(gates.size()) != cost.rows()) {
+    throw std::invalid_argument("assignment: " + std::to_string(gates.size()) + " gates for " +
+                                std::to_string(cost.rows()) + " rows");
+  }
+}
+
+}  // namespace
 
 std::vector<int> AssignGreedySorted(const Eigen::MatrixXd& cost, const std::vector<double>& gates) {
+  CheckGates(cost, gates);
   std::vector<std::tuple<double, int, int>> pairs;
   for (int r = 0; r < cost.rows(); ++r) {
     for (int c = 0; c < cost.cols(); ++c) {
@@ -29,6 +43,8 @@ std::vector<int> AssignGreedySorted(const Eigen::MatrixXd& cost, const std::vect
 }
 
 std::vector<int> AssignOptimal(const Eigen::MatrixXd& cost, const std::vector<double>& gates) {
+  CheckGates(cost, gates);
+  if (cost.rows() == 0 || cost.cols() == 0) return std::vector<int>(cost.rows(), -1);
   // Per-row gates become infinite costs, then the shared solver runs with an open gate.
   Eigen::MatrixXd gated = cost;
   double widest = 0.0;

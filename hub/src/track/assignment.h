@@ -11,8 +11,9 @@
 
 namespace mocap {
 
-// For each row the assigned column or -1. Costs above `gate` (per row: gates[row]) are
-// forbidden. `gates` may be empty to use `gate` everywhere.
+// For each row the assigned column or -1. `gates` holds one gate per row; costs above
+// gates[row] (or not finite) are forbidden. A cost matrix without rows or columns gives every row
+// -1. Throws std::invalid_argument when gates.size() differs from cost.rows().
 std::vector<int> AssignGreedySorted(const Eigen::MatrixXd& cost, const std::vector<double>& gates);
 std::vector<int> AssignOptimal(const Eigen::MatrixXd& cost, const std::vector<double>& gates);
 std::vector<int> Assign(AssignmentMethod method, const Eigen::MatrixXd& cost,

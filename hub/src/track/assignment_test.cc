@@ -38,5 +38,26 @@ TEST(Assignment, OptimalMaximisesPairsWithinGate) {
   EXPECT_THROW(AssignmentMethodFromString("random"), std::invalid_argument);
 }
 
+TEST(Assignment, EmptyInputGivesNoPairs) {
+  // No predictions, or no measurements: nothing to pair, and nothing read out of bounds.
+  const Eigen::MatrixXd no_rows(0, 3);
+  EXPECT_TRUE(AssignGreedySorted(no_rows, {}).empty());
+  EXPECT_TRUE(AssignOptimal(no_rows, {}).empty());
+  const Eigen::MatrixXd no_columns(2, 0);
+  const std::vector<double> gates(2, 1.0);
+  EXPECT_EQ(AssignGreedySorted(no_columns, gates), (std::vector<int>{-1, -1}));
+  EXPECT_EQ(AssignOptimal(no_columns, gates), (std::vector<int>{-1, -1}));
+}
+
+TEST(Assignment, GateCountMustMatchRows) {
+  Eigen::MatrixXd cost(2, 2);
+  cost << 1, 2, 3, 4;
+  for (const std::vector<double>& gates : {std::vector<double>{}, std::vector<double>{5.0}}) {
+    EXPECT_THROW(AssignGreedySorted(cost, gates), std::invalid_argument);
+    EXPECT_THROW(AssignOptimal(cost, gates), std::invalid_argument);
+    EXPECT_THROW(Assign(AssignmentMethod::kOptimal, cost, gates), std::invalid_argument);
+  }
+}
+
 }  // namespace
 }  // namespace mocap
