@@ -1,12 +1,14 @@
-// Kabsch / Umeyama: centre both sets, SVD of the cross-covariance, reflection guard on the
-// smallest singular direction, scale from the ratio of spreads when requested.
+// Kabsch / Umeyama through Eigen::umeyama (reflection guard and scale included), behind a check
+// that the correspondences determine a rotation at all, which umeyama does not make.
 #include "calib/rigid_fit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 namespace mocap {
 namespace {
@@ -18,36 +20,27 @@ SimilarityTransform Fit(const std::vector<Eigen::Vector3d>& source,
                                 " vs " + std::to_string(target.size()) + ")");
   }
   if (source.size() < 3) throw std::invalid_argument("need at least 3 corresponding points");
-  const double n = static_cast<double>(source.size());
-  Eigen::Vector3d source_mean = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target_mean = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < source.size(); ++i) {
-    source_mean += source[i];
-    target_mean += target[i];
+  const Eigen::Index n = static_cast<Eigen::Index>(source.size());
+  Eigen::Matrix3Xd source_points(3, n), target_points(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    source_points.col(i) = source[i];
+    target_points.col(i) = target[i];
   }
-  source_mean /= n;
-  target_mean /= n;
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  double source_spread = 0.0;
-  for (size_t i = 0; i < source.size(); ++i) {
-    const Eigen::Vector3d s = source[i] - source_mean;
-    covariance += (target[i] - target_mean) * s.transpose();
-    source_spread += s.squaredNorm();
-  }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d singular = svd.singularValues();
-  // Two vanishing singular values mean the points lie on a line: rotation about it is free.
+  // Two vanishing singular values of the cross-covariance mean the points lie on a line (or
+  // coincide): rotation about that line is free and umeyama would return an arbitrary one.
+  const Eigen::Matrix3Xd source_centred = source_points.colwise() - source_points.rowwise().mean();
+  const Eigen::Matrix3Xd target_centred = target_points.colwise() - target_points.rowwise().mean();
+  const Eigen::Vector3d singular =
+      Eigen::JacobiSVD<Eigen::Matrix3d>(target_centred * source_centred.transpose()).singularValues();
   if (!(singular(1) > 1e-9 * std::max(singular(0), 1e-300))) {
     throw std::invalid_argument("points are collinear or coincident: rotation is undetermined");
   }
-  Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) flip(2, 2) = -1.0;
+  const Eigen::Matrix4d target_from_source = Eigen::umeyama(source_points, target_points, with_scale);
   SimilarityTransform transform;
-  transform.rotation = svd.matrixU() * flip * svd.matrixV().transpose();
-  if (with_scale) {
-    transform.scale = (singular.asDiagonal() * flip).trace() / source_spread;
-  }
-  transform.translation = target_mean - transform.scale * transform.rotation * source_mean;
+  const Eigen::Matrix3d scaled_rotation = target_from_source.topLeftCorner<3, 3>();
+  if (with_scale) transform.scale = scaled_rotation.col(0).norm();
+  transform.rotation = scaled_rotation / transform.scale;
+  transform.translation = target_from_source.topRightCorner<3, 1>();
   return transform;
 }
 

@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "calib/reprojection_sum.h"
 #include "calib/triangulation.h"
 
 namespace mocap {
@@ -370,13 +371,11 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
   auto evaluate = [&]() {
     const int grid = options.coverage_grid;
     std::vector<std::vector<bool>> cells(n, std::vector<bool>(static_cast<size_t>(grid * grid), false));
-    std::vector<double> sum_sq(n, 0.0);
-    std::vector<size_t> coordinates(n, 0);
+    std::vector<ReprojectionSum> camera_sums(n);
     std::vector<std::vector<double>> length_errors(n);
     std::vector<double> all_length_errors;
     std::vector<size_t> views_used(n, 0);
-    double total_sq = 0.0;
-    size_t total_coordinates = 0;
+    ReprojectionSum total;
     const size_t last = wand.MarkerCount() - 1;
     for (size_t f = 0; f < frames.size(); ++f) {
       std::vector<PointView> first, second;
@@ -384,13 +383,8 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
         const Camera& camera = cameras[view.camera];
         ++views_used[view.camera];
         for (size_t k = 0; k < view.pixels.size(); ++k) {
-          Eigen::Vector2d projected;
-          camera.ProjectToPixel(poses[f].Marker(wand, k), &projected);
-          const double sq = (projected - view.pixels[k]).squaredNorm();
-          sum_sq[view.camera] += sq;
-          coordinates[view.camera] += 2;
-          total_sq += sq;
-          total_coordinates += 2;
+          camera_sums[view.camera].Add(camera, poses[f].Marker(wand, k), view.pixels[k]);
+          total.Add(camera, poses[f].Marker(wand, k), view.pixels[k]);
           const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
           const int cy =
               std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
@@ -407,16 +401,15 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
       for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
     }
     result.wand_length = SummarizeLengthErrors(all_length_errors);
-    result.reprojection_rms_px =
-        total_coordinates > 0 ? std::sqrt(total_sq / static_cast<double>(total_coordinates)) : 0.0;
+    result.reprojection_rms_px = total.RmsPx();
+    result.unprojected_observations = total.unprojected;
 
     for (size_t i = 0; i < n; ++i) {
       if (!active[i]) continue;  // a camera refused earlier keeps the figures it was refused on
       CameraCalibrationReport& report = result.cameras[i];
       report.views_used = views_used[i];
       report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
-      report.reprojection_rms_px =
-          coordinates[i] > 0 ? std::sqrt(sum_sq[i] / static_cast<double>(coordinates[i])) : 0.0;
+      report.reprojection_rms_px = camera_sums[i].RmsPx();
       report.wand_length = SummarizeLengthErrors(length_errors[i]);
     }
     std::vector<double> active_rms;

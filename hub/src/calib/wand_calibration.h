@@ -69,6 +69,8 @@ struct WandCalibrationResult {
   std::vector<CameraCalibrationReport> cameras;  // every input camera, in rig order
   LengthErrorStats wand_length;                  // independent triangulation, all used frames
   double reprojection_rms_px = 0.0;
+  // Observations left out of the RMS because the solved marker lies behind the camera.
+  size_t unprojected_observations = 0;
   size_t frames_in = 0;
   size_t frames_selected = 0;
   size_t frames_used = 0;
