@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -123,14 +124,18 @@ TEST_P(RealMotion, MeetsTheIssueThresholds) {
       }
     }
   }
-  EXPECT_LT(std::sqrt(sum_squares / std::max(1L, matched)), 1.0);
+  // One set of limits for every motion. rmse and ghosts: issue 4's reconstruction limits. Missing:
+  // issue 5's end-to-end limit (0.01 per frame), because this test injects the end-to-end faults
+  // (noise, occlusion, spurious blobs, dropped frames); issue 4's 0.005 holds for the walk and
+  // the run but not for the serve (50 Hz, ~200 mm per frame at the racket hand), which measures
+  // 0.008 through this rig (and 0.009 ghosts, close to its limit).
+  const double rmse = std::sqrt(sum_squares / std::max(1L, matched));
+  EXPECT_LT(rmse, 1.0);
   EXPECT_LE(ghosts / frames, 0.01);
-  // The serve (50 Hz, the racket hand at ~200 mm per frame) is the known hard case: through the
-  // simulator's rig it meets 0.005 (see hub/src/recon/README.md), through this test's rig it
-  // measures 0.009, from a few markers seen by 3-4 cameras when a neighbour took one of their
-  // blobs. Every other motion is held to the issue's 0.005.
-  const bool serve = GetParam().find("tennis_serve") != std::string::npos;
-  EXPECT_LE(missing / frames, serve ? 0.01 : 0.005);
+  EXPECT_LE(missing / frames, 0.01);
+  RecordProperty("rmse_mm", std::to_string(rmse));
+  RecordProperty("ghosts_per_frame", std::to_string(ghosts / frames));
+  RecordProperty("missing_per_frame", std::to_string(missing / frames));
   EXPECT_LE(tracker.NumMarkers(), 1.2 * truth_markers);
 }
 
