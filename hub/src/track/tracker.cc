@@ -53,16 +53,22 @@ void Tracker::Finish(std::vector<TrackSample>* samples) {
   for (Track& track : tracks_) {
     if (track.state != State::kTentative) continue;
     // Measured in every frame since its birth with enough views; only the data ended too soon.
-    track.marker = next_marker_++;
-    ++stats_.births;
-    for (const auto& [frame, position] : track.history) {
-      TrackSample sample = SampleOf(track, frame, SampleKind::kMeasured);
-      sample.position = position;
-      samples->push_back(sample);
-    }
-    track.state = State::kActive;
-    track.history.clear();
+    Promote(&track, samples);
   }
+}
+
+void Tracker::Promote(Track* track, std::vector<TrackSample>* samples) {
+  track->state = State::kActive;
+  track->marker = next_marker_++;
+  ++stats_.births;
+  // The frames it was tentative in are written now, under its new marker.
+  for (const auto& [frame, position] : track->history) {
+    TrackSample sample = SampleOf(*track, frame, SampleKind::kMeasured);
+    sample.position = position;
+    samples->push_back(sample);
+  }
+  track->history.clear();
+  track->history.shrink_to_fit();
 }
 
 TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const {
@@ -242,72 +248,97 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
                      std::vector<TrackSample>* samples) {
   if (!predicted_ || predicted_frame_ != frame_number) Predict(frame_number);
   predicted_ = false;
-  const int num_slots = static_cast<int>(tracks_.size());
-  std::vector<int> point_of_slot(num_slots, -1);
-  std::vector<char> point_taken(points.size(), 0);
+  FrameMatch match(tracks_.size(), points.size());
+  TakeHintedPoints(points, &match);
+  MatchPredictions(points, &match);
+  PredictFromRigidModel(points, &match);
+  SearchWide(points, &match);
+  ApplyMeasurements(frame_number, points, match, samples);
+  HandleUnmeasured(frame_number, match, samples);
+  // Tracks created last so that this frame's steps did not see them.
+  BirthTracks(frame_number, points, match, samples);
+}
 
-  // 1. Points found through a track's own prediction.
+Tracker::FrameMatch::FrameMatch(size_t num_slots, size_t num_points)
+    : point_of_slot(num_slots, -1),
+      point_taken(num_points, 0),
+      moved(num_slots, 0),
+      measured(num_slots, 0),
+      position_of_slot(num_slots, Eigen::Vector3d::Zero()),
+      has_rigid(num_slots, 0),
+      rigid_position(num_slots),
+      found_wide(num_slots, 0) {}
+
+// 1. Points found through a track's own prediction.
+void Tracker::TakeHintedPoints(const std::vector<ReconstructedPoint>& points, FrameMatch* match) const {
+  const int num_slots = static_cast<int>(tracks_.size());
   for (int p = 0; p < static_cast<int>(points.size()); ++p) {
     const int slot = points[p].track_hint;
-    if (slot < 0 || slot >= num_slots || point_of_slot[slot] >= 0) continue;
+    if (slot < 0 || slot >= num_slots || match->point_of_slot[slot] >= 0) continue;
     if (tracks_[slot].state != State::kActive && tracks_[slot].state != State::kTentative) continue;
-    point_of_slot[slot] = p;
-    point_taken[p] = 1;
+    match->point_of_slot[slot] = p;
+    match->point_taken[p] = 1;
   }
-  // 2. The other points against the remaining predictions.
+}
+
+// 2. The other points against the remaining predictions.
+void Tracker::MatchPredictions(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
   std::vector<int> slots;
   std::vector<Eigen::Vector3d> centres;
   std::vector<double> gates;
-  for (int slot = 0; slot < num_slots; ++slot) {
+  for (int slot = 0; slot < static_cast<int>(tracks_.size()); ++slot) {
     const Track& track = tracks_[slot];
     if ((track.state == State::kActive || track.state == State::kTentative) &&
-        point_of_slot[slot] < 0) {
+        match->point_of_slot[slot] < 0) {
       slots.push_back(slot);
       centres.push_back(track.filter.position());
       gates.push_back(GateOf(track));
     }
   }
-  AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
-  std::vector<char> moved(num_slots, 0);
-  ReassignAroundMisses(points, &point_of_slot, &point_taken, &moved);
+  AssignByDistance(slots, centres, gates, points, &match->point_of_slot, &match->point_taken);
+  ReassignAroundMisses(points, &match->point_of_slot, &match->point_taken, &match->moved);
+}
 
-  // 3. Rigid-model predictions for confirmed tracks still without a point, from the markers
-  // measured so far this frame.
-  std::vector<char> measured(num_slots, 0);
-  std::vector<Eigen::Vector3d> position_of_slot(num_slots, Eigen::Vector3d::Zero());
+// 3. Rigid-model predictions for confirmed tracks still without a point, from the markers
+// measured so far this frame.
+void Tracker::PredictFromRigidModel(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
+  const int num_slots = static_cast<int>(tracks_.size());
   for (int slot = 0; slot < num_slots; ++slot) {
-    if (point_of_slot[slot] >= 0 && tracks_[slot].state == State::kActive) {
-      measured[slot] = 1;
-      position_of_slot[slot] = points[point_of_slot[slot]].point_in_world;
+    if (match->point_of_slot[slot] >= 0 && tracks_[slot].state == State::kActive) {
+      match->measured[slot] = 1;
+      match->position_of_slot[slot] = points[match->point_of_slot[slot]].point_in_world;
     }
   }
-  std::vector<char> has_rigid(num_slots, 0);
-  std::vector<Eigen::Vector3d> rigid_position(num_slots);
   for (int slot = 0; slot < num_slots; ++slot) {
     Track& track = tracks_[slot];
-    if (point_of_slot[slot] >= 0) continue;
+    if (match->point_of_slot[slot] >= 0) continue;
     if (track.state != State::kActive && track.state != State::kLost) continue;
     const Eigen::Vector3d prior =
         track.state == State::kActive ? track.filter.position() : track.reference;
-    if (rigid_.Predict(slot, prior, measured, position_of_slot, &rigid_position[slot])) {
-      has_rigid[slot] = 1;
-      track.reference = rigid_position[slot];
+    if (rigid_.Predict(slot, prior, match->measured, match->position_of_slot, &match->rigid_position[slot])) {
+      match->has_rigid[slot] = 1;
+      track.reference = match->rigid_position[slot];
     }
   }
-  // 4. The global second search: confirmed tracks still without a point (around the rigid
-  // model's position if any, else their prediction, within the wide gate) and lost tracks
-  // (around where the model or their last sighting puts them) against the points left over.
-  slots.clear();
-  centres.clear();
-  gates.clear();
+}
+
+// 4. The global second search: confirmed tracks still without a point (around the rigid
+// model's position if any, else their prediction, within the wide gate) and lost tracks
+// (around where the model or their last sighting puts them) against the points left over.
+void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
+  const int num_slots = static_cast<int>(tracks_.size());
+  std::vector<int> slots;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<double> gates;
   for (int slot = 0; slot < num_slots; ++slot) {
     const Track& track = tracks_[slot];
-    if (point_of_slot[slot] >= 0) continue;
+    if (match->point_of_slot[slot] >= 0) continue;
     if (track.state == State::kActive) {
       slots.push_back(slot);
-      centres.push_back(has_rigid[slot] ? rigid_position[slot]
-                                        : track.filter.position() +
-                                              NeighbourInnovation(slot, measured, position_of_slot, 3, 400.0));
+      centres.push_back(match->has_rigid[slot]
+                            ? match->rigid_position[slot]
+                            : track.filter.position() + NeighbourInnovation(slot, match->measured,
+                                                                             match->position_of_slot, 3, 400.0));
       gates.push_back(options_.wide_gate_mm);
     } else if (track.state == State::kLost) {
       slots.push_back(slot);
@@ -315,26 +346,28 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       gates.push_back(options_.reacquire_gate_mm);
     }
   }
-  std::vector<char> found_wide(num_slots, 0);
-  {
-    const std::vector<int> before = point_of_slot;
-    AssignByDistance(slots, centres, gates, points, &point_of_slot, &point_taken);
-    for (int slot : slots) found_wide[slot] = before[slot] < 0 && point_of_slot[slot] >= 0;
-  }
+  const std::vector<int> before = match->point_of_slot;
+  AssignByDistance(slots, centres, gates, points, &match->point_of_slot, &match->point_taken);
+  for (int slot : slots) match->found_wide[slot] = before[slot] < 0 && match->point_of_slot[slot] >= 0;
   for (int slot = 0; slot < num_slots; ++slot) {
-    if (moved[slot] && point_of_slot[slot] >= 0 &&
-        (points[point_of_slot[slot]].point_in_world - tracks_[slot].filter.position()).norm() > GateOf(tracks_[slot])) {
-      found_wide[slot] = 1;
+    const int p = match->point_of_slot[slot];
+    if (match->moved[slot] && p >= 0 &&
+        (points[p].point_in_world - tracks_[slot].filter.position()).norm() > GateOf(tracks_[slot])) {
+      match->found_wide[slot] = 1;
     }
   }
+}
 
-  // 5. Measurement updates.
+// 5. Measurement updates.
+void Tracker::ApplyMeasurements(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
+                                const FrameMatch& match, std::vector<TrackSample>* samples) {
+  const int num_slots = static_cast<int>(tracks_.size());
   const double noise = options_.kalman.measurement_noise_mm;
   std::vector<int> rigid_slots;
   std::vector<Eigen::Vector3d> rigid_positions;
   for (int slot = 0; slot < num_slots; ++slot) {
     Track& track = tracks_[slot];
-    const int p = point_of_slot[slot];
+    const int p = match.point_of_slot[slot];
     if (p < 0) continue;
     const Eigen::Vector3d& point = points[p].point_in_world;
     if (track.state == State::kLost) {
@@ -343,7 +376,7 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
       track.filter_frame = frame_number;
       track.state = State::kActive;
       ++stats_.reacquisitions;
-    } else if (found_wide[slot]) {
+    } else if (match.found_wide[slot]) {
       // The prediction missed this point by more than its gate: its velocity is wrong, and a
       // Kalman update would only half-correct it and ring (two neighbouring markers would then
       // trade places every frame). Restart from the measured displacement instead.
@@ -362,18 +395,7 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     ++track.age;
     if (track.state == State::kTentative) {
       track.history.emplace_back(frame_number, track.filter.position());
-      if (track.hits >= options_.birth_frames) {
-        track.state = State::kActive;
-        track.marker = next_marker_++;
-        ++stats_.births;
-        for (const auto& [frame, position] : track.history) {
-          TrackSample sample = SampleOf(track, frame, SampleKind::kMeasured);
-          sample.position = position;
-          samples->push_back(sample);
-        }
-        track.history.clear();
-        track.history.shrink_to_fit();
-      }
+      if (track.hits >= options_.birth_frames) Promote(&track, samples);
       continue;
     }
     // The triangulated point itself: the filter's estimate lags a hard-accelerating marker.
@@ -384,14 +406,19 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     rigid_positions.push_back(point);
   }
   rigid_.Update(rigid_slots, rigid_positions);
+}
 
-  // 6. Tracks without a point this frame.
+// 6. Tracks without a point this frame: tentative ones die, active ones continue on the rigid
+// model or coast and get lost, lost ones wait for reacquisition and then are freed.
+void Tracker::HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, std::vector<TrackSample>* samples) {
+  const int num_slots = static_cast<int>(tracks_.size());
+  const double noise = options_.kalman.measurement_noise_mm;
   const uint64_t max_predicted = static_cast<uint64_t>(std::lround(options_.max_predicted_s * options_.rate_hz));
   const uint64_t coast = static_cast<uint64_t>(std::lround(options_.coast_s * options_.rate_hz));
   const uint64_t reacquire = static_cast<uint64_t>(std::lround(options_.reacquire_s * options_.rate_hz));
   for (int slot = 0; slot < num_slots; ++slot) {
     Track& track = tracks_[slot];
-    if (track.state == State::kFree || point_of_slot[slot] >= 0) continue;
+    if (track.state == State::kFree || match.point_of_slot[slot] >= 0) continue;
     const uint64_t missing = frame_number - track.last_measured;
     if (track.state == State::kTentative) {
       FreeTrack(slot);
@@ -399,9 +426,9 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     }
     if (track.state == State::kActive) {
       track.hits = 0;
-      if (has_rigid[slot] && missing <= max_predicted) {
+      if (match.has_rigid[slot] && missing <= max_predicted) {
         // Seed 001 section 5.2: the model's position stands in for the measurement.
-        track.filter.Update(rigid_position[slot], 3.0 * noise);
+        track.filter.Update(match.rigid_position[slot], 3.0 * noise);
         samples->push_back(SampleOf(track, frame_number, SampleKind::kPredicted));
         ++stats_.predicted_samples;
       } else if (missing > coast) {
@@ -411,21 +438,19 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
     }
     if (missing > reacquire) FreeTrack(slot);
   }
-  // Tracks created last so that this frame's loops did not see them.
+}
+
+// 7. New tentative tracks from the points no track took, seen by enough cameras.
+void Tracker::BirthTracks(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
+                          const FrameMatch& match, std::vector<TrackSample>* samples) {
   for (int p = 0; p < static_cast<int>(points.size()); ++p) {
-    if (point_taken[p] || points[p].num_views < options_.birth_min_views) continue;
+    if (match.point_taken[p] || points[p].num_views < options_.birth_min_views) continue;
     const int slot = NewTrack(frame_number, points[p].point_in_world);
     Track& track = tracks_[slot];
     track.hits = 1;
     track.age = 1;
     track.history.emplace_back(frame_number, points[p].point_in_world);
-    if (track.hits >= options_.birth_frames) {
-      track.state = State::kActive;
-      track.marker = next_marker_++;
-      ++stats_.births;
-      track.history.clear();
-      samples->push_back(SampleOf(track, frame_number, SampleKind::kMeasured));
-    }
+    if (track.hits >= options_.birth_frames) Promote(&track, samples);
   }
 }
 

@@ -71,8 +71,33 @@ class Tracker {
     std::vector<std::pair<uint64_t, Eigen::Vector3d>> history;  // tentative frames
   };
 
+  // What one Update has found so far, per track slot (and per point for point_taken).
+  struct FrameMatch {
+    FrameMatch(size_t num_slots, size_t num_points);
+    std::vector<int> point_of_slot;  // point index or -1
+    std::vector<char> point_taken;
+    std::vector<char> moved;  // re-assigned around a miss
+    std::vector<char> measured;  // active and holding a point before the rigid model runs
+    std::vector<Eigen::Vector3d> position_of_slot;
+    std::vector<char> has_rigid;
+    std::vector<Eigen::Vector3d> rigid_position;
+    std::vector<char> found_wide;  // the point lies outside the track's own gate
+  };
+  // Update's numbered steps, in order.
+  void TakeHintedPoints(const std::vector<ReconstructedPoint>& points, FrameMatch* match) const;
+  void MatchPredictions(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
+  void PredictFromRigidModel(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
+  void SearchWide(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
+  void ApplyMeasurements(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
+                         const FrameMatch& match, std::vector<TrackSample>* samples);
+  void HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, std::vector<TrackSample>* samples);
+  void BirthTracks(uint64_t frame_number, const std::vector<ReconstructedPoint>& points, const FrameMatch& match,
+                   std::vector<TrackSample>* samples);
+
   int NewTrack(uint64_t frame_number, const Eigen::Vector3d& position);
   void FreeTrack(int slot);
+  // Tentative -> active: a marker number, a birth, and the samples of its tentative frames.
+  void Promote(Track* track, std::vector<TrackSample>* samples);
   double GateOf(const Track& track) const;
   TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
   // Mean innovation (measured - predicted) of the `neighbours` measured tracks predicted
