@@ -194,6 +194,295 @@ double RobustSigmaPx(const std::vector<Camera>& cameras, const WandGeometry& wan
   return 1.4826 * magnitudes[mid];
 }
 
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The wand solver's stages over one shared state: the frames and wand poses still in use, the
+// cameras still active, and the report being filled. Run() calls the stages in order.
+class WandSolver {
+ public:
+  WandSolver(const Rig& intrinsics, const WandGeometry& wand, const WandCalibrationOptions& options)
+      : intrinsics_(intrinsics), wand_(wand), options_(options), n_(intrinsics.cameras.size()), active_(n_, true) {
+    result_.cameras.resize(n_);
+    for (size_t i = 0; i < n_; ++i) result_.cameras[i].id = intrinsics_.cameras[i].id;
+  }
+
+  WandCalibrationResult Run(const std::vector<FrameSet>& frame_sets) {
+    auto stage_start = Clock::now();
+    SelectFrames(frame_sets);
+    result_.select_seconds = SecondsSince(stage_start);
+    stage_start = Clock::now();
+    Initialise();
+    result_.initialize_seconds = SecondsSince(stage_start);
+    stage_start = Clock::now();
+    BundleAdjust();
+    result_.bundle_seconds = SecondsSince(stage_start);
+    result_.frames_used = frames_.size();
+    result_.reference_camera_id = intrinsics_.cameras[init_.reference_camera].id;
+    const std::vector<size_t> refused = Evaluate();
+    if (!refused.empty()) {
+      SolveWithout(refused);
+      result_.bundle_seconds = SecondsSince(stage_start);
+    }
+    return std::move(result_);
+  }
+
+ private:
+  // Wand frames seen by two or more cameras with enough views; the others are refused up front,
+  // because cameras with too few wand views would only destabilise the solve.
+  void SelectFrames(const std::vector<FrameSet>& frame_sets) {
+    WandSelectionStats selection;
+    frames_ = SelectWandFrames(frame_sets, intrinsics_, wand_, options_.selection, &selection);
+    result_.frames_in = selection.frames_in;
+    result_.frames_selected = selection.frames_selected;
+    for (size_t i = 0; i < n_; ++i) result_.cameras[i].views_selected = selection.views_selected[i];
+    for (size_t i = 0; i < n_; ++i) {
+      if (static_cast<int>(result_.cameras[i].views_selected) < options_.min_views_per_camera) {
+        active_[i] = false;
+        result_.cameras[i].reason = "only " + std::to_string(result_.cameras[i].views_selected) +
+                                    " frames show exactly the wand (need " +
+                                    std::to_string(options_.min_views_per_camera) +
+                                    "): wave the wand more in camera " + std::to_string(intrinsics_.cameras[i].id) +
+                                    "'s view, away from other bright spots";
+      }
+    }
+    DropInactiveViews();
+    if (frames_.empty()) {
+      throw std::runtime_error("no frame shows the wand (exactly " + std::to_string(wand_.MarkerCount()) +
+                               " blobs) in two calibratable cameras: check the wand length, the marker count and "
+                               "that other bright spots are out of view");
+    }
+  }
+
+  // Keeps only the views of active cameras, and the frames that still have two of them.
+  void DropInactiveViews() {
+    std::vector<WandFrame> kept;
+    for (WandFrame& frame : frames_) {
+      frame.views.erase(std::remove_if(frame.views.begin(), frame.views.end(),
+                                       [&](const WandView& v) { return !active_[v.camera]; }),
+                        frame.views.end());
+      if (frame.views.size() >= 2) kept.push_back(std::move(frame));
+    }
+    frames_ = std::move(kept);
+  }
+
+  // Relative poses from essential matrices, then labelled wand ends and first wand poses.
+  void Initialise() {
+    init_ = InitializeWandPoses(frames_, intrinsics_, wand_, options_.initialization);
+    cameras_ = init_.cameras;
+    for (size_t i = 0; i < n_; ++i) {
+      if (active_[i] && !init_.posed[i]) {
+        active_[i] = false;
+        result_.cameras[i].reason = "could not be placed relative to the other cameras (" + init_.unposed_reason[i] +
+                                    "): wave the wand where camera " + std::to_string(intrinsics_.cameras[i].id) +
+                                    " and its neighbours see it together";
+      }
+    }
+    DropInactiveViews();
+
+    // Initial labels and wand poses.
+    std::vector<WandFrame> labelled;
+    for (WandFrame& frame : frames_) {
+      if (!LabelFrameRobustly(cameras_, wand_, options_.initial_gate_px, &frame)) continue;
+      WandPose pose;
+      if (!TriangulateWand(cameras_, frame, wand_, &pose)) continue;
+      labelled.push_back(std::move(frame));
+      poses_.push_back(pose);
+    }
+    frames_ = std::move(labelled);
+    RelabelAndReject(cameras_, wand_, options_.initial_gate_px, &frames_, &poses_);
+    // Rejection may leave a camera without views; it then cannot be solved.
+    RefuseUnseen();
+    bundle_ = options_.bundle;
+    bundle_.fixed_camera = init_.reference_camera;
+  }
+
+  // Refuses the active cameras left without any view.
+  void RefuseUnseen() {
+    std::vector<size_t> count(n_, 0);
+    for (const WandFrame& frame : frames_) {
+      for (const WandView& view : frame.views) ++count[view.camera];
+    }
+    for (size_t i = 0; i < n_; ++i) {
+      if (active_[i] && count[i] == 0) {
+        active_[i] = false;
+        result_.cameras[i].reason = "no wand view agrees with the other cameras: check that camera " +
+                                    std::to_string(intrinsics_.cameras[i].id) +
+                                    "'s intrinsics belong to it, then wave the wand more in its view";
+      }
+    }
+  }
+
+  void Solve(int max_iterations) {
+    WandBundleOptions pass_options = bundle_;
+    pass_options.max_iterations = max_iterations;
+    const WandBundleSummary summary = AdjustWandBundle(frames_, wand_, pass_options, active_, &cameras_, &poses_);
+    result_.solver_iterations += summary.iterations;
+    result_.solver_message = summary.message;
+    if (!summary.usable) {
+      throw std::runtime_error("bundle adjustment failed (" + summary.message +
+                               "): record the wand again, covering the volume slowly");
+    }
+  }
+
+  // Re-labels the frames and drops the views beyond the robust gate; returns how many were dropped.
+  size_t Reject() {
+    const double sigma = RobustSigmaPx(cameras_, wand_, frames_, poses_);
+    const double gate = std::max(options_.outlier_min_px, options_.outlier_sigmas * sigma);
+    const size_t dropped = RelabelAndReject(cameras_, wand_, gate, &frames_, &poses_);
+    RefuseUnseen();
+    return dropped;
+  }
+
+  void BundleAdjust() {
+    // Early passes only need to get close enough to separate outliers: with wrong views still in,
+    // the robust loss makes convergence slow, and they are about to be removed anyway.
+    for (int pass = 0; pass + 1 < options_.refinement_passes; ++pass) {
+      Solve(std::min(options_.early_pass_iterations, bundle_.max_iterations));
+      Reject();
+    }
+    Solve(bundle_.max_iterations);
+    if (Reject() > 0) Solve(bundle_.max_iterations);
+  }
+
+  // Report: residuals, coverage and independently triangulated wand lengths, then acceptance.
+  // Returns the cameras refused by this evaluation.
+  std::vector<size_t> Evaluate() {
+    const int grid = options_.coverage_grid;
+    std::vector<std::vector<bool>> cells(n_, std::vector<bool>(static_cast<size_t>(grid * grid), false));
+    std::vector<ReprojectionSum> camera_sums(n_);
+    std::vector<std::vector<double>> length_errors(n_);
+    std::vector<double> all_length_errors;
+    std::vector<size_t> views_used(n_, 0);
+    ReprojectionSum total;
+    const size_t last = wand_.MarkerCount() - 1;
+    for (size_t f = 0; f < frames_.size(); ++f) {
+      std::vector<PointView> first, second;
+      for (const WandView& view : frames_[f].views) {
+        const Camera& camera = cameras_[view.camera];
+        ++views_used[view.camera];
+        for (size_t k = 0; k < view.pixels.size(); ++k) {
+          camera_sums[view.camera].Add(camera, poses_[f].Marker(wand_, k), view.pixels[k]);
+          total.Add(camera, poses_[f].Marker(wand_, k), view.pixels[k]);
+          const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
+          const int cy =
+              std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
+          cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
+        }
+        // Normalized coordinates again: the intrinsics may have been refined.
+        first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
+        second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
+      }
+      Eigen::Vector3d a, b;
+      if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
+      const double error = (b - a).norm() - wand_.LengthMm();
+      all_length_errors.push_back(error);
+      for (const WandView& view : frames_[f].views) length_errors[view.camera].push_back(error);
+    }
+    result_.wand_length = SummarizeLengthErrors(all_length_errors);
+    result_.reprojection_rms_px = total.RmsPx();
+    result_.unprojected_observations = total.unprojected;
+
+    for (size_t i = 0; i < n_; ++i) {
+      if (!active_[i]) continue;  // a camera refused earlier keeps the figures it was refused on
+      CameraCalibrationReport& report = result_.cameras[i];
+      report.views_used = views_used[i];
+      report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
+      report.reprojection_rms_px = camera_sums[i].RmsPx();
+      report.wand_length = SummarizeLengthErrors(length_errors[i]);
+    }
+    std::vector<double> active_rms;
+    for (size_t i = 0; i < n_; ++i) {
+      if (active_[i] && result_.cameras[i].views_used > 0) active_rms.push_back(result_.cameras[i].reprojection_rms_px);
+    }
+    double median_rms = 0.0;
+    if (!active_rms.empty()) {
+      std::nth_element(active_rms.begin(), active_rms.begin() + static_cast<long>(active_rms.size() / 2),
+                       active_rms.end());
+      median_rms = active_rms[active_rms.size() / 2];
+    }
+    result_.rig.cameras.clear();
+    std::vector<size_t> refused;
+    for (size_t i = 0; i < n_; ++i) {
+      CameraCalibrationReport& report = result_.cameras[i];
+      const std::string id = std::to_string(report.id);
+      if (!active_[i]) continue;  // reason already set
+      char buffer[320];
+      const double inliers = report.views_selected > 0
+                                 ? static_cast<double>(report.views_used) / static_cast<double>(report.views_selected)
+                                 : 0.0;
+      if (static_cast<int>(report.views_used) < options_.min_views_per_camera) {
+        report.reason = "only " + std::to_string(report.views_used) + " wand views survived outlier rejection (need " +
+                        std::to_string(options_.min_views_per_camera) + "): wave the wand more in camera " + id +
+                        "'s view";
+      } else if (report.coverage < options_.min_coverage) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "the wand covered %.0f %% of the image (need %.0f %%): wave it towards the edges and corners "
+                      "of camera %s's view",
+                      100.0 * report.coverage, 100.0 * options_.min_coverage, id.c_str());
+        report.reason = buffer;
+      } else if (report.reprojection_rms_px > options_.max_camera_rms_px ||
+                 report.reprojection_rms_px > options_.max_rms_ratio * median_rms) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "reprojection RMS %.2f px (limit %.2f px, %.1f times the rig's median %.2f px): check camera "
+                      "%s's intrinsics and that it did not move, then record the wand again",
+                      report.reprojection_rms_px, options_.max_camera_rms_px, options_.max_rms_ratio, median_rms,
+                      id.c_str());
+        report.reason = buffer;
+      } else if (inliers < options_.min_inlier_fraction) {
+        std::snprintf(buffer, sizeof(buffer),
+                      "only %.0f %% of its wand views agree with the other cameras (need %.0f %%): check camera %s's "
+                      "intrinsics and that it did not move, then record the wand again",
+                      100.0 * inliers, 100.0 * options_.min_inlier_fraction, id.c_str());
+        report.reason = buffer;
+      } else {
+        report.accepted = true;
+        result_.rig.cameras.push_back(cameras_[i]);
+      }
+      if (!report.accepted) refused.push_back(i);
+    }
+    return refused;
+  }
+
+  // A refused camera must not bend the others: solve once more without it.
+  void SolveWithout(const std::vector<size_t>& refused) {
+    for (size_t i : refused) active_[i] = false;
+    std::vector<WandFrame> kept_frames;
+    std::vector<WandPose> kept_poses;
+    for (size_t f = 0; f < frames_.size(); ++f) {
+      auto& views = frames_[f].views;
+      views.erase(std::remove_if(views.begin(), views.end(), [&](const WandView& v) { return !active_[v.camera]; }),
+                  views.end());
+      if (views.size() < 2) continue;
+      kept_frames.push_back(std::move(frames_[f]));
+      kept_poses.push_back(poses_[f]);
+    }
+    frames_ = std::move(kept_frames);
+    poses_ = std::move(kept_poses);
+    if (active_[init_.reference_camera]) {
+      Solve(bundle_.max_iterations);
+      Reject();
+      result_.frames_used = frames_.size();
+      Evaluate();
+    }
+  }
+
+  const Rig& intrinsics_;
+  const WandGeometry& wand_;
+  const WandCalibrationOptions& options_;
+  const size_t n_;
+  WandCalibrationResult result_;
+  std::vector<bool> active_;
+  std::vector<WandFrame> frames_;
+  std::vector<WandPose> poses_;  // one per frame
+  WandInitialization init_;
+  std::vector<Camera> cameras_;
+  WandBundleOptions bundle_;
+};
+
 }  // namespace
 
 void WandCalibrationOptions::Check() const {
@@ -244,251 +533,7 @@ WandCalibrationResult CalibrateWand(const std::vector<FrameSet>& frame_sets, con
                                     const WandGeometry& wand, const WandCalibrationOptions& options) {
   wand.Check();
   options.Check();
-  const size_t n = intrinsics.cameras.size();
-  WandCalibrationResult result;
-  result.cameras.resize(n);
-  for (size_t i = 0; i < n; ++i) result.cameras[i].id = intrinsics.cameras[i].id;
-
-  using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-  };
-  auto stage_start = Clock::now();
-  WandSelectionStats selection;
-  std::vector<WandFrame> frames = SelectWandFrames(frame_sets, intrinsics, wand, options.selection, &selection);
-  result.frames_in = selection.frames_in;
-  result.frames_selected = selection.frames_selected;
-  for (size_t i = 0; i < n; ++i) result.cameras[i].views_selected = selection.views_selected[i];
-
-  // Cameras with too few wand views would only destabilise the solve: refuse them up front.
-  std::vector<bool> active(n, true);
-  for (size_t i = 0; i < n; ++i) {
-    if (static_cast<int>(selection.views_selected[i]) < options.min_views_per_camera) {
-      active[i] = false;
-      result.cameras[i].reason = "only " + std::to_string(selection.views_selected[i]) +
-                                 " frames show exactly the wand (need " +
-                                 std::to_string(options.min_views_per_camera) +
-                                 "): wave the wand more in camera " + std::to_string(intrinsics.cameras[i].id) +
-                                 "'s view, away from other bright spots";
-    }
-  }
-  auto drop_inactive = [&](std::vector<WandFrame>* list) {
-    std::vector<WandFrame> kept;
-    for (WandFrame& frame : *list) {
-      frame.views.erase(std::remove_if(frame.views.begin(), frame.views.end(),
-                                       [&](const WandView& v) { return !active[v.camera]; }),
-                        frame.views.end());
-      if (frame.views.size() >= 2) kept.push_back(std::move(frame));
-    }
-    *list = std::move(kept);
-  };
-  drop_inactive(&frames);
-  if (frames.empty()) {
-    throw std::runtime_error("no frame shows the wand (exactly " + std::to_string(wand.MarkerCount()) +
-                             " blobs) in two calibratable cameras: check the wand length, the marker count and "
-                             "that other bright spots are out of view");
-  }
-
-  result.select_seconds = seconds_since(stage_start);
-  stage_start = Clock::now();
-  const WandInitialization init = InitializeWandPoses(frames, intrinsics, wand, options.initialization);
-  std::vector<Camera> cameras = init.cameras;
-  for (size_t i = 0; i < n; ++i) {
-    if (active[i] && !init.posed[i]) {
-      active[i] = false;
-      result.cameras[i].reason = "could not be placed relative to the other cameras (" + init.unposed_reason[i] +
-                                 "): wave the wand where camera " + std::to_string(intrinsics.cameras[i].id) +
-                                 " and its neighbours see it together";
-    }
-  }
-  drop_inactive(&frames);
-
-  // Initial labels and wand poses.
-  std::vector<WandPose> poses;
-  std::vector<WandFrame> labelled;
-  for (WandFrame& frame : frames) {
-    if (!LabelFrameRobustly(cameras, wand, options.initial_gate_px, &frame)) continue;
-    WandPose pose;
-    if (!TriangulateWand(cameras, frame, wand, &pose)) continue;
-    labelled.push_back(std::move(frame));
-    poses.push_back(pose);
-  }
-  frames = std::move(labelled);
-  RelabelAndReject(cameras, wand, options.initial_gate_px, &frames, &poses);
-  // Rejection may leave a camera without views; it then cannot be solved.
-  auto refuse_unseen = [&]() {
-    std::vector<size_t> count(n, 0);
-    for (const WandFrame& frame : frames) {
-      for (const WandView& view : frame.views) ++count[view.camera];
-    }
-    for (size_t i = 0; i < n; ++i) {
-      if (active[i] && count[i] == 0) {
-        active[i] = false;
-        result.cameras[i].reason = "no wand view agrees with the other cameras: check that camera " +
-                                   std::to_string(intrinsics.cameras[i].id) +
-                                   "'s intrinsics belong to it, then wave the wand more in its view";
-      }
-    }
-  };
-  refuse_unseen();
-
-  result.initialize_seconds = seconds_since(stage_start);
-  stage_start = Clock::now();
-  WandBundleOptions bundle = options.bundle;
-  bundle.fixed_camera = init.reference_camera;
-  auto solve = [&](int max_iterations) {
-    WandBundleOptions pass_options = bundle;
-    pass_options.max_iterations = max_iterations;
-    const WandBundleSummary summary = AdjustWandBundle(frames, wand, pass_options, active, &cameras, &poses);
-    result.solver_iterations += summary.iterations;
-    result.solver_message = summary.message;
-    if (!summary.usable) {
-      throw std::runtime_error("bundle adjustment failed (" + summary.message +
-                               "): record the wand again, covering the volume slowly");
-    }
-  };
-  auto reject = [&]() {
-    const double sigma = RobustSigmaPx(cameras, wand, frames, poses);
-    const double gate = std::max(options.outlier_min_px, options.outlier_sigmas * sigma);
-    const size_t dropped = RelabelAndReject(cameras, wand, gate, &frames, &poses);
-    refuse_unseen();
-    return dropped;
-  };
-  // Early passes only need to get close enough to separate outliers: with wrong views still in,
-  // the robust loss makes convergence slow, and they are about to be removed anyway.
-  for (int pass = 0; pass + 1 < options.refinement_passes; ++pass) {
-    solve(std::min(options.early_pass_iterations, bundle.max_iterations));
-    reject();
-  }
-  solve(bundle.max_iterations);
-  if (reject() > 0) solve(bundle.max_iterations);
-  result.bundle_seconds = seconds_since(stage_start);
-  result.frames_used = frames.size();
-  result.reference_camera_id = intrinsics.cameras[init.reference_camera].id;
-
-  // Report: residuals, coverage and independently triangulated wand lengths, then acceptance.
-  // Returns the cameras refused by this evaluation.
-  auto evaluate = [&]() {
-    const int grid = options.coverage_grid;
-    std::vector<std::vector<bool>> cells(n, std::vector<bool>(static_cast<size_t>(grid * grid), false));
-    std::vector<ReprojectionSum> camera_sums(n);
-    std::vector<std::vector<double>> length_errors(n);
-    std::vector<double> all_length_errors;
-    std::vector<size_t> views_used(n, 0);
-    ReprojectionSum total;
-    const size_t last = wand.MarkerCount() - 1;
-    for (size_t f = 0; f < frames.size(); ++f) {
-      std::vector<PointView> first, second;
-      for (const WandView& view : frames[f].views) {
-        const Camera& camera = cameras[view.camera];
-        ++views_used[view.camera];
-        for (size_t k = 0; k < view.pixels.size(); ++k) {
-          camera_sums[view.camera].Add(camera, poses[f].Marker(wand, k), view.pixels[k]);
-          total.Add(camera, poses[f].Marker(wand, k), view.pixels[k]);
-          const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
-          const int cy =
-              std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
-          cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
-        }
-        // Normalized coordinates again: the intrinsics may have been refined.
-        first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
-        second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
-      }
-      Eigen::Vector3d a, b;
-      if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
-      const double error = (b - a).norm() - wand.LengthMm();
-      all_length_errors.push_back(error);
-      for (const WandView& view : frames[f].views) length_errors[view.camera].push_back(error);
-    }
-    result.wand_length = SummarizeLengthErrors(all_length_errors);
-    result.reprojection_rms_px = total.RmsPx();
-    result.unprojected_observations = total.unprojected;
-
-    for (size_t i = 0; i < n; ++i) {
-      if (!active[i]) continue;  // a camera refused earlier keeps the figures it was refused on
-      CameraCalibrationReport& report = result.cameras[i];
-      report.views_used = views_used[i];
-      report.coverage = static_cast<double>(std::count(cells[i].begin(), cells[i].end(), true)) / (grid * grid);
-      report.reprojection_rms_px = camera_sums[i].RmsPx();
-      report.wand_length = SummarizeLengthErrors(length_errors[i]);
-    }
-    std::vector<double> active_rms;
-    for (size_t i = 0; i < n; ++i) {
-      if (active[i] && result.cameras[i].views_used > 0) active_rms.push_back(result.cameras[i].reprojection_rms_px);
-    }
-    double median_rms = 0.0;
-    if (!active_rms.empty()) {
-      std::nth_element(active_rms.begin(), active_rms.begin() + static_cast<long>(active_rms.size() / 2),
-                       active_rms.end());
-      median_rms = active_rms[active_rms.size() / 2];
-    }
-    result.rig.cameras.clear();
-    std::vector<size_t> refused;
-    for (size_t i = 0; i < n; ++i) {
-      CameraCalibrationReport& report = result.cameras[i];
-      const std::string id = std::to_string(report.id);
-      if (!active[i]) continue;  // reason already set
-      char buffer[320];
-      const double inliers = report.views_selected > 0
-                                 ? static_cast<double>(report.views_used) / static_cast<double>(report.views_selected)
-                                 : 0.0;
-      if (static_cast<int>(report.views_used) < options.min_views_per_camera) {
-        report.reason = "only " + std::to_string(report.views_used) + " wand views survived outlier rejection (need " +
-                        std::to_string(options.min_views_per_camera) + "): wave the wand more in camera " + id +
-                        "'s view";
-      } else if (report.coverage < options.min_coverage) {
-        std::snprintf(buffer, sizeof(buffer),
-                      "the wand covered %.0f %% of the image (need %.0f %%): wave it towards the edges and corners "
-                      "of camera %s's view",
-                      100.0 * report.coverage, 100.0 * options.min_coverage, id.c_str());
-        report.reason = buffer;
-      } else if (report.reprojection_rms_px > options.max_camera_rms_px ||
-                 report.reprojection_rms_px > options.max_rms_ratio * median_rms) {
-        std::snprintf(buffer, sizeof(buffer),
-                      "reprojection RMS %.2f px (limit %.2f px, %.1f times the rig's median %.2f px): check camera "
-                      "%s's intrinsics and that it did not move, then record the wand again",
-                      report.reprojection_rms_px, options.max_camera_rms_px, options.max_rms_ratio, median_rms,
-                      id.c_str());
-        report.reason = buffer;
-      } else if (inliers < options.min_inlier_fraction) {
-        std::snprintf(buffer, sizeof(buffer),
-                      "only %.0f %% of its wand views agree with the other cameras (need %.0f %%): check camera %s's "
-                      "intrinsics and that it did not move, then record the wand again",
-                      100.0 * inliers, 100.0 * options.min_inlier_fraction, id.c_str());
-        report.reason = buffer;
-      } else {
-        report.accepted = true;
-        result.rig.cameras.push_back(cameras[i]);
-      }
-      if (!report.accepted) refused.push_back(i);
-    }
-    return refused;
-  };
-  const std::vector<size_t> refused = evaluate();
-  if (!refused.empty()) {
-    // A refused camera must not bend the others: solve once more without it.
-    for (size_t i : refused) active[i] = false;
-    std::vector<WandFrame> kept_frames;
-    std::vector<WandPose> kept_poses;
-    for (size_t f = 0; f < frames.size(); ++f) {
-      auto& views = frames[f].views;
-      views.erase(std::remove_if(views.begin(), views.end(), [&](const WandView& v) { return !active[v.camera]; }),
-                  views.end());
-      if (views.size() < 2) continue;
-      kept_frames.push_back(std::move(frames[f]));
-      kept_poses.push_back(poses[f]);
-    }
-    frames = std::move(kept_frames);
-    poses = std::move(kept_poses);
-    if (active[init.reference_camera]) {
-      solve(bundle.max_iterations);
-      reject();
-      result.frames_used = frames.size();
-      evaluate();
-    }
-    result.bundle_seconds = seconds_since(stage_start);
-  }
-  return result;
+  return WandSolver(intrinsics, wand, options).Run(frame_sets);
 }
 
 }  // namespace mocap
