@@ -95,11 +95,11 @@ std::vector<std::vector<std::pair<int, int>>> TrueCorrespondences(
 }
 
 void RunBench(BenchArgs args) {
-  if (args.cameras < 2) throw std::invalid_argument("--cameras must be >= 2");
-  if (args.markers < 1) throw std::invalid_argument("--markers must be >= 1");
-  if (args.frames < 10) throw std::invalid_argument("--frames must be >= 10");
-  if (!(args.rate_hz > 0.0)) throw std::invalid_argument("--rate must be > 0");
-  args.faults.Check();
+  if (args.cameras < 2) throw UsageError("--cameras must be >= 2");
+  if (args.markers < 1) throw UsageError("--markers must be >= 1");
+  if (args.frames < 10) throw UsageError("--frames must be >= 10");
+  if (!(args.rate_hz > 0.0)) throw UsageError("--rate must be > 0");
+  CheckOptions(args.faults);
 
   SyntheticMotionOptions motion_options;
   motion_options.markers = args.markers;

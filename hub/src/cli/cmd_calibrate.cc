@@ -26,6 +26,8 @@
 #include "calib/wand_calibration.h"
 #include "calib/world_frame.h"
 #include "cli/commands.h"
+#include "util/json_file.h"
+#include "util/log.h"
 #include "cli/fault_options.h"
 #include "cli/progress.h"
 #include "eval/calibration_eval.h"
@@ -42,13 +44,6 @@ constexpr const char* kSimDescription = "Simulator: virtual rigs, projected sess
 constexpr const char* kCalibrateDescription =
     "Camera calibration: wand extrinsics, world frame, intrinsics, DLT and seed-format imports";
 
-int ParseUpAxisName(const std::string& up) {
-  if (up == "auto") return -1;
-  if (up == "x" || up == "X") return 0;
-  if (up == "y" || up == "Y") return 1;
-  if (up == "z" || up == "Z") return 2;
-  throw std::invalid_argument("--up must be x, y, z or auto");
-}
 
 // "x,y,z;x,y,z;..." in mm.
 std::vector<Eigen::Vector3d> ParsePointList(const std::string& text, const std::string& option) {
@@ -62,13 +57,13 @@ std::vector<Eigen::Vector3d> ParsePointList(const std::string& text, const std::
       char tail;
       if (std::sscanf(item.c_str(), " %lf , %lf , %lf %c", &x, &y, &z, &tail) != 3 ||
           !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
-        throw std::invalid_argument(option + ": '" + item + "' is not a point 'x,y,z' (mm)");
+        throw UsageError(option + ": '" + item + "' is not a point 'x,y,z' (mm)");
       }
       points.emplace_back(x, y, z);
     }
     start = end + 1;
   }
-  if (points.empty()) throw std::invalid_argument(option + ": no points given");
+  if (points.empty()) throw UsageError(option + ": no points given");
   return points;
 }
 
@@ -76,18 +71,8 @@ std::vector<Eigen::Vector3d> ParsePointList(const std::string& text, const std::
 std::vector<FrameSet> LoadFramesReporting(const std::string& session) {
   std::vector<std::string> warnings;
   std::vector<FrameSet> frames = LoadSessionFrames(session, &warnings);
-  for (const std::string& warning : warnings) std::fprintf(stderr, "mocap-hub: warning: %s\n", warning.c_str());
+  for (const std::string& warning : warnings) log::Warn("{}", warning);
   return frames;
-}
-
-void WriteJsonFile(const nlohmann::json& document, const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  std::error_code ignored;
-  if (!parent.empty()) std::filesystem::create_directories(parent, ignored);
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(path + ": cannot write");
-  out << document.dump(2) << "\n";
-  if (!out) throw std::runtime_error(path + ": write failed");
 }
 
 // ---- sim wand -------------------------------------------------------------------------------
@@ -95,7 +80,6 @@ void WriteJsonFile(const nlohmann::json& document, const std::string& path) {
 struct SimWandArgs {
   std::string rig;
   std::string output;
-  std::string up = "auto";
   std::string lframe;
   bool json = false;
   WandMotionOptions wand;
@@ -103,13 +87,12 @@ struct SimWandArgs {
 };
 
 void RunSimWand(SimWandArgs args) {
-  args.project.Check();
-  args.wand.up_axis = ParseUpAxisName(args.up);
+  CheckOptions(args.project);
   if (args.wand.lframe_frames > 0) {
     args.wand.lframe_markers = args.lframe.empty() ? DefaultLFrame(args.wand.up_axis < 0 ? 2 : args.wand.up_axis)
                                                    : ParsePointList(args.lframe, "--lframe");
   }
-  args.wand.Check();
+  CheckOptions(args.wand);
   const Rig rig = LoadRigJson(args.rig);
   args.project.seed = args.wand.seed;
   const MarkerTrajectories motion = MakeWandMotion(rig, args.wand);
@@ -206,18 +189,18 @@ void RunCalibrateWand(CalibrateWandArgs args) {
   const WandGeometry wand = args.middle_marker_mm > 0.0
                                 ? WandGeometry::ThreeMarker(args.wand_length_mm, args.middle_marker_mm)
                                 : WandGeometry::TwoMarker(args.wand_length_mm);
-  wand.Check();
+  CheckOptions(wand);
   args.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(args.refine);
   const Rig intrinsics = LoadRigJson(args.intrinsics);
   if (args.reference_camera_id >= 0) {
     const Camera* reference = intrinsics.Find(static_cast<uint32_t>(args.reference_camera_id));
     if (reference == nullptr) {
-      throw std::invalid_argument(fmt::format("--reference-camera {}: no such camera in {}", args.reference_camera_id,
+      throw UsageError(fmt::format("--reference-camera {}: no such camera in {}", args.reference_camera_id,
                                               args.intrinsics));
     }
     args.options.initialization.reference_camera = static_cast<int>(reference - intrinsics.cameras.data());
   }
-  args.options.Check();
+  CheckOptions(args.options);
   const std::vector<FrameSet> frames = LoadFramesReporting(args.session);
   const WandCalibrationResult result = CalibrateWand(frames, intrinsics, wand, args.options);
   const nlohmann::json report = ReportJson(result, wand);
@@ -255,7 +238,7 @@ struct CalibrateWorldArgs {
   std::string calibration;
   std::string output;
   std::string lframe;
-  std::string up = "z";
+  int up_axis = 2;
   bool floor = false;
   bool json = false;
   LFrameOptions options;
@@ -275,18 +258,9 @@ nlohmann::json WithPoses(nlohmann::json document, const Rig& rig) {
   return document;
 }
 
-nlohmann::json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
-  if (document.is_discarded()) throw std::runtime_error(path + ": not valid JSON");
-  return document;
-}
-
 void RunCalibrateWorld(const CalibrateWorldArgs& args) {
-  const int up_axis = ParseUpAxisName(args.up);
-  if (up_axis < 0) throw std::invalid_argument("--up must be x, y or z");
-  args.options.Check();
+  const int up_axis = args.up_axis;
+  CheckOptions(args.options);
   const Rig rig = LoadRigJson(args.calibration);
   const std::vector<FrameSet> frames = LoadFramesReporting(args.session);
   WorldFrameFit fit;
@@ -314,7 +288,7 @@ void RunCalibrateWorld(const CalibrateWorldArgs& args) {
                              {"session", args.session},
                              {"frames_used", fit.frames_used},
                              {"fit_rms_mm", fit.fit_rms_mm},
-                             {"up", args.up}};
+                             {"up", UpAxisName(args.up_axis)}};
   WriteJsonFile(document, args.output);
   if (args.json) {
     std::printf("%s\n", document["world_frame"].dump().c_str());
@@ -343,8 +317,8 @@ struct CalibrateIntrinsicsArgs {
 void RunCalibrateIntrinsics(CalibrateIntrinsicsArgs args) {
   args.target.type = TargetTypeFromName(args.target_name);
   args.options.fix_k3 = !args.free_k3;
-  args.target.Check();
-  args.options.Check();
+  CheckOptions(args.target);
+  CheckOptions(args.options);
   const std::vector<std::string> files = ExpandImagePaths(args.images);
   if (files.empty()) throw std::runtime_error("no image files given");
   const std::vector<cv::Mat> images = ReadGreyImages(files);
@@ -395,7 +369,7 @@ struct CalibrateDltArgs {
 
 void RunCalibrateDlt(CalibrateDltArgs args) {
   args.options.refine = !args.no_refine;
-  args.options.Check();
+  CheckOptions(args.options);
   const std::vector<ControlPoint> points = ReadControlPoints(args.points);
   const DltResult result = CalibrateDlt(points, args.options);
   Rig rig;
@@ -440,7 +414,7 @@ struct ImportTsaiArgs {
 };
 
 void RunImportTsai(const ImportTsaiArgs& args) {
-  if (args.width < 0 || args.height < 0) throw std::invalid_argument("--width and --height must be positive");
+  if (args.width < 0 || args.height < 0) throw UsageError("--width and --height must be positive");
   nlohmann::json fits = nlohmann::json::array();
   const Rig rig = RigFromTsai(ReadTsaiFile(args.input), args.width, args.height, &fits);
   nlohmann::json document = RigToJson(rig);
@@ -462,8 +436,8 @@ struct ImportMcdArgs {
 };
 
 void RunImportMcd(const ImportMcdArgs& args) {
-  if (args.width < 0 || args.height < 0) throw std::invalid_argument("--width and --height must be positive");
-  if (!(args.rate_hz > 0.0 && args.rate_hz <= 10000.0)) throw std::invalid_argument("--rate must be in (0, 10000]");
+  if (args.width < 0 || args.height < 0) throw UsageError("--width and --height must be positive");
+  if (!(args.rate_hz > 0.0 && args.rate_hz <= 10000.0)) throw UsageError("--rate must be in (0, 10000]");
   const McdRecording recording = ReadMcd(args.input);
   nlohmann::json fits = nlohmann::json::array();
   const Rig rig = RigFromTsai(recording.cameras, args.width, args.height, &fits);
@@ -570,7 +544,7 @@ void AddSimWandCommand(CLI::App& app) {
   command->add_option("--min-cameras", w.min_cameras,
                       "Wave where at least this many cameras see (0 = half the rig)")
       ->capture_default_str();
-  command->add_option("--up", args->up, "Vertical axis: x, y, z or auto (from the cameras)")->capture_default_str();
+  AddUpAxisOption(*command, &args->wand.up_axis, true, "Vertical axis: x, y, z or auto (from the cameras)");
   command->add_option("--lframe-frames", w.lframe_frames, "Static L-frame frames after the waving")
       ->capture_default_str();
   command->add_option("--lframe", args->lframe,
@@ -623,7 +597,7 @@ void AddCalibrateWorldCommand(CLI::App& app) {
   command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
   command->add_option("--lframe", args->lframe,
                       "L-frame markers in the new world, mm, 'x,y,z;x,y,z;...' (default: 4-marker L on the floor)");
-  command->add_option("--up", args->up, "Vertical axis of the new world: x, y or z")->capture_default_str();
+  AddUpAxisOption(*command, &args->up_axis, false, "Vertical axis of the new world: x, y or z");
   command->add_flag("--floor", args->floor,
                     "Level on floor markers instead (origin at their centroid, heading kept)");
   command->add_option("--max-fit-rms", args->options.max_fit_rms_mm, "L-frame match tolerance, mm")

@@ -26,7 +26,7 @@ struct EvalArgs {
 };
 
 void RunEval(const EvalArgs& args) {
-  args.options.Check();
+  CheckOptions(args.options);
   const MarkerTrajectories truth = ReadTrc(args.truth);
   const MarkerTrajectories result = ReadTrc(args.result);
   std::string visibility_path = args.visibility;

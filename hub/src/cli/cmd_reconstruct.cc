@@ -17,6 +17,7 @@
 #include "track/gap_filler.h"
 #include "track/tracker.h"
 #include "track/trc_spill.h"
+#include "util/log.h"
 
 namespace mocap {
 namespace {
@@ -96,9 +97,7 @@ void RunReconstruct(ReconstructArgs args) {
   filler.Finish();
   spill.Finish(tracker.NumMarkers());
 
-  for (const std::string& warning : reader.warnings()) {
-    std::fprintf(stderr, "mocap-hub: warning: %s\n", warning.c_str());
-  }
+  for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
   const ReconstructionStats& rs = reconstructor.stats();
   const TrackerStats& ts = tracker.stats();
   std::printf(

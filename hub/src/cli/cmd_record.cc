@@ -23,6 +23,7 @@
 #include "io/trc.h"
 #include "recon/reconstructor.h"
 #include "track/tracker.h"
+#include "util/log.h"
 
 namespace mocap {
 namespace {
@@ -77,7 +78,7 @@ struct RecordArgs {
 void RunRecord(const RecordArgs& args) {
   const Rig rig = LoadRigJson(args.calibration);
   if (rig.cameras.size() < 2) throw std::runtime_error(args.calibration + ": needs at least 2 cameras");
-  if (args.max_markers < 1 || args.max_markers > 999) throw std::invalid_argument("--max-markers must be 1-999");
+  if (args.max_markers < 1 || args.max_markers > 999) throw UsageError("--max-markers must be 1-999");
 
   RecorderOptions options;
   options.listen = args.listen;
@@ -117,8 +118,8 @@ void RunRecord(const RecordArgs& args) {
 
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
-  std::fprintf(stderr, "mocap-hub: recording on %s (port %u) from %zu cameras into %s; Ctrl-C stops\n",
-               args.listen.c_str(), recorder.port(), options.cameras.size(), args.output.c_str());
+  log::Info("recording on {} (port {}) from {} cameras into {}; Ctrl-C stops", args.listen, recorder.port(),
+            options.cameras.size(), args.output);
 
   std::vector<ReconstructedPoint> points;
   std::vector<TrackSample> samples;
@@ -159,10 +160,9 @@ void RunRecord(const RecordArgs& args) {
   out.frame_sets = recorder.frame_sets();
   session.Finish();
 
-  std::fprintf(stderr, "%s", stats.Report().c_str());
+  log::Info("per-node statistics:\n{}", stats.Report());
   if (dropped_columns)
-    std::fprintf(stderr, "mocap-hub: warning: %llu samples beyond --max-markers %d columns not in the live TRC\n",
-                 static_cast<unsigned long long>(dropped_columns), args.max_markers);
+    log::Warn("{} samples beyond --max-markers {} columns not in the live TRC", dropped_columns, args.max_markers);
   std::printf("%s: %llu frame sets, %llu incomplete; latency trigger->send p50 %.2f ms p99 %.2f ms, "
               "send->3D p50 %.2f ms p99 %.2f ms\n",
               args.output.c_str(), static_cast<unsigned long long>(recorder.frame_sets()),

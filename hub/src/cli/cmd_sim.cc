@@ -20,18 +20,10 @@ namespace {
 
 constexpr const char* kSimDescription = "Simulator: virtual rigs, projected sessions with realistic faults";
 
-int ParseUpAxis(const std::string& up) {
-  if (up == "auto") return -1;
-  if (up == "x" || up == "X") return 0;
-  if (up == "y" || up == "Y") return 1;
-  if (up == "z" || up == "Z") return 2;
-  throw std::invalid_argument("--up must be x, y, z or auto");
-}
-
 struct SimRigArgs {
   std::string motion;
   std::string output;
-  std::string up = "auto";
+  int up_axis = -1;
   bool no_distortion = false;
   bool json = false;
   RingRigOptions rig;
@@ -40,9 +32,9 @@ struct SimRigArgs {
 void RunSimRig(const SimRigArgs& args) {
   RingRigOptions options = args.rig;
   options.lens_distortion = !args.no_distortion;
-  options.Check();
+  CheckOptions(options);
   const MarkerTrajectories motion = ReadTrc(args.motion);
-  const MotionVolume volume = ComputeMotionVolume(motion, ParseUpAxis(args.up));
+  const MotionVolume volume = ComputeMotionVolume(motion, args.up_axis);
   const Rig rig = MakeRingRig(volume, options);
   SaveRigJson(rig, args.output);
   const char axes[] = "xyz";
@@ -58,7 +50,7 @@ void RunSimRig(const SimRigArgs& args) {
     const Eigen::Vector3d size = volume.max - volume.min;
     std::printf("%s: %zu cameras around a %.0f x %.0f x %.0f mm volume, up = %c%s\n", args.output.c_str(),
                 rig.cameras.size(), size.x(), size.y(), size.z(), axes[volume.up_axis],
-                args.up == "auto" ? " (detected)" : "");
+                args.up_axis < 0 ? " (detected)" : "");
   }
 }
 
@@ -71,7 +63,7 @@ struct SimProjectArgs {
 };
 
 void RunSimProject(const SimProjectArgs& args) {
-  args.project.Check();
+  CheckOptions(args.project);
   const MarkerTrajectories motion = ReadTrc(args.motion);
   const Rig rig = LoadRigJson(args.rig);
   if (motion.NumFrames() == 0) throw std::runtime_error(args.motion + ": no frames");
@@ -114,8 +106,7 @@ void AddSimRigCommand(CLI::App& app) {
   command->add_option("--width", args->rig.width, "Image width, px")->capture_default_str();
   command->add_option("--height", args->rig.height, "Image height, px")->capture_default_str();
   command->add_option("--fov-deg", args->rig.fov_deg, "Horizontal field of view, degrees")->capture_default_str();
-  command->add_option("--up", args->up, "Vertical axis of the motion: x, y, z or auto (detected)")
-      ->capture_default_str();
+  AddUpAxisOption(*command, &args->up_axis, true, "Vertical axis of the motion: x, y, z or auto (detected)");
   command->add_option("--seed", args->rig.seed, "Seed of placement and lens differences")->capture_default_str();
   command->add_option("--mount-above-mm", args->rig.mount_above_mm, "Camera height above the volume's top, mm")
       ->capture_default_str();

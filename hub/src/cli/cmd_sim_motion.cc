@@ -15,7 +15,6 @@ void AddSimMotionCommand(CLI::App& app) {
   CLI::App* command = sim.add_subcommand("motion", "Write a synthetic walking motion (TRC)");
   struct Args {
     SyntheticMotionOptions motion;
-    std::string up = "y";
     std::string output;
   };
   auto args = std::make_shared<Args>();
@@ -23,11 +22,11 @@ void AddSimMotionCommand(CLI::App& app) {
   command->add_option("--markers", args->motion.markers, "Number of markers")->capture_default_str();
   command->add_option("--frames", args->motion.frames, "Number of frames")->capture_default_str();
   command->add_option("--rate", args->motion.rate_hz, "Frame rate, Hz")->capture_default_str();
-  command->add_option("--up", args->up, "Vertical axis")->check(CLI::IsMember({"x", "y", "z"}))->capture_default_str();
+  args->motion.up_axis = 1;
+  AddUpAxisOption(*command, &args->motion.up_axis, false, "Vertical axis");
   command->add_option("--seed", args->motion.seed, "Seed")->capture_default_str();
   command->callback([args] {
-    args->motion.up_axis = args->up == "x" ? 0 : args->up == "y" ? 1 : 2;
-    args->motion.Check();
+    CheckOptions(args->motion);
     WriteTrc(MakeSyntheticMotion(args->motion), args->output);
     std::printf("%s: %d markers, %d frames at %g Hz\n", args->output.c_str(), args->motion.markers,
                 args->motion.frames, args->motion.rate_hz);

@@ -25,7 +25,7 @@ struct SimRenderArgs {
 };
 
 void RunSimRender(const SimRenderArgs& args) {
-  args.options.Check();
+  CheckOptions(args.options);
   const MarkerTrajectories motion = ReadTrc(args.motion);
   const Rig rig = LoadRigJson(args.rig);
   if (motion.NumFrames() == 0) throw std::runtime_error(args.motion + ": no frames");

@@ -1,15 +1,41 @@
 // The mocap-hub command table's entries. Each Add*Command registers one sub-command on the root
 // app (group commands such as "sim ..." go through CommandGroup) and gives it a callback that
-// does the work. Error policy of the CLI: callbacks validate their inputs and throw
-// std::runtime_error / std::invalid_argument with a one-line reason; main() prints
-// "mocap-hub: error: <reason>" to stderr and exits 1. Results go to stdout, progress to stderr.
+// does the work. Error policy of the CLI: callbacks validate their inputs and throw with a
+// one-line reason; main() prints "mocap-hub: error: <reason>" to stderr and exits with
+//   0 ok, 1 a runtime or input error (files, data, devices), 2 a usage error (CLI11's parse
+//   errors, an unknown command, an option value out of range: UsageError, CheckOptions).
+// Results go to stdout; diagnostics and progress to stderr (util/log.h).
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 namespace mocap {
+
+// A command line that cannot be run as given (exit status 2).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// Runs an options struct's Check() (which throws std::invalid_argument, the hub's options policy)
+// on options that came from the command line, so that a bad value is a usage error.
+template <typename Options>
+void CheckOptions(const Options& options) {
+  try {
+    options.Check();
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
+  }
+}
+
+// --up: x, y or z in any case, and `auto` where allow_auto; parsed here once into an axis index
+// (0, 1, 2; -1 for auto). *axis keeps its value when the option is not given.
+CLI::Option* AddUpAxisOption(CLI::App& command, int* axis, bool allow_auto, const std::string& help);
+// "x", "y", "z" or "auto", as the option is written.
+std::string UpAxisName(int axis);
 
 // The sub-command `name` of `app` (created on first use, requiring one sub-command of its own),
 // so that several files can add commands to one group ("sim rig", "sim wand", "calibrate wand").

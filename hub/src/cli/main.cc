@@ -1,5 +1,5 @@
 // mocap-hub: one executable, a table of sub-commands (COLMAP-style). Every failure ends as one
-// line on stderr and a non-zero exit status; --help works on every level.
+// line on stderr and the exit status of the policy in cli/commands.h; --help works on every level.
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "util/log.h"
 
 namespace {
 
@@ -53,6 +54,13 @@ CLI::App& CommandGroup(CLI::App& app, const std::string& name, const std::string
 int main(int argc, char** argv) {
   CLI::App app{"mocap-hub: record, reconstruct, simulate and evaluate optical marker motion capture"};
   app.require_subcommand(1);
+  app.fallthrough();  // --log-level is accepted after the command name too
+  mocap::log::SetLevel(mocap::log::Level::kInfo);
+  app.add_option_function<std::string>(
+         "--log-level", [](const std::string& name) { mocap::log::SetLevel(*mocap::log::ParseLevel(name)); },
+         "Diagnostics on stderr: trace, debug, info, warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "warning", "error", "off"}))
+      ->default_str("info");
   for (const CommandEntry& command : kCommands) command.add(app);
   // CLI11 would only say "a subcommand is required" for a misspelt command; name it instead.
   if (argc > 1 && argv[1][0] != '-') {
@@ -68,7 +76,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --version
     std::fprintf(stderr, "mocap-hub: error: %s (see --help)\n", error.what());
-    return error.get_exit_code();
+    return 2;
+  } catch (const mocap::UsageError& error) {
+    std::fprintf(stderr, "mocap-hub: error: %s (see --help)\n", error.what());
+    return 2;
   } catch (const std::exception& error) {
     std::fprintf(stderr, "mocap-hub: error: %s\n", error.what());
     return 1;

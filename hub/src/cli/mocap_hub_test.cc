@@ -80,7 +80,7 @@ TEST_F(MocapHubTest, OneLineErrors) {
   ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras 1 -o " + dir + "/r.json"),
                      "--cameras must be");
   ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras 4 --up w -o " + dir + "/r.json"),
-                     "--up must be");
+                     "--up");
   ExpectOneLineError(Hub("sim rig --motion " + dir + "/motion.trc --cameras abc -o " + dir + "/r.json"), "abc");
   std::ofstream(dir + "/broken.trc") << "PathFileType\t4\nDataRate\n60\nFrame#\tTime\tA\t\t\n1\t0\t1\tx\t3\n";
   ExpectOneLineError(Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/broken.trc"),
@@ -94,6 +94,32 @@ TEST_F(MocapHubTest, OneLineErrors) {
                      "--occlusion must be");
   ExpectOneLineError(Hub("eval --truth " + dir + "/motion.trc --result " + dir + "/motion.trc --session " + dir),
                      "no visibility.tsv");
+}
+
+// The exit status policy (cli/commands.h): 0 ok, 1 runtime or input error, 2 usage error.
+TEST_F(MocapHubTest, ExitStatusSaysWhoseMistakeItWas) {
+  const std::string motion = " --motion " + dir + "/motion.trc";
+  EXPECT_EQ(Hub("--help").status, 0);
+  EXPECT_EQ(Hub("eval --help").status, 0);
+  // Usage: no command, an unknown command or option, a missing or malformed or out-of-range value.
+  EXPECT_EQ(Hub("").status, 2);
+  EXPECT_EQ(Hub("frobnicate").status, 2);
+  EXPECT_EQ(Hub("sim rig" + motion + " --cameras 4 --frobnicate -o " + dir + "/r.json").status, 2);
+  EXPECT_EQ(Hub("sim rig" + motion + " -o " + dir + "/r.json").status, 2);
+  EXPECT_EQ(Hub("sim rig" + motion + " --cameras abc -o " + dir + "/r.json").status, 2);
+  EXPECT_EQ(Hub("sim rig" + motion + " --cameras 1 -o " + dir + "/r.json").status, 2);
+  EXPECT_EQ(Hub("sim rig" + motion + " --cameras 4 --up w -o " + dir + "/r.json").status, 2);
+  EXPECT_EQ(Hub("bench --cameras 1").status, 2);
+  EXPECT_EQ(Hub("--log-level loud sim rig" + motion + " --cameras 4 -o " + dir + "/r.json").status, 2);
+  // Input: files that cannot be read or are not what they should be.
+  EXPECT_EQ(Hub("sim rig --motion /nonexistent.trc --cameras 4 -o " + dir + "/r.json").status, 1);
+  EXPECT_EQ(Hub("reconstruct " + dir + " --calibration " + dir + "/motion.trc -o " + dir + "/o.trc").status, 1);
+  EXPECT_EQ(Hub("sim project" + motion + " --rig " + dir + "/motion.trc -o " + dir + "/s").status, 1);
+  // --log-level goes before or after the command name; "off" silences diagnostics, never results.
+  const HubRun quiet = Hub("sim rig" + motion + " --cameras 4 -o " + dir + "/r.json --log-level off");
+  EXPECT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_NE(quiet.out.find("4 cameras"), std::string::npos) << quiet.out;
+  EXPECT_EQ(Hub("--log-level debug sim rig" + motion + " --cameras 4 -o " + dir + "/r.json").status, 0);
 }
 
 TEST_F(MocapHubTest, SimMotionWritesASyntheticTrc) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "calib/rigid_fit.h"
+#include "util/json_file.h"
 
 namespace mocap {
 
@@ -77,10 +78,7 @@ CalibrationEval EvaluateCalibration(const Rig& truth, const Rig& result,
 }
 
 std::map<uint32_t, double> ReadReportedReprojectionRms(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  const nlohmann::json document = nlohmann::json::parse(in, nullptr, false);
-  if (document.is_discarded()) throw std::runtime_error(path + ": not valid JSON");
+  const nlohmann::json document = ReadJsonFile(path);
   std::map<uint32_t, double> reported;
   const auto cameras = document.find("cameras");
   if (cameras == document.end() || !cameras->is_array()) return reported;

@@ -2,18 +2,19 @@
 #include "ingest/frame_set_assembler.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace mocap {
 
-std::string FrameSetAssemblerOptions::Check() const {
-  if (deadline_ns == 0) return "assembly deadline must be positive";
-  if (free_run && !(rate_hz > 0.0)) return "free-run grouping needs the frame rate";
-  if (max_open_sets == 0) return "max_open_sets must be positive";
-  return {};
+void FrameSetAssemblerOptions::Check() const {
+  if (deadline_ns == 0) throw std::invalid_argument("assembly deadline must be positive");
+  if (free_run && !(rate_hz > 0.0)) throw std::invalid_argument("free-run grouping needs the frame rate");
+  if (max_open_sets == 0) throw std::invalid_argument("max_open_sets must be positive");
 }
 
 FrameSetAssembler::FrameSetAssembler(FrameSetAssemblerOptions options, std::vector<uint32_t> expected)
     : options_(options), expected_(expected.begin(), expected.end()) {
+  options_.Check();
   if (options_.free_run && options_.free_run_tolerance_ns == 0)
     options_.free_run_tolerance_ns = static_cast<uint64_t>(1e9 / options_.rate_hz / 3.0);
 }

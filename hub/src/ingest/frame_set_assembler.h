@@ -23,8 +23,8 @@ struct FrameSetAssemblerOptions {
   uint64_t free_run_tolerance_ns = 0;     // 0 = a third of the frame period
   size_t max_open_sets = 256;             // beyond this the oldest set is handed out early
 
-  // Empty when usable, otherwise why not.
-  std::string Check() const;
+  // Throws std::invalid_argument naming the first unusable setting (the hub's options policy).
+  void Check() const;
 };
 
 class FrameSetAssembler {

@@ -10,22 +10,17 @@
 
 namespace mocap {
 
-std::string RecorderOptions::Check() const {
-  if (cameras.empty()) return "no cameras: the calibration names none";
-  if (!(rate_hz > 0.0 && rate_hz <= 2000.0)) return "rate must be within (0, 2000] Hz";
-  if (duration_s < 0.0) return "duration must not be negative";
-  try {
-    ParseHostPort(listen);
-    if (!announce.empty()) ParseHostPort(announce);
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return assembly.Check();
+void RecorderOptions::Check() const {
+  if (cameras.empty()) throw std::invalid_argument("no cameras: the calibration names none");
+  if (!(rate_hz > 0.0 && rate_hz <= 2000.0)) throw std::invalid_argument("rate must be within (0, 2000] Hz");
+  if (duration_s < 0.0) throw std::invalid_argument("duration must not be negative");
+  ParseHostPort(listen);  // throws std::invalid_argument naming the bad address
+  if (!announce.empty()) ParseHostPort(announce);
+  assembly.Check();
 }
 
 Recorder::Recorder(RecorderOptions options) : options_(std::move(options)), assembler_(options_.assembly, options_.cameras) {
-  const std::string problem = options_.Check();
-  if (!problem.empty()) throw std::invalid_argument(problem);
+  options_.Check();
   for (uint32_t id : options_.cameras) stats_.nodes[id];
 }
 

@@ -29,7 +29,8 @@ struct RecorderOptions {
   double idle_timeout_s = 0.0;        // stop after this long without datagrams once data came; 0 = never
   FrameSetAssemblerOptions assembly;
 
-  std::string Check() const;
+  // Throws std::invalid_argument naming the first unusable setting (the hub's options policy).
+  void Check() const;
 };
 
 class Recorder {

@@ -7,6 +7,7 @@
 
 #include "ingest/frame_codec.h"
 #include "wire/packet.h"
+#include "util/json_file.h"
 
 namespace mocap {
 namespace fs = std::filesystem;
@@ -61,27 +62,17 @@ SessionInfo SessionInfo::FromJson(const nlohmann::json& j) {
 
 SessionInfo LoadSessionInfo(const std::string& dir) {
   const std::string path = (fs::path(dir) / "session.json").string();
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open (is " + dir + " a session directory?)");
+  if (!fs::exists(path)) throw std::runtime_error(path + ": cannot open (is " + dir + " a session directory?)");
+  const nlohmann::json document = ReadJsonFile(path);
   try {
-    return SessionInfo::FromJson(nlohmann::json::parse(in));
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": " + e.what());
+    return SessionInfo::FromJson(document);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
 }
 
 void SaveSessionInfo(const SessionInfo& info, const std::string& dir) {
-  const fs::path path = fs::path(dir) / "session.json";
-  const fs::path tmp = fs::path(dir) / "session.json.tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
-    out << info.ToJson().dump(2) << "\n";
-    if (!out) throw std::runtime_error(tmp.string() + ": write failed");
-  }
-  fs::rename(tmp, path);
+  WriteJsonFile(info.ToJson(), (fs::path(dir) / "session.json").string());
 }
 
 void SessionWriter::Create(const std::string& dir, const SessionInfo& info) {

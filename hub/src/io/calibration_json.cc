@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
+#include "util/json_file.h"
+
 namespace mocap {
 namespace {
 
@@ -152,24 +154,8 @@ json RigToJson(const Rig& rig) {
   return json{{"units", "mm"}, {"cameras", cameras}};
 }
 
-Rig LoadRigJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) Fail(path, "cannot open for reading");
-  json document;
-  try {
-    in >> document;
-  } catch (const json::exception& error) {
-    Fail(path, std::string("not valid JSON (") + error.what() + ")");
-  }
-  return RigFromJson(document, path);
-}
+Rig LoadRigJson(const std::string& path) { return RigFromJson(ReadJsonFile(path), path); }
 
-void SaveRigJson(const Rig& rig, const std::string& path) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) Fail(path, "cannot open for writing");
-  out << RigToJson(rig).dump(2) << '\n';
-  out.flush();
-  if (!out) Fail(path, "write failed");
-}
+void SaveRigJson(const Rig& rig, const std::string& path) { WriteJsonFile(RigToJson(rig), path); }
 
 }  // namespace mocap

@@ -105,7 +105,7 @@ TEST(CalibrationJsonTest, MissingFileNamesThePath) {
     LoadRigJson("/nonexistent/rig.json");
     ADD_FAILURE();
   } catch (const std::runtime_error& error) {
-    EXPECT_EQ(std::string(error.what()), "/nonexistent/rig.json: cannot open for reading");
+    EXPECT_EQ(std::string(error.what()), "/nonexistent/rig.json: cannot open: No such file or directory");
   }
 }
 

@@ -1,0 +1,27 @@
+// The --up option shared by the commands that take a vertical axis (sim rig, sim motion,
+// sim wand, calibrate world).
+#include <map>
+#include <string>
+
+#include "cli/commands.h"
+
+namespace mocap {
+
+CLI::Option* AddUpAxisOption(CLI::App& command, int* axis, bool allow_auto, const std::string& help) {
+  std::map<std::string, int> names{{"x", 0}, {"y", 1}, {"z", 2}};
+  if (allow_auto) names["auto"] = -1;
+  return command.add_option("--up", *axis, help)
+      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case))
+      ->default_str(UpAxisName(*axis));
+}
+
+std::string UpAxisName(int axis) {
+  switch (axis) {
+    case 0: return "x";
+    case 1: return "y";
+    case 2: return "z";
+    default: return "auto";
+  }
+}
+
+}  // namespace mocap

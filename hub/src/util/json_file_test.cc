@@ -1,0 +1,95 @@
+#include "util/json_file.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JsonFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("json_file_test_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add);
+    fs::remove_all(dir_);
+  }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string Slurp(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  static std::string ErrorOf(const std::function<void()>& action) {
+    try {
+      action();
+    } catch (const std::runtime_error& error) {
+      return error.what();
+    }
+    return "";
+  }
+  fs::path dir_;
+};
+
+TEST_F(JsonFileTest, RoundTripsAndReplacesTheTarget) {
+  const std::string path = Path("sub/doc.json");
+  WriteJsonFile({{"a", 1}}, path);
+  WriteJsonFile({{"a", 2}, {"b", "x"}}, path);
+  const nlohmann::json back = ReadJsonFile(path);
+  EXPECT_EQ(back["a"], 2);
+  EXPECT_EQ(back["b"], "x");
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST_F(JsonFileTest, FailedWriteLeavesTheOldFileAndNoTemporary) {
+  const std::string path = Path("doc.json");
+  WriteJsonFile({{"version", 1}}, path);
+  const std::string before = Slurp(path);
+  // Invalid UTF-8 cannot be serialised: the write must fail before touching the target.
+  const std::string error = ErrorOf([&] { WriteJsonFile({{"bad", std::string("\xff\xfe")}}, path); });
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_EQ(Slurp(path), before);
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+}
+
+TEST_F(JsonFileTest, UnwritableDirectoryIsAnErrorNamingTheFile) {
+  if (::geteuid() == 0) {
+    // root ignores directory permissions; a path under a regular file fails for everyone.
+    std::ofstream(Path("plain")) << "x";
+    const std::string path = Path("plain/doc.json");
+    const std::string error = ErrorOf([&] { WriteJsonFile({{"a", 1}}, path); });
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    EXPECT_FALSE(fs::exists(path));
+    return;
+  }
+  fs::create_directories(dir_ / "locked");
+  fs::permissions(dir_ / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+  const std::string path = Path("locked/doc.json");
+  const std::string error = ErrorOf([&] { WriteJsonFile({{"a", 1}}, path); });
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST_F(JsonFileTest, ReadErrorsNameTheFileAndThePosition) {
+  const std::string missing = Path("missing.json");
+  EXPECT_NE(ErrorOf([&] { ReadJsonFile(missing); }).find(missing + ": cannot open"), std::string::npos);
+  const std::string broken = Path("broken.json");
+  std::ofstream(broken) << "{\"a\": 1,,}";
+  const std::string error = ErrorOf([&] { ReadJsonFile(broken); });
+  EXPECT_NE(error.find(broken + ": not valid JSON at byte 9"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace mocap
