@@ -18,8 +18,6 @@
 namespace mocap {
 namespace {
 
-constexpr const char* kSimDescription = "Simulator: virtual rigs, projected sessions with realistic faults";
-
 struct SimRigArgs {
   std::string motion;
   std::string output;
@@ -97,7 +95,7 @@ void RunSimProject(const SimProjectArgs& args) {
 }  // namespace
 
 void AddSimRigCommand(CLI::App& app) {
-  CLI::App& sim = CommandGroup(app, "sim", kSimDescription);
+  CLI::App& sim = CommandGroup(app, "sim");
   CLI::App* command = sim.add_subcommand("rig", "Place a ring of cameras around a motion's volume");
   auto args = std::make_shared<SimRigArgs>();
   command->add_option("--motion", args->motion, "Motion (TRC) whose volume the cameras must see")->required();
@@ -118,7 +116,7 @@ void AddSimRigCommand(CLI::App& app) {
 }
 
 void AddSimProjectCommand(CLI::App& app) {
-  CLI::App& sim = CommandGroup(app, "sim", kSimDescription);
+  CLI::App& sim = CommandGroup(app, "sim");
   CLI::App* command = sim.add_subcommand("project", "Project a motion through a rig into a session with faults");
   auto args = std::make_shared<SimProjectArgs>();
   ProjectOptions& p = args->project;

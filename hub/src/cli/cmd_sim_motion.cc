@@ -11,7 +11,7 @@
 namespace mocap {
 
 void AddSimMotionCommand(CLI::App& app) {
-  CLI::App& sim = CommandGroup(app, "sim", "Simulate rigs, sessions and frames");
+  CLI::App& sim = CommandGroup(app, "sim");
   CLI::App* command = sim.add_subcommand("motion", "Write a synthetic walking motion (TRC)");
   struct Args {
     SyntheticMotionOptions motion;

@@ -57,7 +57,7 @@ void RunSimRender(const SimRenderArgs& args) {
 }  // namespace
 
 void AddSimRenderCommand(CLI::App& app) {
-  CLI::App& sim = CommandGroup(app, "sim", "Simulator: virtual rigs, projected sessions with realistic faults");
+  CLI::App& sim = CommandGroup(app, "sim");
   CLI::App* command = sim.add_subcommand("render", "Render a motion through a rig into replayable camera frames");
   auto args = std::make_shared<SimRenderArgs>();
   FrameRenderOptions& o = args->options;

@@ -39,7 +39,8 @@ std::string UpAxisName(int axis);
 
 // The sub-command `name` of `app` (created on first use, requiring one sub-command of its own),
 // so that several files can add commands to one group ("sim rig", "sim wand", "calibrate wand").
-CLI::App& CommandGroup(CLI::App& app, const std::string& name, const std::string& description);
+// Group descriptions live in one table in main.cc.
+CLI::App& CommandGroup(CLI::App& app, const std::string& name);
 
 // cmd_sim.cc
 void AddSimRigCommand(CLI::App& app);
@@ -57,7 +58,8 @@ void AddSimRenderCommand(CLI::App& app);
 void AddSimWandCommand(CLI::App& app);
 void AddCalibrateWandCommand(CLI::App& app);
 void AddEvalCalibrationCommand(CLI::App& app);
-// cmd_calibrate.cc (besides sim wand, calibrate wand and eval-calibration above)
+// cmd_sim_wand.cc, cmd_calibrate_wand.cc (wand, world), cmd_calibrate_camera.cc (intrinsics,
+// dlt), cmd_calibrate_import.cc (import-tsai, import-mcd), cmd_eval_calibration.cc.
 void AddCalibrateWorldCommand(CLI::App& app);
 void AddCalibrateIntrinsicsCommand(CLI::App& app);
 void AddCalibrateDltCommand(CLI::App& app);

@@ -11,39 +11,48 @@
 
 namespace {
 
-struct CommandEntry {
-  const char* name;
-  void (*add)(CLI::App&);
+// One line per command; the order is the order of `mocap-hub --help`.
+using AddCommand = void (*)(CLI::App&);
+const AddCommand kCommands[] = {
+    mocap::AddRecordCommand,
+    mocap::AddSimRigCommand,
+    mocap::AddSimProjectCommand,
+    mocap::AddSimRenderCommand,
+    mocap::AddSimMotionCommand,
+    mocap::AddEvalCommand,
+    mocap::AddReconstructCommand,
+    mocap::AddBenchCommand,
+    mocap::AddSimWandCommand,
+    mocap::AddCalibrateWandCommand,
+    mocap::AddCalibrateWorldCommand,
+    mocap::AddCalibrateIntrinsicsCommand,
+    mocap::AddCalibrateDltCommand,
+    mocap::AddCalibrateImportTsaiCommand,
+    mocap::AddCalibrateImportMcdCommand,
+    mocap::AddEvalCalibrationCommand,
 };
 
-// One line per command; the order is the order of `mocap-hub --help`.
-const CommandEntry kCommands[] = {
-    {"record", mocap::AddRecordCommand},
-    {"sim rig", mocap::AddSimRigCommand},
-    {"sim project", mocap::AddSimProjectCommand},
-    {"sim render", mocap::AddSimRenderCommand},
-    {"sim motion", mocap::AddSimMotionCommand},
-    {"eval", mocap::AddEvalCommand},
-    {"reconstruct", mocap::AddReconstructCommand},
-    {"bench", mocap::AddBenchCommand},
-    {"sim wand", mocap::AddSimWandCommand},
-    {"calibrate wand", mocap::AddCalibrateWandCommand},
-    {"calibrate world", mocap::AddCalibrateWorldCommand},
-    {"calibrate intrinsics", mocap::AddCalibrateIntrinsicsCommand},
-    {"calibrate dlt", mocap::AddCalibrateDltCommand},
-    {"calibrate import-tsai", mocap::AddCalibrateImportTsaiCommand},
-    {"calibrate import-mcd", mocap::AddCalibrateImportMcdCommand},
-    {"eval-calibration", mocap::AddEvalCalibrationCommand},
+struct GroupEntry {
+  const char* name;
+  const char* description;
+};
+
+const GroupEntry kGroups[] = {
+    {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
+    {"calibrate", "Camera calibration: wand extrinsics, world frame, intrinsics, DLT and seed-format imports"},
 };
 
 }  // namespace
 
 namespace mocap {
 
-CLI::App& CommandGroup(CLI::App& app, const std::string& name, const std::string& description) {
+CLI::App& CommandGroup(CLI::App& app, const std::string& name) {
   for (CLI::App* existing : app.get_subcommands({})) {
     if (existing->get_name() == name) return *existing;
   }
+  std::string description;
+  for (const GroupEntry& group : kGroups)
+    if (name == group.name) description = group.description;
   CLI::App* group = app.add_subcommand(name, description);
   group->require_subcommand(1);
   return *group;
@@ -61,7 +70,7 @@ int main(int argc, char** argv) {
          "Diagnostics on stderr: trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "warning", "error", "off"}))
       ->default_str("info");
-  for (const CommandEntry& command : kCommands) command.add(app);
+  for (AddCommand add : kCommands) add(app);
   // CLI11 would only say "a subcommand is required" for a misspelt command; name it instead.
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;
