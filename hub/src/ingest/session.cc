@@ -1,6 +1,7 @@
 // Session directory reading and writing (see session.h).
 #include "ingest/session.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -105,10 +106,25 @@ void SessionWriter::Finish() {
   SaveSessionInfo(info_, dir_);
 }
 
+uint64_t MaxFrameGap(const SessionInfo& info) {
+  // A session without a rate still gets a finite bound (a pause at 1 kHz).
+  const double rate = info.rate_hz > 0.0 ? info.rate_hz : 1000.0;
+  return static_cast<uint64_t>(std::ceil(rate * kMaxPauseSeconds));
+}
+
 void SessionReader::Open(const std::string& dir) {
   dir_ = dir;
   info_ = LoadSessionInfo(dir);
+  max_gap_ = MaxFrameGap(info_);
   log_.Open((fs::path(dir) / info_.log).string());
+}
+
+// Written without sums that could wrap for frame numbers near UINT64_MAX.
+bool SessionReader::Plausible(uint64_t frame_number, uint64_t receive_time_ns) const {
+  if (accepted_any_) return frame_number <= newest_ || frame_number - newest_ <= max_gap_;
+  if (!(info_.rate_hz > 0.0) || receive_time_ns <= info_.epoch_ns) return frame_number <= max_gap_;
+  const double implied = static_cast<double>(receive_time_ns - info_.epoch_ns) * 1e-9 * info_.rate_hz;
+  return static_cast<double>(frame_number) <= implied + static_cast<double>(max_gap_);
 }
 
 bool SessionReader::ReadMore() {
@@ -133,6 +149,10 @@ bool SessionReader::ReadMore() {
       case wire::ChunkAssembler::Outcome::kComplete: break;
     }
     CameraFrame frame = FromMarkerFrame(whole, record.receive_time_ns);
+    if (!Plausible(frame.frame_number, record.receive_time_ns)) {
+      ++stats_.implausible_frames;
+      continue;
+    }
     if (emitted_any_ && frame.frame_number <= last_emitted_) {
       ++stats_.late_frames;
       continue;
@@ -145,7 +165,8 @@ bool SessionReader::ReadMore() {
       ++stats_.duplicate_frames;
       continue;
     }
-    if (frame.frame_number > newest_) newest_ = frame.frame_number;
+    if (!accepted_any_ || frame.frame_number > newest_) newest_ = frame.frame_number;
+    accepted_any_ = true;
     set.cameras.push_back(std::move(frame));
     if (newest_ - pending_.begin()->first > window_) {
       stats_.incomplete_frames += assembler_.DiscardBefore(newest_ - window_);
@@ -176,6 +197,10 @@ std::vector<std::string> SessionReader::warnings() const {
                   first_malformed_reason_ + ")");
   if (stats_.incomplete_frames)
     out.push_back(std::to_string(stats_.incomplete_frames) + " camera frames incomplete (lost chunks)");
+  if (stats_.implausible_frames)
+    out.push_back(std::to_string(stats_.implausible_frames) +
+                  " camera frames skipped: frame number implausible (more than " + std::to_string(max_gap_) +
+                  " frames past the session's frames)");
   if (stats_.late_frames) out.push_back(std::to_string(stats_.late_frames) + " camera frames arrived too late");
   if (stats_.duplicate_frames)
     out.push_back(std::to_string(stats_.duplicate_frames) + " duplicate camera frames dropped");

@@ -68,7 +68,17 @@ struct SessionReadStats {
   uint64_t incomplete_frames = 0;
   uint64_t late_frames = 0;       // arrived after their frame set was already handed out
   uint64_t duplicate_frames = 0;  // the same camera twice in one frame set
+  uint64_t implausible_frames = 0;  // frame number out of the session's plausible range, skipped
 };
+
+// Frame numbers come off the wire and may be corrupt or forged (1e9, 2^63, UINT64_MAX), and
+// every later stage steps through frame numbers, so the reader keeps them plausible: a camera
+// frame is skipped (and counted in implausible_frames) when its number lies more than
+// MaxFrameGap(info) frames past the newest frame accepted so far, or, for the first frame, past
+// the number its receive time implies ((receive - epoch_ns) * rate_hz). The bound is a pause of
+// kMaxPauseSeconds at the session's rate; longer pauses are not expected within one recording.
+inline constexpr double kMaxPauseSeconds = 600.0;
+uint64_t MaxFrameGap(const SessionInfo& info);
 
 class SessionReader {
  public:
@@ -84,6 +94,7 @@ class SessionReader {
 
  private:
   bool ReadMore();
+  bool Plausible(uint64_t frame_number, uint64_t receive_time_ns) const;
 
   uint64_t window_;
   std::string dir_;
@@ -92,6 +103,8 @@ class SessionReader {
   wire::ChunkAssembler assembler_;
   std::map<uint64_t, FrameSet> pending_;
   uint64_t newest_ = 0;
+  bool accepted_any_ = false;
+  uint64_t max_gap_ = 0;
   bool emitted_any_ = false;
   uint64_t last_emitted_ = 0;
   bool log_done_ = false;

@@ -162,5 +162,56 @@ TEST(Session, BadSessionJsonIsRefusedWithReason) {
   EXPECT_THROW(reader.Open((dir / "missing").string()), std::runtime_error);
 }
 
+// Reads every frame set; returns their frame numbers.
+std::vector<uint64_t> ReadFrameNumbers(SessionReader* reader) {
+  std::vector<uint64_t> out;
+  FrameSet set;
+  while (reader->Next(&set)) out.push_back(set.frame_number);
+  return out;
+}
+
+// A corrupt or forged frame number is skipped and counted, wherever it sits in the log; the
+// reader's work follows the records, not the frame numbers' values.
+TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
+  for (const uint64_t forged : {uint64_t{1'000'000'000}, uint64_t{1} << 63, ~uint64_t{0}}) {
+    for (const bool forged_first : {false, true}) {
+      const fs::path dir = TempDir("forged");
+      SessionWriter writer;
+      writer.Create(dir.string(), Info());
+      if (forged_first) writer.Write(MakeFrame(1, forged, 0));
+      for (uint64_t n = 0; n < 10; ++n)
+        for (uint32_t cam = 1; cam <= 3; ++cam) writer.Write(MakeFrame(cam, n, 0));
+      if (!forged_first) writer.Write(MakeFrame(2, forged, 0));
+      writer.Finish();
+
+      SessionReader reader;
+      reader.Open(dir.string());
+      std::vector<uint64_t> expected(10);
+      for (uint64_t n = 0; n < 10; ++n) expected[n] = n;
+      EXPECT_EQ(ReadFrameNumbers(&reader), expected) << forged << (forged_first ? " first" : " last");
+      EXPECT_EQ(reader.stats().implausible_frames, 1u);
+      ASSERT_EQ(reader.warnings().size(), 1u);
+      EXPECT_NE(reader.warnings()[0].find("1 camera frames skipped"), std::string::npos);
+      fs::remove_all(dir);
+    }
+  }
+}
+
+// A pause within the bound is a legitimate gap: its frames are kept, in order.
+TEST(Session, PausesUpToTheBoundAreKept) {
+  const fs::path dir = TempDir("pause");
+  SessionWriter writer;
+  writer.Create(dir.string(), Info());
+  const uint64_t gap = MaxFrameGap(Info());
+  const std::vector<uint64_t> numbers = {0, 1, 1 + gap, 2 + gap, 2 + 2 * gap + 1};
+  for (uint64_t n : numbers) writer.Write(MakeFrame(1, n, 0));
+  writer.Finish();
+  SessionReader reader;
+  reader.Open(dir.string());
+  EXPECT_EQ(ReadFrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 1 + gap, 2 + gap}));
+  EXPECT_EQ(reader.stats().implausible_frames, 1u);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mocap

@@ -105,8 +105,10 @@ bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
     if (ready < 0 && errno != EINTR) throw std::runtime_error("poll: " + std::string(std::strerror(errno)));
     return false;
   }
-  d->bytes.resize(65536);
-  iovec iov{d->bytes.data(), d->bytes.size()};
+  // The datagram lands in the socket's own buffer (allocated once, never zero-filled again) and
+  // is copied out at its length. IPv4 cannot carry more than kMaxDatagram, so nothing is cut.
+  if (buffer_.empty()) buffer_.resize(kMaxDatagram);
+  iovec iov{buffer_.data(), buffer_.size()};
   alignas(cmsghdr) char control[256];
   msghdr msg{};
   msg.msg_name = &d->from;
@@ -120,7 +122,7 @@ bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
     if (errno == EAGAIN || errno == EINTR) return false;
     throw std::runtime_error("recvmsg: " + std::string(std::strerror(errno)));
   }
-  d->bytes.resize(static_cast<size_t>(n));
+  d->bytes.assign(buffer_.begin(), buffer_.begin() + n);
   d->receive_time_ns = 0;
   for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
     if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {

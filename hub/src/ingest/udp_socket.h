@@ -34,6 +34,8 @@ class UdpSocket {
   void Bind(const HostPort& address);
   void EnableBroadcast();
   uint16_t port() const;
+  // The largest UDP payload IPv4 carries; Receive's buffer holds it whole.
+  static constexpr size_t kMaxDatagram = 65507;
   // Waits up to timeout_ms for one datagram; false on timeout or EINTR.
   bool Receive(Datagram* datagram, int timeout_ms);
   // Best effort: a full send buffer or an unreachable peer is reported by the return value.
@@ -42,6 +44,7 @@ class UdpSocket {
 
  private:
   int fd_ = -1;
+  std::vector<uint8_t> buffer_;
 };
 
 uint64_t RealtimeNowNs();

@@ -55,6 +55,14 @@ void GapFiller::Add(uint64_t frame_number, const std::vector<TrackSample>& sampl
     for (const TrackSample& s : samples) first = std::min(first, s.frame_number);
     rows_.push_back({first, {}});
   }
+  // A pause longer than the window cannot be spline-filled: the held rows go out and the window
+  // restarts at this frame, so the cost follows the frames processed, not the frame-number span.
+  // Such a pause has no TRC rows (the rows carry their frame number and time).
+  if (frame_number > rows_.back().frame_number &&
+      frame_number - rows_.back().frame_number > static_cast<uint64_t>(options_.window_frames)) {
+    Finish();
+    rows_.push_back({frame_number, {}});
+  }
   while (rows_.back().frame_number < frame_number) rows_.push_back({rows_.back().frame_number + 1, {}});
 
   for (const TrackSample& sample : samples) {

@@ -17,7 +17,8 @@ namespace mocap {
 
 class GapFiller {
  public:
-  // Receives every frame number in order, with its samples (possibly none).
+  // Receives frame numbers in order with their samples (possibly none): every frame number,
+  // except those inside a pause longer than window_frames.
   using Sink = std::function<void(uint64_t frame_number, const std::vector<TrackSample>& row)>;
 
   // Checks the options (std::invalid_argument).

@@ -82,5 +82,21 @@ TEST(GapFiller, MemoryIsBoundedByTheWindow) {
   EXPECT_EQ(filler.dropped_samples(), 1);
 }
 
+// A pause longer than the window costs nothing per missing frame: the rows around it come out,
+// the frames inside it do not, whatever the jump (up to the largest frame number).
+TEST(GapFiller, PauseLongerThanTheWindowWritesNoRowsInside) {
+  for (const uint64_t resume : {uint64_t{100}, uint64_t{1'000'000'000}, ~uint64_t{0}}) {
+    GapFillOptions options;
+    options.window_frames = 16;
+    std::vector<uint64_t> frames;
+    GapFiller filler(options, [&](uint64_t frame, const std::vector<TrackSample>&) { frames.push_back(frame); });
+    for (uint64_t f = 0; f < 5; ++f) filler.Add(f, {Measured(0, f, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())});
+    filler.Add(resume, {Measured(0, resume, Eigen::Vector3d::Ones(), Eigen::Vector3d::Zero())});
+    filler.Finish();
+    EXPECT_EQ(frames, (std::vector<uint64_t>{0, 1, 2, 3, 4, resume}));
+    EXPECT_EQ(filler.filled_samples(), 0);
+  }
+}
+
 }  // namespace
 }  // namespace mocap
