@@ -15,13 +15,13 @@
 #include "common/clock.h"
 #include "common/log.h"
 #include "detect/detect.h"
-#include "node/capture.h"
+#include "capture/capture.h"
 #include "node/control.h"
 #include "node/net.h"
 #include "node/notify.h"
 #include "node/preview.h"
 #include "node/status.h"
-#include "node/sync.h"
+#include "sync/sync.h"
 #include "wire/wire.h"
 
 #define MAX_BLOBS MN_WIRE_MAX_MARKERS
