@@ -12,7 +12,7 @@ HOST_PACKAGES=(
     build-essential cmake ninja-build pkg-config git python3 python3-venv
     # wire protocol: nanopb for the firmware, libprotobuf for the hub
     nanopb libnanopb-dev python3-protobuf protobuf-compiler libprotobuf-dev
-    # recorded-frame files (firmware/framefile)
+    # recorded-frame files (libs/framefile)
     zlib1g-dev
     # test runners
     libcmocka-dev libgtest-dev libgmock-dev
