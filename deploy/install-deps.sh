@@ -29,6 +29,8 @@ HOST_PACKAGES=(
     linux-image-amd64 qemu-system-x86 busybox-static cpio kmod
     # measurement
     time zlib1g-dev
+    # network namespaces, veth and tc for the node fault tests and the simulated rig
+    iproute2
     # build cache: a fresh clone rebuilds from it in minutes
     ccache
 )
