@@ -12,7 +12,7 @@ HOST_PACKAGES=(
     build-essential cmake ninja-build pkg-config git python3 python3-venv
     # wire protocol: nanopb for the firmware, libprotobuf for the hub
     nanopb libnanopb-dev python3-protobuf protobuf-compiler libprotobuf-dev
-    # recorded-frame files (firmware/framefile)
+    # recorded-frame files (libs/framefile)
     zlib1g-dev
     # test runners
     libcmocka-dev libgtest-dev libgmock-dev
@@ -29,6 +29,8 @@ HOST_PACKAGES=(
     linux-image-amd64 qemu-system-x86 busybox-static cpio kmod
     # measurement
     time zlib1g-dev
+    # network namespaces, veth and tc for the node fault tests and the simulated rig
+    iproute2
     # build cache: a fresh clone rebuilds from it in minutes
     ccache
 )

@@ -11,13 +11,13 @@
 #include <unistd.h>
 
 #include "common/log.h"
-#include "node/capture.h"
+#include "capture/capture.h"
 #include "node/config.h"
 #include "node/node.h"
 #include "node/notify.h"
 
 #ifdef MN_HAVE_LIBCAMERA
-#include "node/capture_libcamera.h"
+#include "capture/capture_libcamera.h"
 #endif
 
 int main(int argc, char **argv)

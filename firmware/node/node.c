@@ -14,14 +14,15 @@
 
 #include "common/clock.h"
 #include "common/log.h"
+#include "common/ratelimit.h"
 #include "detect/detect.h"
-#include "node/capture.h"
+#include "capture/capture.h"
 #include "node/control.h"
 #include "node/net.h"
 #include "node/notify.h"
 #include "node/preview.h"
 #include "node/status.h"
-#include "node/sync.h"
+#include "sync/sync.h"
 #include "wire/wire.h"
 
 #define MAX_BLOBS MN_WIRE_MAX_MARKERS
@@ -29,6 +30,9 @@
 #define FRAMES_PER_STEP 4        /* bounded work per iteration keeps control responsive */
 #define DATAGRAMS_PER_STEP 32
 #define PREVIEW_CHUNKS_PER_STEP 8
+/* Rejected-datagram log lines: 5 per 10 s, the rest counted and reported once. */
+#define REJECT_LOG_INTERVAL_NS (10LL * 1000000000LL)
+#define REJECT_LOG_BURST 5
 
 struct preview_state {
     bool requested;            /* waiting for the next frame to render */
@@ -80,6 +84,7 @@ struct mn_node {
     int64_t identify_until_ns;   /* 0: not identifying */
 
     struct mn_node_stats stats;
+    struct mn_ratelimit reject_log; /* rejected datagrams: a chatty host must not flood the journal */
     /* Status interval accumulators. */
     int64_t interval_start_ns;
     uint64_t interval_frames, detect_ns_sum, detect_ns_max, detect_count;
@@ -246,6 +251,7 @@ struct mn_node *mn_node_new(const struct mn_config *cfg, char *err, size_t errle
     n->end_ns = cfg->duration_s > 0 ? n->start_ns + (int64_t)(cfg->duration_s * 1e9) : 0;
     n->interval_start_ns = n->start_ns;
     n->next_status_ns = n->start_ns + (int64_t)cfg->status_interval_ms * 1000000;
+    mn_ratelimit_init(&n->reject_log, REJECT_LOG_INTERVAL_NS, REJECT_LOG_BURST);
     n->watchdog_interval_ns = mn_notify_init();
     n->next_watchdog_ns = n->start_ns;
     mn_log_info("node %u: %s %s %ux%u, sync %s, hub %s, %s", cfg->node_id,
@@ -310,8 +316,16 @@ static int send_packet(struct mn_node *n)
     return mn_net_send(n->net, n->datagram, size);
 }
 
+static void report_suppressed_rejections(uint64_t count)
+{
+    if (count)
+        mn_log_warn("suppressed %llu similar messages (rejected datagrams; all are counted in "
+                    "status)", (unsigned long long)count);
+}
+
 static void send_status(struct mn_node *n, int64_t now)
 {
+    report_suppressed_rejections(mn_ratelimit_flush(&n->reject_log, now));
     struct mn_status_counters c;
     memset(&c, 0, sizeof(c));
     c.node_id = n->cfg.node_id;
@@ -521,8 +535,12 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
         }
         if (r == MN_CONTROL_REJECTED) {
             n->stats.control_rejected++;
-            mn_log_warn("rejected %s datagram (%zd bytes): %s",
-                        announce_socket ? "announce" : "control", len, why);
+            uint64_t earlier;
+            if (mn_ratelimit_allow(&n->reject_log, mn_clock_mono_ns(), &earlier)) {
+                report_suppressed_rejections(earlier);
+                mn_log_warn("rejected %s datagram (%zd bytes): %s",
+                            announce_socket ? "announce" : "control", len, why);
+            }
         } else if (r == MN_CONTROL_IGNORED) {
             n->stats.control_ignored++;
         } else if ((why = apply_command(n, &cmd, from_ipv4)) != NULL) {

@@ -9,7 +9,7 @@
 #include <stdint.h>
 
 #include "node/config.h"
-#include "node/pairing.h"
+#include "sync/pairing.h"
 
 struct mn_node;
 

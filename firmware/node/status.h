@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "node/pairing.h"
+#include "sync/pairing.h"
 #include "wire/wire.h"
 
 struct mn_status_counters {

@@ -1,0 +1,359 @@
+// libcamera capture behind the C capture interface. libcamera completes requests on its own
+// thread; this shim queues them under a mutex and signals an eventfd, so the node's single poll
+// loop sees libcamera like any other descriptor and all processing stays on the loop's thread.
+#include "capture/capture_libcamera.h"
+
+#include <sys/eventfd.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <vector>
+
+#include <libcamera/libcamera.h>
+
+namespace {
+
+using namespace libcamera;
+
+struct Mapped {
+    void *start = MAP_FAILED;
+    size_t length = 0;
+    size_t offset = 0; // of plane 0 inside the mapping
+};
+
+struct LibcameraCapture {
+    std::unique_ptr<CameraManager> manager;
+    std::shared_ptr<Camera> camera;
+    std::unique_ptr<CameraConfiguration> config;
+    std::unique_ptr<FrameBufferAllocator> allocator;
+    Stream *stream = nullptr;
+    std::vector<std::unique_ptr<Request>> requests;
+    std::vector<Mapped> maps; // by request index
+    uint32_t width = 0, height = 0, stride = 0;
+    int event_fd = -1;
+    bool acquired = false;
+    bool running = false;
+    std::mutex lock;
+    std::deque<Request *> completed; // guarded by lock
+    // Control values waiting for the next requeued request (set from the loop thread only).
+    bool exposure_pending = false, gain_pending = false;
+    int32_t exposure_us = 0;
+    float gain = 1.0f;
+
+    void onComplete(Request *request)
+    {
+        {
+            std::lock_guard<std::mutex> guard(lock);
+            completed.push_back(request);
+        }
+        uint64_t one = 1;
+        // A full eventfd counter still wakes the loop, so a failed write loses nothing.
+        ssize_t rc = write(event_fd, &one, sizeof(one));
+        (void)rc;
+    }
+
+    ~LibcameraCapture()
+    {
+        if (running && camera)
+            camera->stop();
+        if (camera)
+            camera->requestCompleted.disconnect(this, &LibcameraCapture::onComplete);
+        for (Mapped &m : maps)
+            if (m.start != MAP_FAILED)
+                munmap(m.start, m.length);
+        requests.clear();
+        allocator.reset();
+        if (acquired)
+            camera->release();
+        camera.reset();
+        if (manager)
+            manager->stop();
+        if (event_fd >= 0)
+            close(event_fd);
+    }
+};
+
+void fail(char *err, size_t errlen, const char *what, int e)
+{
+    std::snprintf(err, errlen, "libcamera: %s", what);
+    errno = e;
+}
+
+// Prefer R8 (mono sensors deliver it directly); YUV420's first plane is 8-bit luma too.
+bool configure(LibcameraCapture *c, uint32_t width, uint32_t height, uint32_t buffers)
+{
+    const PixelFormat wanted[] = {formats::R8, formats::YUV420};
+    for (const PixelFormat &fmt : wanted) {
+        c->config = c->camera->generateConfiguration({StreamRole::Raw});
+        if (!c->config || c->config->size() != 1)
+            c->config = c->camera->generateConfiguration({StreamRole::VideoRecording});
+        if (!c->config || c->config->size() != 1)
+            return false;
+        StreamConfiguration &sc = c->config->at(0);
+        sc.pixelFormat = fmt;
+        sc.bufferCount = buffers;
+        if (width != 0)
+            sc.size = Size(width, height);
+        if (c->config->validate() == CameraConfiguration::Invalid)
+            continue;
+        if (sc.pixelFormat != fmt)
+            continue;
+        if (c->camera->configure(c->config.get()) < 0)
+            return false;
+        c->stream = sc.stream();
+        c->width = sc.size.width;
+        c->height = sc.size.height;
+        c->stride = sc.stride;
+        return true;
+    }
+    return false;
+}
+
+bool map_and_request(LibcameraCapture *c, char *err, size_t errlen)
+{
+    c->allocator = std::make_unique<FrameBufferAllocator>(c->camera);
+    if (c->allocator->allocate(c->stream) < 0) {
+        fail(err, errlen, "cannot allocate frame buffers", ENOMEM);
+        return false;
+    }
+    for (const std::unique_ptr<FrameBuffer> &buffer : c->allocator->buffers(c->stream)) {
+        const FrameBuffer::Plane &plane = buffer->planes()[0];
+        Mapped m;
+        // mmap needs a page-aligned offset; keep the remainder to find the plane.
+        size_t page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+        size_t aligned = plane.offset / page * page;
+        m.offset = plane.offset - aligned;
+        m.length = plane.length + m.offset;
+        m.start = mmap(nullptr, m.length, PROT_READ, MAP_SHARED, plane.fd.get(),
+                       static_cast<off_t>(aligned));
+        if (m.start == MAP_FAILED) {
+            fail(err, errlen, "cannot mmap a frame buffer", errno);
+            return false;
+        }
+        if (static_cast<size_t>(c->stride) * (c->height - 1) + c->width > plane.length) {
+            munmap(m.start, m.length);
+            fail(err, errlen, "frame buffer smaller than the configured frame", EPROTO);
+            return false;
+        }
+        c->maps.push_back(m);
+        std::unique_ptr<Request> request = c->camera->createRequest(c->requests.size());
+        if (!request || request->addBuffer(c->stream, buffer.get()) < 0) {
+            fail(err, errlen, "cannot create a capture request", ENOMEM);
+            return false;
+        }
+        c->requests.push_back(std::move(request));
+    }
+    return true;
+}
+
+LibcameraCapture *impl_of(void *impl)
+{
+    return static_cast<LibcameraCapture *>(impl);
+}
+
+void apply_pending_controls(LibcameraCapture *c, Request *request)
+{
+    if (c->exposure_pending) {
+        request->controls().set(controls::ExposureTime, c->exposure_us);
+        c->exposure_pending = false;
+    }
+    if (c->gain_pending) {
+        request->controls().set(controls::AnalogueGain, c->gain);
+        c->gain_pending = false;
+    }
+}
+
+int lc_start(void *impl)
+{
+    LibcameraCapture *c = impl_of(impl);
+    if (c->camera->start() < 0) {
+        errno = EIO;
+        return -1;
+    }
+    c->running = true;
+    for (std::unique_ptr<Request> &r : c->requests) {
+        r->reuse(Request::ReuseBuffers); // requests cancelled by a previous stop
+        apply_pending_controls(c, r.get());
+        if (c->camera->queueRequest(r.get()) < 0) {
+            errno = EIO;
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int lc_stop(void *impl)
+{
+    LibcameraCapture *c = impl_of(impl);
+    if (!c->running)
+        return 0;
+    c->running = false;
+    int rc = c->camera->stop(); // completes (cancels) every queued request
+    std::lock_guard<std::mutex> guard(c->lock);
+    c->completed.clear();
+    if (rc < 0) {
+        errno = EIO;
+        return -1;
+    }
+    return 0;
+}
+
+int lc_fd(void *impl)
+{
+    return impl_of(impl)->event_fd;
+}
+
+int lc_dequeue(void *impl, struct mn_frame *frame)
+{
+    LibcameraCapture *c = impl_of(impl);
+    uint64_t counter;
+    ssize_t rc = read(c->event_fd, &counter, sizeof(counter)); // EAGAIN: nothing signalled
+    (void)rc;
+    for (;;) {
+        Request *request;
+        {
+            std::lock_guard<std::mutex> guard(c->lock);
+            if (c->completed.empty())
+                return 0;
+            request = c->completed.front();
+            c->completed.pop_front();
+        }
+        if (request->status() != Request::RequestComplete) {
+            if (!c->running)
+                continue;
+            // Cancelled while running: the camera went away or failed.
+            errno = EIO;
+            return -1;
+        }
+        FrameBuffer *buffer = request->buffers().begin()->second;
+        const FrameMetadata &meta = buffer->metadata();
+        if (meta.status != FrameMetadata::FrameSuccess) {
+            request->reuse(Request::ReuseBuffers);
+            if (c->camera->queueRequest(request) < 0) {
+                errno = EIO;
+                return -1;
+            }
+            continue;
+        }
+        const Mapped &m = c->maps[request->cookie()];
+        frame->pixels = static_cast<const uint8_t *>(m.start) + m.offset;
+        frame->width = c->width;
+        frame->height = c->height;
+        frame->stride = c->stride;
+        frame->capture_mono_ns = static_cast<int64_t>(meta.timestamp); // CLOCK_MONOTONIC
+        frame->sequence = meta.sequence;
+        frame->slot = static_cast<int>(request->cookie());
+        return 1;
+    }
+}
+
+int lc_release(void *impl, const struct mn_frame *frame)
+{
+    LibcameraCapture *c = impl_of(impl);
+    if (frame->slot < 0 || static_cast<size_t>(frame->slot) >= c->requests.size()) {
+        errno = EINVAL;
+        return -1;
+    }
+    Request *request = c->requests[static_cast<size_t>(frame->slot)].get();
+    request->reuse(Request::ReuseBuffers);
+    apply_pending_controls(c, request);
+    if (c->running && c->camera->queueRequest(request) < 0) {
+        errno = EIO;
+        return -1;
+    }
+    return 0;
+}
+
+int lc_set_exposure(void *impl, uint32_t exposure_us)
+{
+    LibcameraCapture *c = impl_of(impl);
+    c->exposure_us = static_cast<int32_t>(exposure_us);
+    c->exposure_pending = true;
+    return 0;
+}
+
+int lc_set_gain(void *impl, uint32_t gain_milli)
+{
+    LibcameraCapture *c = impl_of(impl);
+    c->gain = static_cast<float>(gain_milli) / 1000.0f;
+    c->gain_pending = true;
+    return 0;
+}
+
+void lc_close(void *impl)
+{
+    delete impl_of(impl);
+}
+
+} // namespace
+
+extern "C" const struct mn_capture_ops mn_capture_libcamera_ops = {
+    "libcamera", lc_start, lc_stop, lc_fd, lc_dequeue, lc_release, lc_set_exposure, lc_set_gain,
+    lc_close,
+};
+
+extern "C" void *mn_capture_libcamera_new(unsigned index, uint32_t width, uint32_t height,
+                                          uint32_t buffers, uint32_t *out_width,
+                                          uint32_t *out_height, char *err, size_t errlen)
+{
+    LibcameraCapture *c = new (std::nothrow) LibcameraCapture;
+    if (c == nullptr) {
+        fail(err, errlen, "out of memory", ENOMEM);
+        return nullptr;
+    }
+    try {
+        c->event_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+        if (c->event_fd < 0) {
+            fail(err, errlen, "eventfd failed", errno);
+            goto fail;
+        }
+        c->manager = std::make_unique<CameraManager>();
+        if (c->manager->start() < 0) {
+            c->manager.reset();
+            fail(err, errlen, "camera manager did not start", EIO);
+            goto fail;
+        }
+        {
+            std::vector<std::shared_ptr<Camera>> cameras = c->manager->cameras();
+            if (index >= cameras.size()) {
+                std::snprintf(err, errlen, "libcamera: no camera %u (%zu found)", index,
+                              cameras.size());
+                errno = ENODEV;
+                goto fail;
+            }
+            c->camera = cameras[index];
+        }
+        if (c->camera->acquire() < 0) {
+            fail(err, errlen, "camera is in use by another process", EBUSY);
+            goto fail;
+        }
+        c->acquired = true;
+        if (!configure(c, width, height, buffers)) {
+            fail(err, errlen, "camera offers neither R8 nor YUV420 at the requested size",
+                 ENOTSUP);
+            goto fail;
+        }
+        if (!map_and_request(c, err, errlen))
+            goto fail;
+        c->camera->requestCompleted.connect(c, &LibcameraCapture::onComplete);
+    } catch (const std::bad_alloc &) {
+        fail(err, errlen, "out of memory", ENOMEM);
+        goto fail;
+    }
+    *out_width = c->width;
+    *out_height = c->height;
+    return c;
+
+fail:
+    int e = errno;
+    delete c;
+    errno = e;
+    return nullptr;
+}

@@ -1,0 +1,417 @@
+/* V4L2 capture: mmap streaming with the buffers owned by this handle (open / init / start / stop
+ * / uninit / close), DQBUF -> process bytesused -> QBUF, EINTR retried, EAGAIN = no frame yet.
+ * GREY is handed out in place; Y10, Y16 and YUYV are converted to Y8 into one buffer allocated
+ * at open. Sensors in external-trigger mode simply deliver a buffer per pulse, so nothing here
+ * assumes a frame rate. V4L2 uAPI types stay inside this file. */
+#include <errno.h>
+#include <fcntl.h>
+#include <linux/videodev2.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include "common/clock.h"
+#include "common/log.h"
+#include "capture/capture.h"
+#include "capture/pixfmt.h"
+
+#define MAX_BUFFERS 32
+
+struct map {
+    void *start;
+    size_t length;
+};
+
+struct v4l2 {
+    int fd;
+    char device[MN_CONFIG_STR];
+    uint32_t fourcc;
+    uint32_t width, height, bytesperline, sizeimage;
+    struct map maps[MAX_BUFFERS];
+    uint32_t n_maps;
+    uint8_t *y8; /* conversion target for formats other than GREY */
+    bool streaming;
+    bool warned_stamps; /* said once that the driver has no monotonic time stamps */
+};
+
+static int xioctl(int fd, unsigned long req, void *arg)
+{
+    int rc;
+    do {
+        rc = ioctl(fd, req, arg);
+    } while (rc < 0 && errno == EINTR);
+    return rc;
+}
+
+/* Formats we accept, best first: GREY needs no conversion. */
+static const uint32_t preferred[] = {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y10, V4L2_PIX_FMT_Y16,
+                                     V4L2_PIX_FMT_YUYV};
+
+static bool device_offers(int fd, uint32_t fourcc)
+{
+    struct v4l2_fmtdesc d;
+    for (uint32_t i = 0;; i++) {
+        memset(&d, 0, sizeof(d));
+        d.index = i;
+        d.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        if (xioctl(fd, VIDIOC_ENUM_FMT, &d) < 0)
+            return false;
+        if (d.pixelformat == fourcc)
+            return true;
+    }
+}
+
+static uint32_t bytes_per_pixel(uint32_t fourcc)
+{
+    return fourcc == V4L2_PIX_FMT_GREY ? 1 : 2;
+}
+
+static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err, size_t errlen)
+{
+    struct v4l2_format fmt;
+    memset(&fmt, 0, sizeof(fmt));
+    fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (xioctl(v->fd, VIDIOC_G_FMT, &fmt) < 0) {
+        snprintf(err, errlen, "%s: VIDIOC_G_FMT: %s", v->device, strerror(errno));
+        return -1;
+    }
+    uint32_t fourcc = 0;
+    for (size_t i = 0; i < sizeof(preferred) / sizeof(preferred[0]) && fourcc == 0; i++)
+        if (device_offers(v->fd, preferred[i]))
+            fourcc = preferred[i];
+    if (fourcc == 0) {
+        snprintf(err, errlen, "%s: offers none of GREY, Y10, Y16, YUYV", v->device);
+        errno = ENOTSUP;
+        return -1;
+    }
+    fmt.fmt.pix.pixelformat = fourcc;
+    fmt.fmt.pix.field = V4L2_FIELD_NONE;
+    if (want_w != 0) {
+        fmt.fmt.pix.width = want_w;
+        fmt.fmt.pix.height = want_h;
+    }
+    if (xioctl(v->fd, VIDIOC_S_FMT, &fmt) < 0) {
+        snprintf(err, errlen, "%s: VIDIOC_S_FMT: %s", v->device, strerror(errno));
+        return -1;
+    }
+    if (fmt.fmt.pix.pixelformat != fourcc) {
+        snprintf(err, errlen, "%s: driver replaced the pixel format", v->device);
+        errno = ENOTSUP;
+        return -1;
+    }
+    if (want_w != 0 && (fmt.fmt.pix.width != want_w || fmt.fmt.pix.height != want_h))
+        mn_log_warn("%s: asked for %ux%u, driver chose %ux%u", v->device, want_w, want_h,
+                    fmt.fmt.pix.width, fmt.fmt.pix.height);
+    v->fourcc = fourcc;
+    v->width = fmt.fmt.pix.width;
+    v->height = fmt.fmt.pix.height;
+    v->bytesperline = fmt.fmt.pix.bytesperline;
+    /* Some drivers leave bytesperline 0 for packed formats. */
+    if (v->bytesperline < v->width * bytes_per_pixel(fourcc))
+        v->bytesperline = v->width * bytes_per_pixel(fourcc);
+    v->sizeimage = fmt.fmt.pix.sizeimage;
+    if (v->width == 0 || v->height == 0 ||
+        v->sizeimage < (uint64_t)v->bytesperline * (v->height - 1) + v->width * bytes_per_pixel(fourcc)) {
+        snprintf(err, errlen, "%s: driver reports an inconsistent format %ux%u/%u/%u", v->device,
+                 v->width, v->height, v->bytesperline, v->sizeimage);
+        errno = EPROTO;
+        return -1;
+    }
+    return 0;
+}
+
+static int map_buffers(struct v4l2 *v, uint32_t count, char *err, size_t errlen)
+{
+    struct v4l2_requestbuffers req;
+    memset(&req, 0, sizeof(req));
+    req.count = count;
+    req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    req.memory = V4L2_MEMORY_MMAP;
+    if (xioctl(v->fd, VIDIOC_REQBUFS, &req) < 0) {
+        snprintf(err, errlen, "%s: VIDIOC_REQBUFS (mmap streaming): %s", v->device,
+                 strerror(errno));
+        return -1;
+    }
+    if (req.count < 2 || req.count > MAX_BUFFERS) {
+        snprintf(err, errlen, "%s: driver granted %u buffers", v->device, req.count);
+        errno = ENOMEM;
+        return -1;
+    }
+    for (uint32_t i = 0; i < req.count; i++) {
+        struct v4l2_buffer buf;
+        memset(&buf, 0, sizeof(buf));
+        buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        buf.memory = V4L2_MEMORY_MMAP;
+        buf.index = i;
+        if (xioctl(v->fd, VIDIOC_QUERYBUF, &buf) < 0) {
+            snprintf(err, errlen, "%s: VIDIOC_QUERYBUF: %s", v->device, strerror(errno));
+            return -1;
+        }
+        void *p = mmap(NULL, buf.length, PROT_READ | PROT_WRITE, MAP_SHARED, v->fd,
+                       buf.m.offset);
+        if (p == MAP_FAILED) {
+            snprintf(err, errlen, "%s: mmap: %s", v->device, strerror(errno));
+            return -1;
+        }
+        v->maps[i].start = p;
+        v->maps[i].length = buf.length;
+        v->n_maps = i + 1;
+    }
+    return 0;
+}
+
+static void unmap_buffers(struct v4l2 *v)
+{
+    for (uint32_t i = 0; i < v->n_maps; i++)
+        munmap(v->maps[i].start, v->maps[i].length);
+    v->n_maps = 0;
+    struct v4l2_requestbuffers req;
+    memset(&req, 0, sizeof(req));
+    req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    req.memory = V4L2_MEMORY_MMAP;
+    xioctl(v->fd, VIDIOC_REQBUFS, &req); /* count 0 frees them; may fail if the device is gone */
+}
+
+void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,
+                          uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen)
+{
+    struct v4l2 *v = calloc(1, sizeof(*v));
+    if (v == NULL) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    int e;
+    snprintf(v->device, sizeof(v->device), "%s", device);
+    v->fd = open(device, O_RDWR | O_NONBLOCK | O_CLOEXEC);
+    if (v->fd < 0) {
+        e = errno;
+        snprintf(err, errlen, "%s: %s", device, strerror(e));
+        goto fail_free;
+    }
+    struct v4l2_capability cap;
+    memset(&cap, 0, sizeof(cap));
+    if (xioctl(v->fd, VIDIOC_QUERYCAP, &cap) < 0) {
+        e = errno;
+        snprintf(err, errlen, "%s: not a V4L2 device (%s)", device, strerror(e));
+        goto fail_close;
+    }
+    uint32_t caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+    if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
+        snprintf(err, errlen, "%s: not a single-planar streaming capture device%s", device,
+                 (caps & V4L2_CAP_VIDEO_CAPTURE_MPLANE) ? " (multi-planar is not supported)" : "");
+        e = ENOTSUP;
+        goto fail_close;
+    }
+    if (negotiate(v, width, height, err, errlen) < 0) {
+        e = errno;
+        goto fail_close;
+    }
+    if (v->fourcc != V4L2_PIX_FMT_GREY) {
+        v->y8 = malloc((size_t)v->width * v->height);
+        if (v->y8 == NULL) {
+            e = ENOMEM;
+            snprintf(err, errlen, "out of memory for the Y8 conversion buffer");
+            goto fail_close;
+        }
+    }
+    if (map_buffers(v, buffers, err, errlen) < 0) {
+        e = errno;
+        goto fail_unmap;
+    }
+    *out_width = v->width;
+    *out_height = v->height;
+    mn_log_info("%s: %s %ux%u (%.4s), %u mmap buffers", device, (const char *)cap.card, v->width,
+                v->height, (const char *)&v->fourcc, v->n_maps);
+    return v;
+
+fail_unmap:
+    unmap_buffers(v);
+    free(v->y8);
+fail_close:
+    close(v->fd);
+fail_free:
+    free(v);
+    errno = e;
+    return NULL;
+}
+
+static int queue(struct v4l2 *v, uint32_t index)
+{
+    struct v4l2_buffer buf;
+    memset(&buf, 0, sizeof(buf));
+    buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    buf.memory = V4L2_MEMORY_MMAP;
+    buf.index = index;
+    return xioctl(v->fd, VIDIOC_QBUF, &buf);
+}
+
+static int v4l2_start(void *impl)
+{
+    struct v4l2 *v = impl;
+    for (uint32_t i = 0; i < v->n_maps; i++)
+        if (queue(v, i) < 0)
+            return -1;
+    enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    if (xioctl(v->fd, VIDIOC_STREAMON, &type) < 0)
+        return -1;
+    v->streaming = true;
+    return 0;
+}
+
+static int v4l2_stop(void *impl)
+{
+    struct v4l2 *v = impl;
+    if (!v->streaming)
+        return 0;
+    v->streaming = false;
+    enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    return xioctl(v->fd, VIDIOC_STREAMOFF, &type); /* also dequeues every buffer */
+}
+
+static int v4l2_fd(void *impl)
+{
+    return ((struct v4l2 *)impl)->fd;
+}
+
+static void convert(const struct v4l2 *v, const uint8_t *src)
+{
+    enum mn_pixfmt fmt = v->fourcc == V4L2_PIX_FMT_Y10   ? MN_PIXFMT_Y10
+                         : v->fourcc == V4L2_PIX_FMT_Y16 ? MN_PIXFMT_Y16
+                                                         : MN_PIXFMT_YUYV;
+    mn_pixfmt_to_y8(fmt, src, v->bytesperline, v->width, v->height, v->y8, v->width);
+}
+
+static int v4l2_dequeue(void *impl, struct mn_frame *frame)
+{
+    struct v4l2 *v = impl;
+    struct v4l2_buffer buf;
+    memset(&buf, 0, sizeof(buf));
+    buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    buf.memory = V4L2_MEMORY_MMAP;
+    if (xioctl(v->fd, VIDIOC_DQBUF, &buf) < 0)
+        return errno == EAGAIN ? 0 : -1;
+    if (buf.index >= v->n_maps) {
+        errno = EPROTO;
+        return -1;
+    }
+    size_t needed = (size_t)v->bytesperline * (v->height - 1) + v->width * bytes_per_pixel(v->fourcc);
+    if ((buf.flags & V4L2_BUF_FLAG_ERROR) || buf.bytesused < needed) {
+        /* A corrupted or short frame: give the buffer back and report "no frame". */
+        mn_log_debug("%s: dropping buffer %u (flags 0x%x, %u bytes)", v->device, buf.index,
+                     buf.flags, buf.bytesused);
+        if (queue(v, buf.index) < 0)
+            return -1;
+        errno = EAGAIN;
+        return 0;
+    }
+    uint32_t ts_type = buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK;
+    if (ts_type == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC) {
+        frame->capture_mono_ns = (int64_t)buf.timestamp.tv_sec * MN_NS_PER_SEC +
+                                 (int64_t)buf.timestamp.tv_usec * 1000;
+    } else {
+        /* No kernel stamp: dequeue time is the best we have (adds scheduling jitter). */
+        if (!v->warned_stamps)
+            mn_log_warn("%s: driver gives no monotonic time stamps; using dequeue time",
+                        v->device);
+        v->warned_stamps = true;
+        frame->capture_mono_ns = mn_clock_mono_ns();
+    }
+    const uint8_t *data = v->maps[buf.index].start;
+    if (v->fourcc == V4L2_PIX_FMT_GREY) {
+        frame->pixels = data;
+        frame->stride = v->bytesperline;
+    } else {
+        convert(v, data);
+        frame->pixels = v->y8;
+        frame->stride = v->width;
+    }
+    frame->width = v->width;
+    frame->height = v->height;
+    frame->sequence = buf.sequence;
+    frame->slot = (int)buf.index;
+    return 1;
+}
+
+static int v4l2_release(void *impl, const struct mn_frame *frame)
+{
+    return queue(impl, (uint32_t)frame->slot);
+}
+
+static int set_ctrl(struct v4l2 *v, uint32_t id, int32_t value)
+{
+    struct v4l2_control c = {.id = id, .value = value};
+    return xioctl(v->fd, VIDIOC_S_CTRL, &c);
+}
+
+static int query_ctrl(struct v4l2 *v, uint32_t id, struct v4l2_queryctrl *q)
+{
+    memset(q, 0, sizeof(*q));
+    q->id = id;
+    if (xioctl(v->fd, VIDIOC_QUERYCTRL, q) < 0 || (q->flags & V4L2_CTRL_FLAG_DISABLED))
+        return -1;
+    return 0;
+}
+
+static int32_t clamp_ctrl(const struct v4l2_queryctrl *q, int64_t value)
+{
+    if (value < q->minimum)
+        return q->minimum;
+    if (value > q->maximum)
+        return q->maximum;
+    return (int32_t)value;
+}
+
+static int v4l2_set_exposure(void *impl, uint32_t exposure_us)
+{
+    struct v4l2 *v = impl;
+    struct v4l2_queryctrl q;
+    /* EXPOSURE_ABSOLUTE is in 100 us units; manual mode first or the driver ignores it. */
+    if (query_ctrl(v, V4L2_CID_EXPOSURE_ABSOLUTE, &q) == 0) {
+        set_ctrl(v, V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL);
+        return set_ctrl(v, V4L2_CID_EXPOSURE_ABSOLUTE, clamp_ctrl(&q, (exposure_us + 50) / 100));
+    }
+    errno = ENOTSUP;
+    return -1;
+}
+
+static int v4l2_set_gain(void *impl, uint32_t gain_milli)
+{
+    struct v4l2 *v = impl;
+    struct v4l2_queryctrl q;
+    /* Gain controls are in driver units; the control's default is taken as unity gain, which
+     * holds for the UVC and most sensor drivers. */
+    uint32_t ids[] = {V4L2_CID_ANALOGUE_GAIN, V4L2_CID_GAIN};
+    for (size_t i = 0; i < 2; i++) {
+        if (query_ctrl(v, ids[i], &q) < 0)
+            continue;
+        int64_t unity = q.default_value > 0 ? q.default_value : 1;
+        return set_ctrl(v, ids[i], clamp_ctrl(&q, (unity * gain_milli + 500) / 1000));
+    }
+    errno = ENOTSUP;
+    return -1;
+}
+
+static void v4l2_close(void *impl)
+{
+    struct v4l2 *v = impl;
+    v4l2_stop(v);
+    unmap_buffers(v);
+    free(v->y8);
+    close(v->fd);
+    free(v);
+}
+
+const struct mn_capture_ops mn_capture_v4l2_ops = {
+    .name = "v4l2",
+    .start = v4l2_start,
+    .stop = v4l2_stop,
+    .fd = v4l2_fd,
+    .dequeue = v4l2_dequeue,
+    .release = v4l2_release,
+    .set_exposure = v4l2_set_exposure,
+    .set_gain = v4l2_set_gain,
+    .close = v4l2_close,
+};
