@@ -22,4 +22,6 @@ fi
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DMOCAP_WERROR=ON -DMOCAP_SUBBUILDS=ON \
     -UMOCAP_HUB_LAYERS -UMOCAP_FIRMWARE_MODULES
 cmake --build "$build" -j "$jobs"
-ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@"
+# A test that hangs fails after 15 minutes instead of holding the whole run (tests that need
+# longer set their own TIMEOUT property).
+ctest --test-dir "$build" --output-on-failure --timeout 900 -j "$jobs" "$@"

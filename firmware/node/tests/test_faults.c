@@ -1,6 +1,6 @@
 /* Faults: the recording (the "camera") vanishes mid-run; the node must report it in status,
  * retry with growing delays without stalling its loop, and pick up again when it comes back.
- * And a hub behind a link that cannot take the node's datagrams must never stall capture. */
+ * (A hub behind a full link: test_slow_link.c.) */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -8,8 +8,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sched.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -126,76 +124,10 @@ static void recording_vanishes_and_returns(void **state)
     test_remove_tree(tmp);
 }
 
-/* The node's side of a link that cannot keep up: in a network namespace of its own, the hub's
- * address is routed out of a veth whose queue drains at 8 kbit/s, so the node's socket send
- * buffer fills within a few hundred datagrams. A blocking send would stall capture right there
- * (and this test would hang until ctest's timeout); the node must instead go on capturing and
- * detecting every frame, count the datagrams it could not send, and finish. Run in a child so
- * that the namespace ends with it; needs root (CAP_NET_ADMIN) and iproute2. */
-static int run_behind_a_slow_link(const char *dir, struct mn_node_stats *out)
-{
-    if (unshare(CLONE_NEWNET) != 0)
-        return -1;
-    if (system("ip link set lo up && ip link add mnslow0 type veth peer name mnslow1 &&"
-               " ip link set mnslow0 up && ip link set mnslow1 up &&"
-               " ip addr add 10.213.0.1/24 dev mnslow0 &&"
-               " ip neigh add 10.213.0.2 lladdr 02:00:00:00:00:02 dev mnslow0 &&"
-               " tc qdisc add dev mnslow0 root tbf rate 8kbit burst 1600 limit 50mb") != 0)
-        return -1;
-    struct mn_config cfg;
-    test_node_config(&cfg, dir, 9);
-    snprintf(cfg.hub_host, sizeof(cfg.hub_host), "10.213.0.2");
-    cfg.as_fast_as_possible = true;
-    cfg.replay_loop = true;
-    cfg.frames = 3000;
-    cfg.log_level = MN_LOG_ERR;
-    struct mn_node *node = test_node_new(&cfg);
-    if (mn_node_run(node) != 0)
-        return -1;
-    mn_node_get_stats(node, out);
-    mn_node_free(node);
-    return 0;
-}
-
-static void hub_behind_a_full_link(void **state)
-{
-    (void)state;
-    if (geteuid() != 0)
-        fail_msg("needs root for a network namespace (tests/run.sh runs as root in CI)");
-    const char *dir = test_temp_dir();
-    test_write_recording(dir, 320, 200, 50, 4);
-    int fds[2];
-    assert_int_equal(pipe(fds), 0);
-    pid_t child = fork();
-    assert_true(child >= 0);
-    if (child == 0) {
-        struct mn_node_stats st;
-        memset(&st, 0, sizeof(st));
-        int rc = run_behind_a_slow_link(dir, &st);
-        ssize_t w = write(fds[1], &st, sizeof(st));
-        _exit(rc == 0 && w == (ssize_t)sizeof(st) ? 0 : 1);
-    }
-    close(fds[1]);
-    struct mn_node_stats st;
-    assert_int_equal(read(fds[0], &st, sizeof(st)), (ssize_t)sizeof(st));
-    close(fds[0]);
-    int status;
-    assert_int_equal(waitpid(child, &status, 0), child);
-    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-    /* Every frame was captured and detected although the link took only a fraction. */
-    assert_int_equal(st.frames_processed, 3000);
-    assert_true(st.datagrams_dropped > 0);
-    assert_true(st.datagrams_sent > 0);
-    assert_true(st.frames_dropped > 0);
-    assert_int_equal(st.frames_sent + st.frames_dropped, 3000);
-    test_remove_tree(dir);
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(recording_vanishes_and_returns),
-        cmocka_unit_test(hub_behind_a_full_link),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
