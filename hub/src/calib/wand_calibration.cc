@@ -16,7 +16,7 @@
 namespace mocap {
 namespace {
 
-// RMS over the view's markers of the reprojection error per image coordinate.
+// RMS over the view's markers of the reprojection error length (the hub's rms_px).
 double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pose, const WandGeometry& wand,
                  bool swapped) {
   const size_t last = view.pixels.size() - 1;
@@ -28,7 +28,7 @@ double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pos
     }
     sum += (projected - view.pixels[k]).squaredNorm();
   }
-  return std::sqrt(sum / (2.0 * static_cast<double>(view.pixels.size())));
+  return std::sqrt(sum / static_cast<double>(view.pixels.size()));
 }
 
 // Both ends of the wand from two views, the second view's ends swapped or not.
