@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "geometry/lens.h"
+
 namespace mocap {
 
 // Parameter block layouts shared by the functors and the problem builders.
@@ -18,21 +20,14 @@ constexpr int kIntrinsicsSize = 9;  // fx fy cx cy k1 k2 p1 p2 k3 (OpenCV lens m
 constexpr int kWandPoseSize = 6;
 
 // Distorted pixel of a point in camera coordinates under the OpenCV model; false behind the
-// camera. Shared by every functor so that the lens model exists once in the solver.
+// camera. Shared by every functor; the lens model itself is geometry/lens.h.
 template <typename T>
 bool ProjectCameraPoint(const T* intrinsics, const T* point_in_cam, T* pixel) {
   if (!(point_in_cam[2] > T(1e-9))) return false;
   const T x = point_in_cam[0] / point_in_cam[2];
   const T y = point_in_cam[1] / point_in_cam[2];
-  const T& k1 = intrinsics[4];
-  const T& k2 = intrinsics[5];
-  const T& p1 = intrinsics[6];
-  const T& p2 = intrinsics[7];
-  const T& k3 = intrinsics[8];
-  const T r2 = x * x + y * y;
-  const T radial = T(1.0) + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const T xd = x * radial + T(2.0) * p1 * x * y + p2 * (r2 + T(2.0) * x * x);
-  const T yd = y * radial + p1 * (r2 + T(2.0) * y * y) + T(2.0) * p2 * x * y;
+  T xd, yd;
+  DistortNormalized(intrinsics + 4, x, y, &xd, &yd);
   pixel[0] = intrinsics[0] * xd + intrinsics[2];
   pixel[1] = intrinsics[1] * yd + intrinsics[3];
   return true;

@@ -28,7 +28,7 @@ double CameraRmsPx(const Camera& camera, const std::vector<ControlPoint>& points
     if (!camera.ProjectToPixel(p.point_in_world, &projected)) return std::numeric_limits<double>::infinity();
     sum += (projected - p.pixel).squaredNorm();
   }
-  return std::sqrt(sum / (2.0 * static_cast<double>(points.size())));
+  return std::sqrt(sum / static_cast<double>(points.size()));
 }
 
 // Hartley-normalised homogeneous DLT: centroid to the origin, mean distance sqrt(3) (3D) and
@@ -187,7 +187,7 @@ DltResult CalibrateDlt(const std::vector<ControlPoint>& points, const DltOptions
   for (const ControlPoint& point : points) {
     sum += (ProjectDlt(result.parameters, point.point_in_world) - point.pixel).squaredNorm();
   }
-  result.linear_rms_px = std::sqrt(sum / (2.0 * static_cast<double>(points.size())));
+  result.linear_rms_px = std::sqrt(sum / static_cast<double>(points.size()));
   result.camera = DecomposeProjection(p, options, &result.skew_px);
   if (options.refine) RefineCamera(points, options, &result.camera);
   result.camera_rms_px = CameraRmsPx(result.camera, points);

@@ -61,7 +61,7 @@ TEST(DltTest, NoisyPointsGiveNoiseLevelResiduals) {
   const Camera truth = testing::LookAtCamera(4, Eigen::Vector3d(-3000, 2500, 2200), Eigen::Vector3d(0, 0, 900));
   const std::vector<ControlPoint> points = Observe(truth, 40, 0.2, 2);
   const DltResult result = CalibrateDlt(points, Options());
-  EXPECT_LT(result.camera_rms_px, 0.25);
+  EXPECT_LT(result.camera_rms_px, 0.35);  // sigma 0.2 per coordinate: 0.28 per observation
   EXPECT_LT(result.camera_rms_px, result.linear_rms_px + 1e-9);
   EXPECT_LT((result.camera.CenterInWorld() - truth.CenterInWorld()).norm(), 20.0);
   EXPECT_NEAR(result.camera.intrinsics.fx / truth.intrinsics.fx, 1.0, 0.01);
@@ -77,7 +77,7 @@ TEST(DltTest, RefinesLensDistortionWhenAsked) {
   options.refine_distortion = true;
   const DltResult refined = CalibrateDlt(points, options);
   EXPECT_GT(plain.camera_rms_px, 1.0);
-  EXPECT_LT(refined.camera_rms_px, 0.13);
+  EXPECT_LT(refined.camera_rms_px, 0.18);  // sigma 0.1 per coordinate: 0.14 per observation
   EXPECT_NEAR(refined.camera.intrinsics.distortion[0], -0.2, 0.02);
 }
 

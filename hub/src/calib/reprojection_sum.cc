@@ -13,12 +13,12 @@ bool ReprojectionSum::Add(const Camera& camera, const Eigen::Vector3d& point_in_
     return false;
   }
   squared_px += (projected - observed).squaredNorm();
-  coordinates += 2;
+  ++observations;
   return true;
 }
 
 double ReprojectionSum::RmsPx() const {
-  return coordinates > 0 ? std::sqrt(squared_px / static_cast<double>(coordinates)) : 0.0;
+  return observations > 0 ? std::sqrt(squared_px / static_cast<double>(observations)) : 0.0;
 }
 
 }  // namespace mocap

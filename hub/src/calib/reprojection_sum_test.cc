@@ -26,8 +26,8 @@ TEST(ReprojectionSum, PointBehindCameraIsCountedNotSummed) {
   EXPECT_FALSE(sum.Add(camera, Eigen::Vector3d(0, 0, -1000), Eigen::Vector2d(320, 240)));
   EXPECT_FALSE(sum.Add(camera, Eigen::Vector3d(10, 0, 0), Eigen::Vector2d(320, 240)));
   EXPECT_EQ(sum.unprojected, 2u);
-  EXPECT_EQ(sum.coordinates, 2u);
-  EXPECT_NEAR(sum.RmsPx(), std::sqrt(25.0 / 2.0), 1e-9);
+  EXPECT_EQ(sum.observations, 1u);
+  EXPECT_NEAR(sum.RmsPx(), 5.0, 1e-9);
 }
 
 TEST(ReprojectionSum, EmptyIsZero) {

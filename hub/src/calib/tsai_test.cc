@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "calib/mcd.h"
-#include "calib/triangulation.h"
+#include "geometry/triangulation.h"
 
 namespace mocap {
 namespace {
@@ -120,7 +120,7 @@ TEST(McdTest, RecordingReconstructsThroughConvertedCameras) {
     views.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(recording.frames[0].cameras[c].blobs[0].pixel)});
   }
   Eigen::Vector3d reconstructed;
-  ASSERT_TRUE(TriangulateLinear(views, &reconstructed));
+  ASSERT_TRUE(TriangulatePoint(views, &reconstructed));
   EXPECT_LT((reconstructed - marker).norm(), 0.5);
 }
 

@@ -11,12 +11,12 @@
 #include <stdexcept>
 
 #include "calib/reprojection_sum.h"
-#include "calib/triangulation.h"
+#include "geometry/triangulation.h"
 
 namespace mocap {
 namespace {
 
-// RMS over the view's markers of the reprojection error per image coordinate.
+// RMS over the view's markers of the reprojection error length (the hub's rms_px).
 double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pose, const WandGeometry& wand,
                  bool swapped) {
   const size_t last = view.pixels.size() - 1;
@@ -28,7 +28,7 @@ double ViewRmsPx(const Camera& camera, const WandView& view, const WandPose& pos
     }
     sum += (projected - view.pixels[k]).squaredNorm();
   }
-  return std::sqrt(sum / (2.0 * static_cast<double>(view.pixels.size())));
+  return std::sqrt(sum / static_cast<double>(view.pixels.size()));
 }
 
 // Both ends of the wand from two views, the second view's ends swapped or not.
@@ -38,7 +38,7 @@ bool TriangulateEnds(const std::vector<Camera>& cameras, const WandView& a, cons
   for (int e = 0; e < 2; ++e) {
     const size_t k = e == 0 ? 0 : last;
     const size_t kb = swap_b ? last - k : k;
-    if (!TriangulateLinear({{cameras[a.camera].ProjectionMatrix(), a.normalized[k]},
+    if (!TriangulatePoint({{cameras[a.camera].ProjectionMatrix(), a.normalized[k]},
                             {cameras[b.camera].ProjectionMatrix(), b.normalized[kb]}},
                            &ends[e])) {
       return false;
@@ -87,7 +87,7 @@ bool LabelFrameRobustly(const std::vector<Camera>& cameras, const WandGeometry& 
     // The off-centre middle marker tells the ends apart: if it sits where the model puts it
     // from the other end, the seed's end order is reversed.
     Eigen::Vector3d middle;
-    if (TriangulateLinear({{cameras[views[best_i].camera].ProjectionMatrix(), views[best_i].normalized[1]},
+    if (TriangulatePoint({{cameras[views[best_i].camera].ProjectionMatrix(), views[best_i].normalized[1]},
                            {cameras[views[best_j].camera].ProjectionMatrix(), views[best_j].normalized[1]}},
                           &middle)) {
       const double from_first = (middle - ends[0]).norm();
@@ -129,7 +129,7 @@ bool TriangulateWand(const std::vector<Camera>& cameras, const WandFrame& frame,
     for (const WandView& view : frame.views) {
       views.push_back({cameras[view.camera].ProjectionMatrix(), view.normalized[k]});
     }
-    if (!TriangulateLinear(views, &ends[e])) return false;
+    if (!TriangulatePoint(views, &ends[e])) return false;
   }
   const Eigen::Vector3d axis = ends[1] - ends[0];
   if (!(axis.norm() > 1e-6)) return false;
@@ -377,7 +377,7 @@ class WandSolver {
         second.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[last])});
       }
       Eigen::Vector3d a, b;
-      if (!TriangulateLinear(first, &a) || !TriangulateLinear(second, &b)) continue;
+      if (!TriangulatePoint(first, &a) || !TriangulatePoint(second, &b)) continue;
       const double error = (b - a).norm() - wand_.LengthMm();
       all_length_errors.push_back(error);
       for (const WandView& view : frames_[f].views) length_errors[view.camera].push_back(error);

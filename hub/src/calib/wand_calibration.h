@@ -33,7 +33,7 @@ struct WandCalibrationOptions {
   int min_views_per_camera = 100;
   double min_coverage = 0.2;       // fraction of coverage_grid x coverage_grid image cells
   int coverage_grid = 8;
-  double max_camera_rms_px = 1.0;
+  double max_camera_rms_px = 1.4;
   // A camera whose residual is this many times the median camera's, or which keeps fewer than
   // this fraction of its wand views through outlier rejection, disagrees with the rest of the
   // rig (wrong intrinsics, moved during the recording) even if its own numbers look small.

@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
               result.frames_used, result.frames_selected);
   std::printf("max centre error %.3f mm, max rotation error %.4f deg, scale %.6f\n", centre, rotation,
               FitSimilarity(source, target).scale);
-  std::printf("reprojection RMS %.3f px per coordinate; wand length error mean %.3f mm rms %.3f mm p95 %.3f mm "
+  std::printf("reprojection RMS %.3f px (2-D error length per observation); wand length error mean %.3f mm rms %.3f mm p95 %.3f mm "
               "max %.3f mm\n",
               result.reprojection_rms_px, result.wand_length.mean_mm, result.wand_length.rms_mm,
               result.wand_length.p95_abs_mm, result.wand_length.max_abs_mm);

@@ -55,8 +55,8 @@ TEST(WandCalibrationTest, EightCameraRigWithDistortionMeetsAccuracyTargets) {
   EXPECT_LT(errors.max_rotation_deg, 0.03);
   EXPECT_NEAR(errors.scale, 1.0, 5e-4);
   // Per coordinate, the residual of a well-fitted model is the centroid noise.
-  EXPECT_LT(result.reprojection_rms_px, 1.2 * 0.15);
-  EXPECT_GT(result.reprojection_rms_px, 0.8 * 0.15);
+  EXPECT_LT(result.reprojection_rms_px, 1.2 * std::sqrt(2.0) * 0.15);
+  EXPECT_GT(result.reprojection_rms_px, 0.8 * std::sqrt(2.0) * 0.15);
   EXPECT_LT(std::abs(result.wand_length.mean_mm), 0.1);
   EXPECT_LT(result.wand_length.rms_mm, 1.0);
   for (const CameraCalibrationReport& camera : result.cameras) {
@@ -163,7 +163,7 @@ TEST(WandCalibrationTest, RefinesPerturbedFocalLengths) {
     EXPECT_NEAR(camera.intrinsics.fx / expected.fx, 1.0, 2e-3) << camera.id;
     EXPECT_NEAR(camera.intrinsics.cx, expected.cx, 1.5) << camera.id;
   }
-  EXPECT_LT(result.reprojection_rms_px, 1.2 * 0.15);
+  EXPECT_LT(result.reprojection_rms_px, 1.2 * std::sqrt(2.0) * 0.15);
   // Without refinement the wrong focal lengths show up as residuals the report exposes.
   const WandCalibrationResult fixed = CalibrateWand(scene.frames, guess, wand, WandCalibrationOptions());
   EXPECT_GT(fixed.reprojection_rms_px, 1.5 * result.reprojection_rms_px);

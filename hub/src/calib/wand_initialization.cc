@@ -11,7 +11,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
-#include "calib/triangulation.h"
+#include "geometry/triangulation.h"
 
 namespace mocap {
 namespace {
@@ -137,7 +137,7 @@ bool EstimateWandRelativePose(const std::vector<std::pair<const WandView*, const
     for (int m = 0; m < 2 && ok; ++m) {
       const cv::Point2d& p1 = chosen1[2 * k + m];
       const cv::Point2d& p2 = chosen2[2 * k + m];
-      ok = TriangulateLinear({{first, Eigen::Vector2d(p1.x, p1.y)}, {second, Eigen::Vector2d(p2.x, p2.y)}},
+      ok = TriangulatePoint({{first, Eigen::Vector2d(p1.x, p1.y)}, {second, Eigen::Vector2d(p2.x, p2.y)}},
                              &ends[m]) &&
            ends[m].z() > 0.0;
     }

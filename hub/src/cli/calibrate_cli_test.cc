@@ -39,7 +39,7 @@ TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {
   const nlohmann::json report = nlohmann::json::parse(wand.out);
   EXPECT_EQ(report["cameras"].size(), 8u);
   for (const auto& camera : report["cameras"]) EXPECT_TRUE(camera["accepted"].get<bool>()) << camera.dump();
-  EXPECT_LT(report["reprojection_rms_px"].get<double>(), 0.18);
+  EXPECT_LT(report["reprojection_rms_px"].get<double>(), 0.25);
 
   const HubRun world = Hub("calibrate world wand --calibration cal.json -o world.json");
   ASSERT_EQ(world.status, 0) << world.err;
@@ -49,7 +49,7 @@ TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {
   EXPECT_EQ(errors["cameras_matched"].get<int>(), 8);
   EXPECT_LT(errors["centre_max_mm"].get<double>(), 2.0);
   EXPECT_LT(errors["rotation_max_deg"].get<double>(), 0.03);
-  EXPECT_LT(errors["reprojection_rms_px"].get<double>(), 0.18);
+  EXPECT_LT(errors["reprojection_rms_px"].get<double>(), 0.25);
   // The report written into the calibration survives the world step.
   const nlohmann::json written = nlohmann::json::parse(ReadAll(dir_ + "/world.json"));
   EXPECT_EQ(written["calibration"]["method"], "wand");

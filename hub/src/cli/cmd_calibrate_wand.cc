@@ -63,7 +63,7 @@ nlohmann::json ReportJson(const WandCalibrationResult& result, const WandGeometr
           {"frames_selected", result.frames_selected},
           {"frames_used", result.frames_used},
           {"reprojection_rms_px", result.reprojection_rms_px},
-          {"reprojection_rms_definition", "per image coordinate"},
+          {"reprojection_rms_definition", "2-D error length per observation"},
           {"wand_length_error", LengthJson(result.wand_length)},
           {"solver_iterations", result.solver_iterations},
           {"seconds", result.select_seconds + result.initialize_seconds + result.bundle_seconds},
@@ -86,7 +86,7 @@ void PrintReport(const WandCalibrationResult& result) {
                 c.accepted ? "ok" : ("REFUSED: " + c.reason).c_str());
   }
   const LengthErrorStats& w = result.wand_length;
-  std::printf("reprojection RMS %.3f px (per coordinate); wand length error over %zu frames: mean %+.3f mm, "
+  std::printf("reprojection RMS %.3f px (2-D error length per observation); wand length error over %zu frames: mean %+.3f mm, "
               "rms %.3f mm, median |e| %.3f mm, p95 %.3f mm, max %.3f mm\n",
               result.reprojection_rms_px, w.count, w.mean_mm, w.rms_mm, w.median_abs_mm, w.p95_abs_mm, w.max_abs_mm);
 }

@@ -1,37 +1,13 @@
-// Pinhole + OpenCV distortion model: projection, undistortion and back-projected rays.
+// Pinhole camera over the shared lens model (geometry/lens.h): projection, undistortion and back-projected rays.
 #include "geometry/camera.h"
 
 #include <cmath>
 
 #include <Eigen/Dense>
 
+#include "geometry/lens.h"
+
 namespace mocap {
-namespace {
-
-// Distortion of normalized coordinates and its 2x2 Jacobian, used by the Gauss-Newton inverse.
-Eigen::Vector2d Distort(const std::array<double, 5>& d, const Eigen::Vector2d& p,
-                        Eigen::Matrix2d* jacobian) {
-  const double k1 = d[0], k2 = d[1], p1 = d[2], p2 = d[3], k3 = d[4];
-  const double x = p.x(), y = p.y();
-  const double r2 = x * x + y * y;
-  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const Eigen::Vector2d out(x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x),
-                            y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y);
-  if (jacobian != nullptr) {
-    // d(radial)/d(r2), and d(r2)/dx = 2x, d(r2)/dy = 2y.
-    const double dradial = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);
-    const double drx = 2.0 * x * dradial;
-    const double dry = 2.0 * y * dradial;
-    (*jacobian)(0, 0) = radial + x * drx + 2.0 * p1 * y + 6.0 * p2 * x;
-    (*jacobian)(0, 1) = x * dry + 2.0 * p1 * x + 2.0 * p2 * y;
-    (*jacobian)(1, 0) = y * drx + 2.0 * p1 * x + 2.0 * p2 * y;
-    (*jacobian)(1, 1) = radial + y * dry + 6.0 * p1 * y + 2.0 * p2 * x;
-  }
-  return out;
-}
-
-}  // namespace
-
 bool CameraIntrinsics::HasDistortion() const {
   for (double v : distortion) {
     if (v != 0.0) return true;
@@ -59,7 +35,7 @@ bool Camera::InImage(const Eigen::Vector2d& pixel) const {
 }
 
 Eigen::Vector2d Camera::DistortNormalized(const Eigen::Vector2d& normalized) const {
-  return Distort(intrinsics.distortion, normalized, nullptr);
+  return mocap::DistortNormalized(intrinsics.distortion, normalized);
 }
 
 Eigen::Vector2d Camera::NormalizedToPixel(const Eigen::Vector2d& distorted_normalized) const {
@@ -75,18 +51,18 @@ Eigen::Vector2d Camera::UndistortPixel(const Eigen::Vector2d& pixel) const {
   // reduce the residual, which keeps strong barrel lenses from overshooting near the corners.
   Eigen::Vector2d estimate = target;
   Eigen::Matrix2d jacobian;
-  double error = (Distort(intrinsics.distortion, estimate, &jacobian) - target).squaredNorm();
+  double error = (mocap::DistortNormalized(intrinsics.distortion, estimate, &jacobian) - target).squaredNorm();
   for (int iteration = 0; iteration < 50 && error > 1e-30; ++iteration) {
-    const Eigen::Vector2d residual = Distort(intrinsics.distortion, estimate, &jacobian) - target;
+    const Eigen::Vector2d residual = mocap::DistortNormalized(intrinsics.distortion, estimate, &jacobian) - target;
     const Eigen::Vector2d step = jacobian.partialPivLu().solve(residual);
     if (!step.allFinite()) break;
     double scale = 1.0;
     Eigen::Vector2d candidate = estimate - step;
-    double candidate_error = (Distort(intrinsics.distortion, candidate, nullptr) - target).squaredNorm();
+    double candidate_error = (mocap::DistortNormalized(intrinsics.distortion, candidate) - target).squaredNorm();
     while (candidate_error > error && scale > 1e-4) {
       scale *= 0.5;
       candidate = estimate - scale * step;
-      candidate_error = (Distort(intrinsics.distortion, candidate, nullptr) - target).squaredNorm();
+      candidate_error = (mocap::DistortNormalized(intrinsics.distortion, candidate) - target).squaredNorm();
     }
     if (candidate_error > error) break;
     estimate = candidate;

@@ -40,7 +40,7 @@ struct Camera {
   bool ProjectToPixel(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* pixel) const;
   bool InImage(const Eigen::Vector2d& pixel) const;
 
-  // Applies the lens model to normalized (undistorted) image coordinates.
+  // Applies the lens model (geometry/lens.h) to normalized (undistorted) image coordinates.
   Eigen::Vector2d DistortNormalized(const Eigen::Vector2d& normalized) const;
   Eigen::Vector2d NormalizedToPixel(const Eigen::Vector2d& distorted_normalized) const;
   // Pixel (distorted) to undistorted normalized image coordinates: the iterative inverse of

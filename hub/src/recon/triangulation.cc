@@ -1,6 +1,5 @@
-// Linear + Gauss-Newton triangulation. A hand-written 3-parameter solve rather than Ceres: it
-// runs for every marker of every frame, and the 3x3 normal equations cost well under a
-// microsecond where a Ceres problem's set-up alone costs tens.
+// Recon's robust triangulation: the linear estimate and Gauss-Newton steps come from
+// geometry/triangulation.h; outlier-view rejection and the pixel residual checks live here.
 #include "recon/triangulation.h"
 
 #include <algorithm>
@@ -8,62 +7,37 @@
 
 #include <Eigen/Dense>
 
+#include "geometry/triangulation.h"
+
 namespace mocap {
 
 bool TriangulateLinear(const RigModel& rig, const FrameViews& views,
                        const std::vector<int>& observations, Eigen::Vector3d* point_in_world) {
-  if (observations.size() < 2) return false;
-  // Each view gives rows (x * r3 - r1) X = t1 - x * t3 and the same for y; accumulate the
-  // normal equations directly instead of building the 2n x 3 matrix.
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  LinearTriangulation linear;
   for (int index : observations) {
     const Observation& obs = views.observations[index];
     const CameraModel& cam = rig.camera(obs.camera);
-    const Eigen::Matrix3d& r = cam.cam_from_world_rotation;
-    const Eigen::Vector3d& t = cam.cam_from_world_translation;
-    for (int axis = 0; axis < 2; ++axis) {
-      const double coord = obs.normalized[axis];
-      const Eigen::RowVector3d row = coord * r.row(2) - r.row(axis);
-      const double b = t[axis] - coord * t[2];
-      normal.noalias() += row.transpose() * row;
-      rhs.noalias() += row.transpose() * b;
-    }
+    linear.AddView(cam.cam_from_world_rotation, cam.cam_from_world_translation, obs.normalized);
   }
-  const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
-  // Parallel rays leave the normal matrix (nearly) singular: compare its pivots. Cheaper than
-  // rcond(), which estimates a norm of the inverse.
-  const Eigen::Vector3d pivots = solver.vectorD().cwiseAbs();
-  if (solver.info() != Eigen::Success || !(pivots.minCoeff() > 1e-12 * pivots.maxCoeff())) return false;
-  *point_in_world = solver.solve(rhs);
-  return point_in_world->allFinite();
+  return linear.Solve(point_in_world);
 }
 
 bool RefinePoint(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
                  int iterations, Eigen::Vector3d* point_in_world) {
   Eigen::Vector3d point = *point_in_world;
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+    GaussNewtonTriangulationStep gauss_newton(point);
     for (int index : observations) {
       const Observation& obs = views.observations[index];
       const CameraModel& cam = rig.camera(obs.camera);
-      const Eigen::Vector3d p = cam.cam_from_world_rotation * point + cam.cam_from_world_translation;
-      if (!(p.z() > 1e-9)) return false;
-      const double inv_z = 1.0 / p.z();
-      const Eigen::Vector2d projected(p.x() * inv_z, p.y() * inv_z);
-      const Eigen::Vector2d residual = cam.focal_px * (projected - obs.normalized);
-      Eigen::Matrix<double, 2, 3> d_proj_d_cam;
-      d_proj_d_cam << inv_z, 0.0, -projected.x() * inv_z, 0.0, inv_z, -projected.y() * inv_z;
-      const Eigen::Matrix<double, 2, 3> jacobian =
-          cam.focal_px * d_proj_d_cam * cam.cam_from_world_rotation;
-      normal.noalias() += jacobian.transpose() * jacobian;
-      gradient.noalias() += jacobian.transpose() * residual;
+      // Weighting by the focal length makes the error pixels, the unit of the outlier test.
+      if (!gauss_newton.AddView(cam.cam_from_world_rotation, cam.cam_from_world_translation, obs.normalized,
+                                cam.focal_px)) {
+        return false;
+      }
     }
-    const Eigen::LDLT<Eigen::Matrix3d> solver(normal);
-    if (solver.info() != Eigen::Success) return false;
-    const Eigen::Vector3d step = solver.solve(gradient);
-    if (!step.allFinite()) return false;
+    Eigen::Vector3d step;
+    if (!gauss_newton.Solve(&step)) return false;
     point -= step;
     // Steps under a micrometre change nothing measurable; stop early to save time.
     if (step.squaredNorm() < 1e-6) break;

@@ -1,6 +1,6 @@
-// Multi-view triangulation of one marker from undistorted observations: linear (DLT with the
-// point's homogeneous coordinate fixed to 1), then Gauss-Newton on the reprojection error in
-// pixels, then residual checks that drop one outlier view at a time while three or more remain.
+// Multi-view triangulation of one marker from undistorted observations: the shared core
+// (geometry/triangulation.h: linear estimate, then Gauss-Newton on the reprojection error in
+// pixels), then residual checks that drop one outlier view at a time while three or more remain.
 #pragma once
 
 #include <vector>

@@ -5,23 +5,9 @@
 
 #include <Eigen/Dense>
 
-namespace mocap {
+#include "geometry/lens.h"
 
-Eigen::Vector2d DistortWithJacobian(const std::array<double, 5>& d, const Eigen::Vector2d& p,
-                                    Eigen::Matrix2d* jacobian) {
-  const double k1 = d[0], k2 = d[1], p1 = d[2], p2 = d[3], k3 = d[4];
-  const double x = p.x(), y = p.y();
-  const double xx = x * x, yy = y * y, xy = x * y;
-  const double r2 = xx + yy;
-  const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
-  const double radial_d = k1 + r2 * (2.0 * k2 + 3.0 * r2 * k3);  // d radial / d r2
-  (*jacobian)(0, 0) = radial + 2.0 * xx * radial_d + 2.0 * p1 * y + 6.0 * p2 * x;
-  (*jacobian)(0, 1) = 2.0 * xy * radial_d + 2.0 * p1 * x + 2.0 * p2 * y;
-  (*jacobian)(1, 0) = 2.0 * xy * radial_d + 2.0 * p1 * x + 2.0 * p2 * y;
-  (*jacobian)(1, 1) = radial + 2.0 * yy * radial_d + 6.0 * p1 * y + 2.0 * p2 * x;
-  return {x * radial + 2.0 * p1 * xy + p2 * (r2 + 2.0 * xx),
-          y * radial + p1 * (r2 + 2.0 * yy) + 2.0 * p2 * xy};
-}
+namespace mocap {
 
 Undistorter::Undistorter(const Camera& camera, int step_px) : camera_(&camera) {
   distorted_ = camera.intrinsics.HasDistortion();
@@ -58,7 +44,7 @@ Eigen::Vector2d Undistorter::Undistort(const Eigen::Vector2d& pixel) const {
   // The interpolated start is within ~1e-6 of the answer; Newton squares the error per step.
   Eigen::Matrix2d jacobian;
   for (int iteration = 0; iteration < 2; ++iteration) {
-    const Eigen::Vector2d residual = DistortWithJacobian(in.distortion, estimate, &jacobian) - target;
+    const Eigen::Vector2d residual = DistortNormalized(in.distortion, estimate, &jacobian) - target;
     estimate -= jacobian.inverse() * residual;
   }
   return estimate;

@@ -1,6 +1,6 @@
 // Fast undistortion of blob centroids for one camera: a coarse table of undistorted normalized
 // coordinates (exact, from Camera::UndistortPixel) interpolated bilinearly, then Newton steps
-// on the OpenCV lens model. Every blob of every frame is undistorted, and the iterative inverse
+// on the shared lens model (geometry/lens.h). Every blob of every frame is undistorted, and the iterative inverse
 // from scratch costs several times more than this; the result agrees to ~1e-12.
 #pragma once
 
@@ -11,10 +11,6 @@
 #include "geometry/camera.h"
 
 namespace mocap {
-
-// OpenCV k1 k2 p1 p2 k3 applied to undistorted normalized coordinates, with its 2x2 Jacobian.
-Eigen::Vector2d DistortWithJacobian(const std::array<double, 5>& d, const Eigen::Vector2d& p,
-                                    Eigen::Matrix2d* jacobian);
 
 class Undistorter {
  public:

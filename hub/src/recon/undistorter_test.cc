@@ -44,21 +44,6 @@ TEST(Undistorter, RoundTripsProjectedPoints) {
   }
 }
 
-TEST(Undistorter, JacobianMatchesFiniteDifferences) {
-  const std::array<double, 5> d = {-0.28, 0.09, 0.0008, -0.0005, -0.012};
-  const Eigen::Vector2d p(0.31, -0.22);
-  Eigen::Matrix2d jacobian, unused;
-  DistortWithJacobian(d, p, &jacobian);
-  const double h = 1e-7;
-  for (int k = 0; k < 2; ++k) {
-    Eigen::Vector2d step = Eigen::Vector2d::Zero();
-    step[k] = h;
-    const Eigen::Vector2d numeric =
-        (DistortWithJacobian(d, p + step, &unused) - DistortWithJacobian(d, p - step, &unused)) / (2 * h);
-    EXPECT_LT((numeric - jacobian.col(k)).norm(), 1e-7);
-  }
-}
-
 TEST(Undistorter, PinholeCameraPassesThrough) {
   Camera camera = WideAngleCamera();
   camera.intrinsics.distortion = {0, 0, 0, 0, 0};
