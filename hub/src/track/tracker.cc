@@ -25,6 +25,7 @@ int Tracker::NewTrack(uint64_t frame_number, const Eigen::Vector3d& position) {
   Track& track = tracks_[slot];
   track = Track();
   track.state = State::kTentative;
+  track.serial = next_serial_++;
   track.filter = ConstantVelocityKalman(position, options_.kalman);
   track.filter_frame = frame_number;
   track.last_measured = frame_number;
@@ -257,6 +258,25 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
   HandleUnmeasured(frame_number, match, samples);
   // Tracks created last so that this frame's steps did not see them.
   BirthTracks(frame_number, points, match, samples);
+  IdentifyPoints(match, points.size());
+}
+
+// After every step: each point's track as it stands at the end of the frame.
+void Tracker::IdentifyPoints(const FrameMatch& match, size_t num_points) {
+  point_identities_.assign(num_points, PointIdentity());
+  for (size_t slot = 0; slot < match.point_of_slot.size(); ++slot) {
+    const int p = match.point_of_slot[slot];
+    if (p >= 0) Identify(tracks_[slot], &point_identities_[p]);
+  }
+  for (const auto& [p, slot] : born_) Identify(tracks_[slot], &point_identities_[p]);
+}
+
+void Tracker::Identify(const Track& track, PointIdentity* identity) const {
+  if (track.state == State::kActive || track.state == State::kLost) {
+    identity->marker = track.marker;
+  } else if (track.state == State::kTentative) {
+    identity->provisional_track = track.serial;
+  }
 }
 
 Tracker::FrameMatch::FrameMatch(size_t num_slots, size_t num_points)
@@ -443,9 +463,11 @@ void Tracker::HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, s
 // 7. New tentative tracks from the points no track took, seen by enough cameras.
 void Tracker::BirthTracks(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
                           const FrameMatch& match, std::vector<TrackSample>* samples) {
+  born_.clear();
   for (int p = 0; p < static_cast<int>(points.size()); ++p) {
     if (match.point_taken[p] || points[p].num_views < options_.birth_min_views) continue;
     const int slot = NewTrack(frame_number, points[p].point_in_world);
+    born_.emplace_back(p, slot);
     Track& track = tracks_[slot];
     track.hits = 1;
     track.age = 1;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -27,6 +28,15 @@ struct TrackSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_per_frame = Eigen::Vector3d::Zero();
   SampleKind kind = SampleKind::kMeasured;
+};
+
+// Who a point of the last Update belongs to, for live output that holds nothing back: a
+// confirmed track's marker, or a tentative track (provisional: its marker number is not given
+// until it is confirmed), or no track at all (seen by too few cameras to start one).
+struct PointIdentity {
+  int marker = -1;                 // output column of a confirmed track, else -1
+  uint64_t provisional_track = 0;  // tentative track's serial (never reused), 0 when none
+  bool confirmed() const { return marker >= 0; }
 };
 
 struct TrackerStats {
@@ -53,6 +63,8 @@ class Tracker {
   // life are confirmed and output (a marker that appears in the last frames is still a marker).
   void Finish(std::vector<TrackSample>* samples);
 
+  // One entry per point of the last Update, in the points' order.
+  const std::vector<PointIdentity>& point_identities() const { return point_identities_; }
   int NumMarkers() const { return next_marker_; }
   const TrackerStats& stats() const { return stats_; }
 
@@ -66,6 +78,7 @@ class Tracker {
     uint64_t last_measured = 0;
     int hits = 0;
     int age = 0;  // frames measured in total, orders predictions by trust
+    uint64_t serial = 0;  // unique over the tracker's life (a slot is reused, a serial never)
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // where a lost track is looked for
     Eigen::Vector3d last_point = Eigen::Vector3d::Zero();  // last measured position
     std::vector<std::pair<uint64_t, Eigen::Vector3d>> history;  // tentative frames
@@ -93,6 +106,8 @@ class Tracker {
   void HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, std::vector<TrackSample>* samples);
   void BirthTracks(uint64_t frame_number, const std::vector<ReconstructedPoint>& points, const FrameMatch& match,
                    std::vector<TrackSample>* samples);
+  void IdentifyPoints(const FrameMatch& match, size_t num_points);
+  void Identify(const Track& track, PointIdentity* identity) const;
 
   int NewTrack(uint64_t frame_number, const Eigen::Vector3d& position);
   void FreeTrack(int slot);
@@ -117,6 +132,9 @@ class Tracker {
   std::vector<int> free_slots_;
   RigidModel rigid_;
   int next_marker_ = 0;
+  uint64_t next_serial_ = 1;
+  std::vector<PointIdentity> point_identities_;
+  std::vector<std::pair<int, int>> born_;  // (point, slot) of this frame's new tracks
   uint64_t predicted_frame_ = 0;
   bool predicted_ = false;
   std::vector<PointPrediction> predictions_;
