@@ -21,8 +21,7 @@
 #include "io/calibration_json.h"
 #include "io/marker_trajectories.h"
 #include "io/trc.h"
-#include "recon/reconstructor.h"
-#include "track/tracker.h"
+#include "service/live_reconstruction.h"
 #include "util/log.h"
 
 namespace mocap {
@@ -107,10 +106,7 @@ void RunRecord(const RecordArgs& args) {
   std::filesystem::copy_file(args.calibration, std::filesystem::path(args.output) / info.calibration,
                              std::filesystem::copy_options::overwrite_existing);
 
-  Reconstructor reconstructor(rig, ReconstructorOptions{});
-  TrackerOptions tracker_options;
-  tracker_options.rate_hz = args.rate_hz;
-  Tracker tracker(tracker_options);
+  service::LiveReconstruction live(rig, args.rate_hz);
   TrcWriter trc;
   std::vector<std::string> names;
   for (int i = 0; i < args.max_markers; ++i) names.push_back(DefaultMarkerName(static_cast<size_t>(i)));
@@ -121,16 +117,12 @@ void RunRecord(const RecordArgs& args) {
   log::Info("recording on {} (port {}) from {} cameras into {}; Ctrl-C stops", args.listen, recorder.port(),
             options.cameras.size(), args.output);
 
-  std::vector<ReconstructedPoint> points;
-  std::vector<TrackSample> samples;
   std::vector<Eigen::Vector3d> row(names.size());
   LatencySample trigger_to_send, send_to_result;
   uint64_t dropped_columns = 0;
   recorder.Run(&session, [&](const FrameSet& set) {
-    reconstructor.Process(set, tracker.Predict(set.frame_number), &points);
-    samples.clear();
-    tracker.Update(set.frame_number, points, &samples);
-    const uint64_t done_ns = RealtimeNowNs();
+    const service::LiveFrame& frame = live.Process(set, RealtimeNowNs);
+    const uint64_t done_ns = frame.publish_ns;
     for (const CameraFrame& f : set.cameras) {
       if (f.trigger_time_ns && f.send_time_ns >= f.trigger_time_ns)
         trigger_to_send.Add(double(f.send_time_ns - f.trigger_time_ns) * 1e-6);
@@ -139,7 +131,7 @@ void RunRecord(const RecordArgs& args) {
     if (!trc.is_open()) return;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     std::fill(row.begin(), row.end(), Eigen::Vector3d(nan, nan, nan));
-    for (const TrackSample& s : samples) {
+    for (const TrackSample& s : frame.samples) {
       if (s.frame_number != set.frame_number) continue;  // back-filled frames are already written
       if (s.marker < static_cast<int>(row.size())) row[s.marker] = s.position;
       else ++dropped_columns;

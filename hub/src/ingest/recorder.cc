@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "ingest/frame_codec.h"
 #include "wire/limits.h"
 #include "wire/packet.h"
 
@@ -19,10 +18,8 @@ void RecorderOptions::Check() const {
   assembly.Check();
 }
 
-Recorder::Recorder(RecorderOptions options) : options_(std::move(options)), assembler_(options_.assembly, options_.cameras) {
-  options_.Check();
-  for (uint32_t id : options_.cameras) stats_.nodes[id];
-}
+Recorder::Recorder(RecorderOptions options)
+    : options_((options.Check(), std::move(options))), ingest_(options_.cameras, options_.assembly) {}
 
 void Recorder::Bind() {
   socket_.Bind(ParseHostPort(options_.listen));
@@ -42,46 +39,6 @@ void Recorder::Announce(uint64_t now_ns) {
   a->set_epoch_ns(options_.epoch_ns);
   a->set_rate_millihz(static_cast<uint32_t>(options_.rate_hz * 1000.0 + 0.5));
   socket_.SendTo(*announce_to_, wire::Encode(p));
-}
-
-void Recorder::HandleDatagram(const Datagram& d, SessionWriter* session) {
-  const wire::DecodeResult decoded = wire::Decode(d.bytes.data(), d.bytes.size());
-  if (!decoded.ok) {
-    if (stats_.malformed++ == 0) {
-      stats_.first_malformed_reason = decoded.reason;
-      stats_.first_malformed_source = d.FromString();
-    }
-    return;
-  }
-  uint32_t node = 0;
-  if (decoded.packet.has_marker_frame()) node = decoded.packet.marker_frame().node_id();
-  else if (decoded.packet.has_node_status()) node = decoded.packet.node_status().node_id();
-  else if (decoded.packet.has_preview_chunk()) node = decoded.packet.preview_chunk().node_id();
-  auto known = stats_.nodes.find(node);
-  if (known == stats_.nodes.end()) {
-    ++stats_.unknown_nodes[node];
-    return;
-  }
-  NodeStats& ns = known->second;
-  ++ns.datagrams;
-  session->AppendDatagram(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
-  if (decoded.packet.has_node_status()) {
-    ++ns.status_packets;
-    ns.has_status = true;
-    ns.last_status = decoded.packet.node_status();
-    return;
-  }
-  if (!decoded.packet.has_marker_frame()) return;
-  v1::MarkerFrame whole;
-  switch (chunks_.Add(decoded.packet.marker_frame(), &whole)) {
-    case wire::ChunkAssembler::Outcome::kDuplicate: ++ns.duplicate_chunks; return;
-    case wire::ChunkAssembler::Outcome::kInconsistent: ++ns.inconsistent_chunks; return;
-    case wire::ChunkAssembler::Outcome::kIncomplete:
-    case wire::ChunkAssembler::Outcome::kOverflow: return;
-    case wire::ChunkAssembler::Outcome::kComplete: break;
-  }
-  stats_.CountFrame(node, whole.frame_number());
-  if (!assembler_.Add(FromMarkerFrame(whole, d.receive_time_ns), d.receive_time_ns)) ++ns.late_frames;
 }
 
 void Recorder::Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set) {
@@ -109,18 +66,17 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
     // Drain everything queued, then hand out what is complete or overdue.
     while (socket_.Receive(&d, 2)) {
       last_datagram = RealtimeNowNs();
-      HandleDatagram(d, session);
+      ingest_.Add(d, session);
     }
     const uint64_t after = RealtimeNowNs();
-    Emit(assembler_.Collect(after), on_set);
+    Emit(ingest_.Collect(after), on_set);
     // Raw log: flushed at least every 50 ms so a crash loses little.
     if (after > last_flush + 50'000'000ull) {
       session->Flush();
       last_flush = after;
     }
   }
-  Emit(assembler_.Flush(), on_set);
-  chunks_.DiscardBefore(~0ull);
+  Emit(ingest_.Flush(), on_set);
   session->Flush();
 }
 

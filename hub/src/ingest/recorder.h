@@ -1,6 +1,7 @@
-// A live recording: receives datagrams, validates them, logs every good one as received into the
-// session, reassembles chunks and assembles frame sets with a deadline, and hands each set to the
-// caller (reconstruction, TRC streaming). Bad input is counted per node, never fatal.
+// A live recording for scripts (`record`): receives datagrams on its socket, hands each to the
+// shared FrameIngest (validated, logged into the session as received, assembled into frame sets
+// with a deadline) and each set to the caller (reconstruction, TRC streaming); announces the hub
+// and stops on its limits. Bad input is counted per node, never fatal.
 #pragma once
 
 #include <atomic>
@@ -10,11 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "ingest/frame_set_assembler.h"
+#include "ingest/frame_ingest.h"
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
 #include "ingest/udp_socket.h"
-#include "wire/chunking.h"
 
 namespace mocap {
 
@@ -42,21 +42,18 @@ class Recorder {
   // Receives until a limit is reached or *stop turns true; every set goes to on_set.
   void Run(SessionWriter* session, const std::function<void(const FrameSet&)>& on_set,
            const std::atomic<bool>* stop);
-  const IngestStats& stats() const { return stats_; }
+  const IngestStats& stats() const { return ingest_.stats(); }
   uint64_t frame_sets() const { return frame_sets_; }
-  const FrameSetAssembler& assembler() const { return assembler_; }
+  const FrameSetAssembler& assembler() const { return ingest_.assembler(); }
 
  private:
-  void HandleDatagram(const Datagram& d, SessionWriter* session);
   void Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set);
   void Announce(uint64_t now_ns);
 
   RecorderOptions options_;
   UdpSocket socket_;
   std::optional<HostPort> announce_to_;
-  wire::ChunkAssembler chunks_;
-  FrameSetAssembler assembler_;
-  IngestStats stats_;
+  FrameIngest ingest_;
   uint64_t frame_sets_ = 0;
   uint64_t next_announce_ns_ = 0;
 };

@@ -1,0 +1,67 @@
+// Datagram ingest shared by record and serve (see frame_ingest.h).
+#include "ingest/frame_ingest.h"
+
+#include "ingest/frame_codec.h"
+
+namespace mocap {
+
+uint32_t SenderNodeId(const v1::Packet& packet) {
+  if (packet.has_marker_frame()) return packet.marker_frame().node_id();
+  if (packet.has_node_status()) return packet.node_status().node_id();
+  if (packet.has_preview_chunk()) return packet.preview_chunk().node_id();
+  if (packet.has_control_ack()) return packet.control_ack().node_id();
+  return 0;
+}
+
+FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly)
+    : assembler_(assembly, cameras) {
+  for (uint32_t id : cameras) stats_.nodes[id];
+}
+
+const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* session) {
+  decoded_ = wire::Decode(d.bytes.data(), d.bytes.size());
+  if (!decoded_.ok) {
+    if (stats_.malformed++ == 0) {
+      stats_.first_malformed_reason = decoded_.reason;
+      stats_.first_malformed_source = d.FromString();
+    }
+    return decoded_;
+  }
+  const uint32_t node = SenderNodeId(decoded_.packet);
+  auto known = stats_.nodes.find(node);
+  if (known == stats_.nodes.end()) {
+    ++stats_.unknown_nodes[node];
+    return decoded_;
+  }
+  NodeStats& ns = known->second;
+  ++ns.datagrams;
+  if (session) session->AppendDatagram(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
+  if (decoded_.packet.has_node_status()) {
+    ++ns.status_packets;
+    ns.has_status = true;
+    ns.last_status = decoded_.packet.node_status();
+  } else if (decoded_.packet.has_marker_frame()) {
+    AddMarkerFrame(decoded_.packet.marker_frame(), d.receive_time_ns, &ns);
+  }
+  return decoded_;
+}
+
+void FrameIngest::AddMarkerFrame(const v1::MarkerFrame& chunk, uint64_t receive_time_ns, NodeStats* ns) {
+  v1::MarkerFrame whole;
+  switch (chunks_.Add(chunk, &whole)) {
+    case wire::ChunkAssembler::Outcome::kDuplicate: ++ns->duplicate_chunks; return;
+    case wire::ChunkAssembler::Outcome::kInconsistent: ++ns->inconsistent_chunks; return;
+    case wire::ChunkAssembler::Outcome::kIncomplete:
+    case wire::ChunkAssembler::Outcome::kOverflow: return;
+    case wire::ChunkAssembler::Outcome::kComplete: break;
+  }
+  stats_.CountFrame(whole.node_id(), whole.frame_number());
+  if (!assembler_.Add(FromMarkerFrame(whole, receive_time_ns), receive_time_ns)) ++ns->late_frames;
+}
+
+std::vector<FrameSet> FrameIngest::Flush() {
+  chunks_.DiscardBefore(~0ull);
+  return assembler_.Flush();
+}
+
+}  // namespace mocap

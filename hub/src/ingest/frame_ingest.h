@@ -1,0 +1,50 @@
+// What a live hub does with every datagram from the nodes, shared by `record` and `serve`:
+// decode it by the wire rules (malformed input counted with its first reason), attribute it to a
+// camera of the calibration (others counted per node id), append it to the session's raw log as
+// received when a capture is running, reassemble marker-frame chunks and assemble the camera
+// frames into frame sets under the deadline. Bad input is counted, never fatal.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "ingest/frame_set_assembler.h"
+#include "ingest/ingest_stats.h"
+#include "ingest/session.h"
+#include "ingest/udp_socket.h"
+#include "wire/chunking.h"
+#include "wire/packet.h"
+
+namespace mocap {
+
+// The node a valid packet speaks for (marker frame, status, preview chunk, control ack); 0 when
+// it names none (e.g. a HubAnnounce).
+uint32_t SenderNodeId(const v1::Packet& packet);
+
+class FrameIngest {
+ public:
+  // cameras: the node ids of the calibration; assembly.Check() must hold (std::invalid_argument).
+  FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly);
+
+  // One received datagram. `session` (may be null: nothing is being captured) gets every valid
+  // datagram of a known camera. Returns the decode result so the caller can route the other
+  // packet kinds (status, acks, previews) without decoding twice.
+  const wire::DecodeResult& Add(const Datagram& datagram, SessionWriter* session);
+  // Frame sets complete or overdue at now_ns / everything still open.
+  std::vector<FrameSet> Collect(uint64_t now_ns) { return assembler_.Collect(now_ns); }
+  std::vector<FrameSet> Flush();
+
+  bool IsCamera(uint32_t node_id) const { return stats_.nodes.count(node_id) != 0; }
+  const IngestStats& stats() const { return stats_; }
+  const FrameSetAssembler& assembler() const { return assembler_; }
+
+ private:
+  void AddMarkerFrame(const v1::MarkerFrame& chunk, uint64_t receive_time_ns, NodeStats* node);
+
+  wire::DecodeResult decoded_;
+  wire::ChunkAssembler chunks_;
+  FrameSetAssembler assembler_;
+  IngestStats stats_;
+};
+
+}  // namespace mocap

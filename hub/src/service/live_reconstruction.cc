@@ -1,0 +1,45 @@
+// Live reconstruction + tracking (see live_reconstruction.h).
+#include "service/live_reconstruction.h"
+
+#include <algorithm>
+
+namespace mocap::service {
+namespace {
+
+TrackerOptions TrackerAt(double rate_hz) {
+  TrackerOptions options;
+  options.rate_hz = rate_hz;
+  return options;
+}
+
+}  // namespace
+
+LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon)
+    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)) {}
+
+void LiveReconstruction::Run(const FrameSet& set) {
+  frame_.frame_number = set.frame_number;
+  frame_.cameras = static_cast<int>(set.cameras.size());
+  frame_.trigger_time_ns = 0;
+  frame_.last_receive_ns = 0;
+  for (const CameraFrame& camera : set.cameras) {
+    if (camera.trigger_time_ns && (!frame_.trigger_time_ns || camera.trigger_time_ns < frame_.trigger_time_ns))
+      frame_.trigger_time_ns = camera.trigger_time_ns;
+    frame_.last_receive_ns = std::max(frame_.last_receive_ns, camera.receive_time_ns);
+  }
+  reconstructor_.Process(set, tracker_.Predict(set.frame_number), &points_);
+  frame_.samples.clear();
+  tracker_.Update(set.frame_number, points_, &frame_.samples);
+  const std::vector<PointIdentity>& identities = tracker_.point_identities();
+  frame_.points.resize(points_.size());
+  for (size_t i = 0; i < points_.size(); ++i) {
+    LivePoint& out = frame_.points[i];
+    out.position = points_[i].point_in_world;
+    out.rms_px = points_[i].rms_px;
+    out.views = points_[i].num_views;
+    out.marker = identities[i].marker;
+    out.provisional_track = identities[i].provisional_track;
+  }
+}
+
+}  // namespace mocap::service
