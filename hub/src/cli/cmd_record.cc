@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,6 +21,7 @@
 #include "io/marker_trajectories.h"
 #include "io/trc.h"
 #include "service/live_reconstruction.h"
+#include "util/latency_sample.h"
 #include "util/log.h"
 
 namespace mocap {
@@ -29,34 +29,6 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop.store(true); }
-
-// Latencies in a fixed-size reservoir so that hours of recording cost constant memory.
-class LatencySample {
- public:
-  void Add(double ms) {
-    ++count_;
-    if (values_.size() < kCapacity) {
-      values_.push_back(ms);
-    } else {
-      const uint64_t slot = std::uniform_int_distribution<uint64_t>(0, count_ - 1)(rng_);
-      if (slot < kCapacity) values_[slot] = ms;
-    }
-  }
-  double Percentile(double p) const {
-    if (values_.empty()) return 0.0;
-    std::vector<double> v = values_;
-    const size_t k = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
-    std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-    return v[k];
-  }
-  uint64_t count() const { return count_; }
-
- private:
-  static constexpr size_t kCapacity = 100000;
-  std::vector<double> values_;
-  uint64_t count_ = 0;
-  std::mt19937_64 rng_{7};
-};
 
 struct RecordArgs {
   std::string listen = "0.0.0.0:30000";

@@ -65,5 +65,8 @@ void AddCalibrateIntrinsicsCommand(CLI::App& app);
 void AddCalibrateDltCommand(CLI::App& app);
 void AddCalibrateImportTsaiCommand(CLI::App& app);
 void AddCalibrateImportMcdCommand(CLI::App& app);
+// cmd_serve.cc; cmd_service_clients.cc (status, nodes, node, mask, capture, sessions).
+void AddServeCommand(CLI::App& app);
+void AddServiceClientCommands(CLI::App& app);
 
 }  // namespace mocap

@@ -14,6 +14,8 @@ namespace {
 // One line per command; the order is the order of `mocap-hub --help`.
 using AddCommand = void (*)(CLI::App&);
 const AddCommand kCommands[] = {
+    mocap::AddServeCommand,
+    mocap::AddServiceClientCommands,
     mocap::AddRecordCommand,
     mocap::AddSimRigCommand,
     mocap::AddSimProjectCommand,

@@ -1,0 +1,79 @@
+// HTTP client of serve's API (see api_client.h).
+#include "cli/api_client.h"
+
+#include <civetweb.h>
+
+#include <cstdlib>
+#include <stdexcept>
+
+#include "ingest/udp_socket.h"
+
+namespace mocap {
+namespace {
+
+constexpr int kAnswerTimeoutMs = 30000;  // the longest request (an automatic mask) answers in seconds
+constexpr size_t kMaxAnswer = 64u << 20;
+
+struct Connection {
+  mg_connection* c = nullptr;
+  ~Connection() {
+    if (c) mg_close_connection(c);
+  }
+};
+
+}  // namespace
+
+ApiAnswer CallApi(const std::string& address, const std::string& method, const std::string& path,
+                  const std::string& body) {
+  const HostPort hp = ParseHostPort(address);
+  const std::string host = hp.host.empty() || hp.host == "*" ? "127.0.0.1" : hp.host;
+  char error[256] = "";
+  mg_init_library(0);
+  Connection connection;
+  connection.c = mg_connect_client(host.c_str(), hp.port, 0, error, sizeof(error));
+  if (!connection.c)
+    throw std::runtime_error("cannot reach mocap-hub serve at " + host + ":" + std::to_string(hp.port) + " (" +
+                             error + "); is it running? (--api or MOCAP_HUB_API give its address)");
+  mg_printf(connection.c,
+            "%s %s HTTP/1.1\r\nHost: %s\r\nContent-Type: application/json\r\nContent-Length: %zu\r\n"
+            "Connection: close\r\n\r\n",
+            method.c_str(), path.c_str(), host.c_str(), body.size());
+  if (!body.empty()) mg_write(connection.c, body.data(), body.size());
+  if (mg_get_response(connection.c, error, sizeof(error), kAnswerTimeoutMs) < 0)
+    throw std::runtime_error("mocap-hub serve at " + address + " gave no answer: " + error);
+  const mg_response_info* info = mg_get_response_info(connection.c);
+  ApiAnswer answer;
+  answer.status = info->status_code;
+  for (int i = 0; i < info->num_headers; ++i)
+    if (strcasecmp(info->http_headers[i].name, "Content-Type") == 0) answer.content_type = info->http_headers[i].value;
+  char buffer[16384];
+  int got;
+  while ((got = mg_read(connection.c, buffer, sizeof(buffer))) > 0) {
+    if (answer.body.size() + static_cast<size_t>(got) > kMaxAnswer)
+      throw std::runtime_error("mocap-hub serve's answer is larger than 64 MiB");
+    answer.body.append(buffer, static_cast<size_t>(got));
+  }
+  return answer;
+}
+
+nlohmann::json CallApiJson(const std::string& address, const std::string& method, const std::string& path,
+                           const nlohmann::json& body) {
+  const ApiAnswer answer = CallApi(address, method, path, body.is_null() ? "" : body.dump());
+  nlohmann::json document = nlohmann::json::parse(answer.body, nullptr, false);
+  if (answer.status < 200 || answer.status >= 300) {
+    const std::string reason = document.is_object() && document.contains("error") && document["error"].is_string()
+                                   ? document["error"].get<std::string>()
+                                   : answer.body.substr(0, 200);
+    throw std::runtime_error(reason + " (HTTP " + std::to_string(answer.status) + ")");
+  }
+  if (document.is_discarded()) throw std::runtime_error("mocap-hub serve answered with something that is not JSON");
+  return document;
+}
+
+void AddApiOption(CLI::App& command, std::string* address) {
+  const char* env = std::getenv("MOCAP_HUB_API");
+  *address = env && *env ? env : kDefaultApiAddress;
+  command.add_option("--api", *address, "HOST:PORT of mocap-hub serve's API (default $MOCAP_HUB_API or 127.0.0.1:7801)");
+}
+
+}  // namespace mocap

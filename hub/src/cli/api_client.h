@@ -1,0 +1,31 @@
+// The CLI's side of `serve`'s HTTP API (civetweb's client): one request, one answer. The address
+// comes from --api, else $MOCAP_HUB_API, else 127.0.0.1:7801 (serve's default).
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace mocap {
+
+inline constexpr const char* kDefaultApiAddress = "127.0.0.1:7801";
+
+struct ApiAnswer {
+  int status = 0;
+  std::string content_type;
+  std::string body;
+};
+
+// Throws std::runtime_error when the service cannot be reached or answers malformed HTTP.
+ApiAnswer CallApi(const std::string& address, const std::string& method, const std::string& path,
+                  const std::string& body = "");
+// The same for JSON answers: 2xx gives the document; any other status throws std::runtime_error
+// with the service's reason.
+nlohmann::json CallApiJson(const std::string& address, const std::string& method, const std::string& path,
+                           const nlohmann::json& body = nullptr);
+
+// --api HOST:PORT on a client command; *address starts as $MOCAP_HUB_API or the default.
+void AddApiOption(CLI::App& command, std::string* address);
+
+}  // namespace mocap

@@ -1,0 +1,108 @@
+// `serve`: the live hub as a long-running service (service/hub_service.h) with its HTTP +
+// WebSocket API (service/http_server.h). Options come from flags and/or a config file
+// (--config FILE, INI/TOML `key = value`, one line per long flag name); flags win. Under systemd
+// (Type=notify) it reports READY=1 once both sockets are bound, pings the watchdog from the
+// loop itself, so a stuck loop gets the service restarted, and STOPPING=1 on the way out.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "ingest/udp_socket.h"
+#include "service/http_server.h"
+#include "service/hub_service.h"
+#include "util/log.h"
+
+#ifdef MOCAP_HAVE_SYSTEMD
+#include <systemd/sd-daemon.h>
+#endif
+
+namespace mocap {
+namespace {
+
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop.store(true); }
+
+struct ServeArgs {
+  service::ServeOptions options;
+  std::string api = "127.0.0.1:7801";
+};
+
+// Watchdog pings at half the interval systemd asks for; nothing without systemd.
+class Watchdog {
+ public:
+  Watchdog() {
+#ifdef MOCAP_HAVE_SYSTEMD
+    uint64_t usec = 0;
+    if (sd_watchdog_enabled(0, &usec) > 0) interval_ns_ = usec * 1000 / 2;
+#endif
+  }
+  void Notify(const std::string& state) {
+#ifdef MOCAP_HAVE_SYSTEMD
+    sd_notify(0, state.c_str());
+#else
+    (void)state;
+#endif
+  }
+  void Ping(uint64_t now_ns) {
+    if (!interval_ns_ || now_ns < next_ns_) return;
+    next_ns_ = now_ns + interval_ns_;
+    Notify("WATCHDOG=1");
+  }
+
+ private:
+  uint64_t interval_ns_ = 0;
+  uint64_t next_ns_ = 0;
+};
+
+void RunServe(ServeArgs& args) {
+  CheckOptions(args.options);
+  ParseHostPort(args.api);
+  service::HubService hub(args.options);
+  hub.Bind();
+  service::HttpServer http(hub, args.api);
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  std::signal(SIGPIPE, SIG_IGN);
+  log::Info("serving: nodes to UDP port {}, API on http://{} (port {}), sessions in {}", hub.port(), args.api,
+            http.port(), args.options.sessions_dir);
+  Watchdog watchdog;
+  watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
+  hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });
+  watchdog.Notify("STOPPING=1");
+  log::Info("stopped");
+}
+
+}  // namespace
+
+void AddServeCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "serve", "Run the live hub: node registry and control, captures, live 3D, HTTP/WebSocket API");
+  auto args = std::make_shared<ServeArgs>();
+  service::ServeOptions& o = args->options;
+  command->set_config("--config", "", "Config file (INI/TOML: `key = value` per long option name)");
+  command->add_option("--listen", o.listen, "HOST:PORT receiving the nodes' UDP")->capture_default_str();
+  command->add_option("--api", args->api, "HOST:PORT of the HTTP/WebSocket API (keep it on localhost)")
+      ->capture_default_str();
+  command->add_option("--calibration", o.calibration, "Calibration JSON (names the cameras)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--sessions-dir", o.sessions_dir, "Where captures go (one directory per session)")
+      ->capture_default_str();
+  command->add_option("--masks-file", o.masks_file, "The installation's camera masks (JSON), kept and re-sent");
+  command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
+  command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
+  command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
+  command->add_option("--deadline-ms", o.deadline_ms, "How long a frame set waits for late cameras")
+      ->capture_default_str();
+  command->add_flag("--free-run", o.free_run, "No trigger wire: group frames by capture time");
+  command->add_option("--node-lost-after", o.node_lost_after_s, "Seconds of silence before a node is lost")
+      ->capture_default_str();
+  command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
+      ->capture_default_str();
+  command->callback([args] { RunServe(*args); });
+}
+
+}  // namespace mocap

@@ -1,0 +1,209 @@
+// Routing and validation of API requests (see api_router.h).
+#include "service/api_router.h"
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "service/api_error.h"
+
+namespace mocap::service {
+namespace {
+
+using nlohmann::json;
+
+std::vector<std::string> Segments(const std::string& path) {
+  std::vector<std::string> parts;
+  size_t start = 1;
+  while (start <= path.size()) {
+    const size_t end = path.find('/', start);
+    const std::string part = path.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (!part.empty()) parts.push_back(part);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return parts;
+}
+
+uint32_t ParseNodeId(const std::string& text) {
+  if (text.empty() || text.size() > 10) throw ApiError(404, "no node '" + text + "'");
+  uint64_t value = 0;
+  for (char c : text) {
+    if (c < '0' || c > '9') throw ApiError(404, "no node '" + text + "' (node ids are numbers)");
+    value = value * 10 + static_cast<uint64_t>(c - '0');
+  }
+  if (value == 0 || value > UINT32_MAX) throw ApiError(404, "no node " + text);
+  return static_cast<uint32_t>(value);
+}
+
+std::map<std::string, std::string> ParseQuery(const std::string& query) {
+  std::map<std::string, std::string> out;
+  size_t start = 0;
+  while (start < query.size()) {
+    size_t end = query.find('&', start);
+    if (end == std::string::npos) end = query.size();
+    const std::string pair = query.substr(start, end - start);
+    const size_t eq = pair.find('=');
+    if (!pair.empty()) out[pair.substr(0, eq)] = eq == std::string::npos ? "" : pair.substr(eq + 1);
+    start = end + 1;
+  }
+  return out;
+}
+
+// The body as a JSON object whose fields are all among `allowed` (empty body: {}).
+json ParseBody(const std::string& body, const std::vector<std::string>& allowed) {
+  if (body.empty()) return json::object();
+  json j = json::parse(body, nullptr, false);
+  if (j.is_discarded()) throw ApiError(400, "the body is not valid JSON");
+  if (!j.is_object()) throw ApiError(400, "the body must be a JSON object");
+  for (const auto& [key, value] : j.items()) {
+    bool known = false;
+    for (const std::string& a : allowed) known = known || a == key;
+    if (!known) throw ApiError(400, "unknown field '" + key + "'");
+  }
+  return j;
+}
+
+std::optional<int64_t> IntegerField(const json& body, const std::string& name, int64_t lo, int64_t hi) {
+  if (!body.contains(name)) return std::nullopt;
+  const json& v = body[name];
+  if (!v.is_number_integer()) throw ApiError(400, "'" + name + "' must be an integer");
+  const int64_t value = v.is_number_unsigned() && v.get<uint64_t>() > static_cast<uint64_t>(INT64_MAX)
+                            ? INT64_MAX
+                            : v.get<int64_t>();
+  if (value < lo || value > hi)
+    throw ApiError(400, "'" + name + "' must be " + std::to_string(lo) + ".." + std::to_string(hi));
+  return value;
+}
+
+void RequireMethod(const ApiRequest& r, const char* method) {
+  if (r.method != method) throw ApiError(405, r.method + " " + r.path + ": use " + method);
+}
+
+// Text from outside (names, keys) may hold invalid UTF-8: replaced, never a throw.
+std::string Dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+ApiResponse Json(const json& j) {
+  ApiResponse response;
+  response.body = Dump(j);
+  return response;
+}
+
+ApiResponse RouteNode(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
+  const uint32_t id = ParseNodeId(s[2]);
+  if (s.size() == 3) {
+    RequireMethod(r, "GET");
+    return Json(api.Node(id));
+  }
+  if (s.size() != 4) throw ApiError(404, "no such path: " + r.path);
+  if (s[3] == "settings") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"threshold", "auto_threshold", "exposure_us", "gain_milli"});
+    CameraSettings settings;
+    if (auto v = IntegerField(body, "threshold", 1, 255)) settings.threshold = static_cast<uint32_t>(*v);
+    if (auto v = IntegerField(body, "exposure_us", 1, 1'000'000)) settings.exposure_us = static_cast<uint32_t>(*v);
+    if (auto v = IntegerField(body, "gain_milli", 1000, 64000)) settings.gain_milli = static_cast<uint32_t>(*v);
+    if (body.contains("auto_threshold")) {
+      if (!body["auto_threshold"].is_boolean()) throw ApiError(400, "'auto_threshold' must be true or false");
+      settings.auto_threshold = body["auto_threshold"].get<bool>();
+    }
+    if (settings.threshold && settings.auto_threshold)
+      throw ApiError(400, "give 'threshold' or 'auto_threshold', not both");
+    if (!settings.threshold && !settings.auto_threshold && !settings.exposure_us && !settings.gain_milli)
+      throw ApiError(400, "nothing to set: give threshold, auto_threshold, exposure_us or gain_milli");
+    return Json(api.Configure(id, settings));
+  }
+  if (s[3] == "identify") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"duration_ms"});
+    const int64_t duration = IntegerField(body, "duration_ms", 100, 60000).value_or(3000);
+    return Json(api.Identify(id, static_cast<uint32_t>(duration)));
+  }
+  if (s[3] == "preview") {
+    RequireMethod(r, "GET");
+    const auto query = ParseQuery(r.query);
+    bool thresholded = false;
+    uint32_t downscale = 2;
+    for (const auto& [key, value] : query) {
+      if (key == "mode") {
+        if (value != "raw" && value != "thresholded") throw ApiError(400, "mode must be raw or thresholded");
+        thresholded = value == "thresholded";
+      } else if (key == "downscale") {
+        if (value != "1" && value != "2" && value != "4" && value != "8")
+          throw ApiError(400, "downscale must be 1, 2, 4 or 8");
+        downscale = static_cast<uint32_t>(value[0] - '0');
+      } else {
+        throw ApiError(400, "unknown query parameter '" + key + "'");
+      }
+    }
+    ApiResponse response;
+    const std::vector<uint8_t> png = api.PreviewPng(id, thresholded, downscale);
+    response.content_type = "image/png";
+    response.body.assign(png.begin(), png.end());
+    return response;
+  }
+  throw ApiError(404, "no such path: " + r.path);
+}
+
+ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
+  if (r.body.size() > kMaxApiBody) throw ApiError(413, "the body is larger than 64 KiB");
+  const std::vector<std::string> s = Segments(r.path);
+  if (s.size() < 2 || s[0] != "api") throw ApiError(404, "no such path: " + r.path);
+  const std::string& what = s[1];
+  if (what == "status" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Status());
+  }
+  if (what == "nodes" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Nodes());
+  }
+  if (what == "nodes") return RouteNode(api, r, s);
+  if (what == "masks" && s.size() == 2) {
+    RequireMethod(r, "DELETE");
+    return Json(api.ClearMasks());
+  }
+  if (what == "masks" && s.size() == 3 && s[2] == "auto") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"frames"});
+    return Json(api.AutoMask(static_cast<int>(IntegerField(body, "frames", 10, 100000).value_or(100))));
+  }
+  if (what == "capture" && s.size() == 3 && s[2] == "start") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"name"});
+    if (!body.contains("name") || !body["name"].is_string()) throw ApiError(400, "'name' (a string) is required");
+    return Json(api.StartCapture(body["name"].get<std::string>()));
+  }
+  if (what == "capture" && s.size() == 3 && s[2] == "stop") {
+    RequireMethod(r, "POST");
+    ParseBody(r.body, {});
+    return Json(api.StopCapture());
+  }
+  if (what == "sessions" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Sessions());
+  }
+  throw ApiError(404, "no such path: " + r.path);
+}
+
+ApiResponse Error(int status, const std::string& message) {
+  ApiResponse response;
+  response.status = status;
+  response.body = Dump(json{{"error", message}});
+  return response;
+}
+
+}  // namespace
+
+ApiResponse HandleApiRequest(ServiceApi& api, const ApiRequest& request) {
+  try {
+    return Route(api, request);
+  } catch (const ApiError& e) {
+    return Error(e.status, e.what());
+  } catch (const std::exception& e) {
+    return Error(500, e.what());
+  }
+}
+
+}  // namespace mocap::service

@@ -1,0 +1,45 @@
+// The live hub's HTTP API as a pure function: method, path, query and body in, status, content
+// type and body out, over a ServiceApi. No sockets here, so the whole request surface is unit
+// tested and fuzzed; the HTTP server (http_server.h) only moves bytes.
+//
+//   GET    /api/status                      the service: uptime, frame sets, latency, capture
+//   GET    /api/nodes                       the node table
+//   GET    /api/nodes/ID                    one node
+//   POST   /api/nodes/ID/settings           {"threshold": N | "auto_threshold": true,
+//                                            "exposure_us": N, "gain_milli": N} (any of them)
+//   POST   /api/nodes/ID/identify           {"duration_ms": N} (optional, default 3000)
+//   GET    /api/nodes/ID/preview?mode=raw|thresholded&downscale=1|2|4|8   image/png
+//   POST   /api/masks/auto                  {"frames": N} (default 100)
+//   DELETE /api/masks                       every camera's mask removed
+//   POST   /api/capture/start               {"name": "NAME"}
+//   POST   /api/capture/stop
+//   GET    /api/sessions                    every session with its state
+//
+// Errors: {"error": "reason"} with 400 (bad JSON, unknown field, value out of range), 404 (no
+// such path or node), 405 (wrong method), 409, 413 (body over 64 KiB), 504, 500.
+#pragma once
+
+#include <string>
+
+#include "service/service_api.h"
+
+namespace mocap::service {
+
+struct ApiRequest {
+  std::string method;  // "GET", "POST", ...
+  std::string path;    // "/api/nodes/3/preview"
+  std::string query;   // "mode=raw&downscale=2" (no '?')
+  std::string body;
+};
+
+struct ApiResponse {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+};
+
+inline constexpr size_t kMaxApiBody = 64 * 1024;
+
+ApiResponse HandleApiRequest(ServiceApi& api, const ApiRequest& request);
+
+}  // namespace mocap::service

@@ -1,0 +1,145 @@
+// Captures on command (see capture.h).
+#include "service/capture.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+#include "service/api_error.h"
+#include "util/log.h"
+
+namespace mocap::service {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr uint64_t kFlushEveryNs = 50'000'000;
+
+uint64_t DroppedFrames(const IngestStats& stats) {
+  uint64_t dropped = 0;
+  for (const auto& [id, node] : stats.nodes) dropped += node.dropped_frames;
+  return dropped;
+}
+
+}  // namespace
+
+bool ValidSessionName(const std::string& name) {
+  if (name.empty() || name.size() > 64 || name[0] == '.') return false;
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
+                    c == '-' || c == '_';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+Captures::Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base)
+    : dir_(std::move(sessions_dir)), calibration_file_(std::move(calibration_file)), base_(std::move(base)) {}
+
+std::vector<std::string> Captures::RecoverInterrupted() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  if (!fs::is_directory(dir_, ec)) return names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec)) {
+    if (!entry.is_directory() || !fs::exists(entry.path() / "session.json")) continue;
+    try {
+      SessionInfo info = LoadSessionInfo(entry.path().string());
+      if (info.extra.value("capture_state", "") != "capturing") continue;
+      info.extra["capture_state"] = "interrupted";
+      SaveSessionInfo(info, entry.path().string());
+      names.push_back(entry.path().filename().string());
+    } catch (const std::exception& e) {
+      log::Warn("{}: {}", entry.path().string(), e.what());
+    }
+  }
+  return names;
+}
+
+void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t now_ns) {
+  if (!ValidSessionName(name))
+    throw ApiError(400, "session name '" + name + "': use 1-64 letters, digits, '.', '-' or '_', not starting with '.'");
+  if (writer_) throw ApiError(409, "capture '" + name_ + "' is running; stop it first");
+  const fs::path path = fs::path(dir_) / name;
+  std::error_code ec;
+  if (fs::exists(path, ec)) throw ApiError(409, "session '" + name + "' exists already in " + dir_);
+  SessionInfo info = base_;
+  info.source = "serve";
+  info.extra["capture_state"] = "capturing";
+  info.extra["started_ns"] = now_ns;
+  auto writer = std::make_unique<SessionWriter>();
+  try {
+    writer->Create(path.string(), info);
+    fs::copy_file(calibration_file_, path / info.calibration, fs::copy_options::overwrite_existing);
+  } catch (const std::exception& e) {
+    throw ApiError(500, e.what());
+  }
+  writer_ = std::move(writer);
+  name_ = name;
+  started_ns_ = now_ns;
+  last_flush_ns_ = now_ns;
+  frame_sets_ = 0;
+  at_start_ = stats;
+}
+
+nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
+  if (!writer_) throw ApiError(409, "no capture is running");
+  SessionInfo& info = writer_->info();
+  info.frame_sets = frame_sets_;
+  info.dropped_camera_frames = DroppedFrames(stats) - DroppedFrames(at_start_);
+  info.extra["capture_state"] = "complete";
+  info.extra["stopped_ns"] = now_ns;
+  info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;
+  nlohmann::json summary = Current(now_ns);
+  summary["state"] = "complete";
+  try {
+    writer_->Finish();
+  } catch (const std::exception& e) {
+    writer_.reset();
+    throw ApiError(500, e.what());
+  }
+  writer_.reset();
+  return summary;
+}
+
+void Captures::MaybeFlush(uint64_t now_ns) {
+  if (!writer_ || now_ns < last_flush_ns_ + kFlushEveryNs) return;
+  writer_->Flush();
+  last_flush_ns_ = now_ns;
+}
+
+nlohmann::json Captures::Current(uint64_t now_ns) const {
+  if (!writer_) return nullptr;
+  return {{"name", name_},
+          {"path", (fs::path(dir_) / name_).string()},
+          {"state", "capturing"},
+          {"frame_sets", frame_sets_},
+          {"seconds", static_cast<double>(now_ns - started_ns_) * 1e-9}};
+}
+
+nlohmann::json Captures::List() const {
+  nlohmann::json list = nlohmann::json::array();
+  std::error_code ec;
+  if (!fs::is_directory(dir_, ec)) return list;
+  std::vector<fs::path> dirs;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec))
+    if (entry.is_directory() && fs::exists(entry.path() / "session.json")) dirs.push_back(entry.path());
+  std::sort(dirs.begin(), dirs.end());
+  for (const fs::path& path : dirs) {
+    nlohmann::json item = {{"name", path.filename().string()}, {"path", path.string()}};
+    try {
+      const SessionInfo info = LoadSessionInfo(path.string());
+      const bool current = writer_ && path.filename() == name_;
+      item["state"] = current ? "capturing" : info.extra.value("capture_state", "complete");
+      item["source"] = info.source;
+      item["frame_sets"] = current ? frame_sets_ : info.frame_sets;
+      item["cameras"] = info.camera_ids.size();
+      item["rate_hz"] = info.rate_hz;
+    } catch (const std::exception& e) {
+      item["state"] = "unreadable";
+      item["error"] = e.what();
+    }
+    list.push_back(item);
+  }
+  return list;
+}
+
+}  // namespace mocap::service

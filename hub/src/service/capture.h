@@ -1,0 +1,58 @@
+// Captures on command: named sessions under the sessions directory, in the format `record`
+// writes (raw.mlog with every datagram as received, session.json, the calibration beside them),
+// flushed at least every 50 ms so a killed service loses at most that much. session.json says
+// "capture_state": "capturing" while one runs and "complete" when it was stopped; a session a
+// killed service left "capturing" is marked "interrupted" at the next start (it stays readable:
+// `reconstruct` reads it up to its last flushed record).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ingest/ingest_stats.h"
+#include "ingest/session.h"
+
+namespace mocap::service {
+
+// Letters, digits, '.', '-', '_'; 1-64 characters, not starting with '.'.
+bool ValidSessionName(const std::string& name);
+
+class Captures {
+ public:
+  // `base` is the session description every capture starts from (rate, epoch, cameras).
+  Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base);
+
+  // Sessions a killed service left capturing are marked interrupted; returns their names.
+  std::vector<std::string> RecoverInterrupted();
+  // Throws ApiError: 400 bad name, 409 a capture is running or the session exists, 500 I/O.
+  void Start(const std::string& name, const IngestStats& stats, uint64_t now_ns);
+  // Throws ApiError 409 when none is running. Returns the finished session's summary.
+  nlohmann::json Stop(const IngestStats& stats, uint64_t now_ns);
+  // Where the loop appends datagrams; null when nothing is being captured.
+  SessionWriter* writer() { return writer_.get(); }
+  // Flushes the raw log when 50 ms passed since the last flush.
+  void MaybeFlush(uint64_t now_ns);
+  // Counts a frame set published while capturing.
+  void CountFrameSet() { ++frame_sets_; }
+
+  bool running() const { return writer_ != nullptr; }
+  nlohmann::json Current(uint64_t now_ns) const;  // null when none
+  nlohmann::json List() const;                    // every session directory with its state
+
+ private:
+  std::string dir_;
+  std::string calibration_file_;
+  SessionInfo base_;
+  std::unique_ptr<SessionWriter> writer_;
+  std::string name_;
+  uint64_t started_ns_ = 0;
+  uint64_t last_flush_ns_ = 0;
+  uint64_t frame_sets_ = 0;
+  IngestStats at_start_;
+};
+
+}  // namespace mocap::service

@@ -1,0 +1,175 @@
+// civetweb adapter of the live hub's API (see http_server.h).
+#include "service/http_server.h"
+
+#include <civetweb.h>
+
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+#include "ingest/udp_socket.h"
+#include "service/api_router.h"
+#include "util/log.h"
+
+namespace mocap::service {
+namespace {
+
+constexpr size_t kMaxQueuedFrames = 4;
+
+HttpServer* ServerOf(const mg_connection* connection) {
+  return static_cast<HttpServer*>(mg_get_user_data(mg_get_context(connection)));
+}
+
+int RequestTrampoline(mg_connection* connection, void*) { return ServerOf(connection)->OnRequest(connection); }
+int WebSocketConnect(const mg_connection*, void*) { return 0; }  // accept
+void WebSocketReady(mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketReady(connection); }
+int WebSocketData(mg_connection*, int, char*, size_t, void*) { return 1; }  // keep open, ignore input
+void WebSocketClose(const mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketClose(connection); }
+
+const char* Reason(int status) {
+  switch (status) {
+    case 200: return "OK";
+    case 400: return "Bad Request";
+    case 404: return "Not Found";
+    case 405: return "Method Not Allowed";
+    case 409: return "Conflict";
+    case 413: return "Payload Too Large";
+    case 503: return "Service Unavailable";
+    case 504: return "Gateway Timeout";
+    default: return status >= 500 ? "Internal Server Error" : "Error";
+  }
+}
+
+std::string FrameMessage(const LiveFrame& frame) {
+  std::string out;
+  out.reserve(64 + frame.points.size() * 64);
+  char buffer[160];
+  std::snprintf(buffer, sizeof(buffer), "{\"frame\":%llu,\"trigger_ns\":%llu,\"publish_ns\":%llu,\"cameras\":%d,\"points\":[",
+                static_cast<unsigned long long>(frame.frame_number),
+                static_cast<unsigned long long>(frame.trigger_time_ns),
+                static_cast<unsigned long long>(frame.publish_ns), frame.cameras);
+  out += buffer;
+  for (size_t i = 0; i < frame.points.size(); ++i) {
+    const LivePoint& p = frame.points[i];
+    const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
+                                         : static_cast<long long>(p.marker);
+    std::snprintf(buffer, sizeof(buffer), "%s[%.3f,%.3f,%.3f,%lld,%d,%d,%.3f]", i ? "," : "", p.position.x(),
+                  p.position.y(), p.position.z(), id, p.provisional() ? 1 : 0, p.views, p.rms_px);
+    out += buffer;
+  }
+  out += "]}";
+  return out;
+}
+
+}  // namespace
+
+HttpServer::HttpServer(HubService& service, const std::string& listen) : service_(service) {
+  const HostPort address = ParseHostPort(listen);
+  const std::string ports = (address.host.empty() || address.host == "*" ? std::string("0.0.0.0") : address.host) +
+                            ":" + std::to_string(address.port);
+  mg_init_library(0);
+  const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "8", "request_timeout_ms", "15000",
+                           "enable_websocket_ping_pong", "yes", nullptr};
+  mg_callbacks callbacks;
+  std::memset(&callbacks, 0, sizeof(callbacks));
+  context_ = mg_start(&callbacks, this, options);
+  if (!context_) throw std::runtime_error("HTTP API: cannot listen on " + ports + " (in use, or not an address of this host)");
+  mg_server_port bound[4];
+  const int n = mg_get_server_ports(context_, 4, bound);
+  if (n > 0) port_ = static_cast<uint16_t>(bound[0].port);
+  mg_set_request_handler(context_, "/api", RequestTrampoline, nullptr);
+  mg_set_websocket_handler(context_, "/api/live", WebSocketConnect, WebSocketReady, WebSocketData, WebSocketClose,
+                           nullptr);
+  broadcaster_ = std::thread([this] { Broadcast(); });
+}
+
+HttpServer::~HttpServer() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (subscription_) service_.Unsubscribe(subscription_);
+  broadcaster_.join();
+  mg_stop(context_);
+  mg_exit_library();
+}
+
+int HttpServer::OnRequest(mg_connection* connection) {
+  const mg_request_info* info = mg_get_request_info(connection);
+  ApiRequest request;
+  request.method = info->request_method ? info->request_method : "";
+  request.path = info->local_uri ? info->local_uri : "";
+  request.query = info->query_string ? info->query_string : "";
+  ApiResponse response;
+  if (request.path == "/api/live") {
+    response.status = 400;
+    response.body = R"({"error":"/api/live is a WebSocket: connect with an Upgrade request"})";
+  } else if (info->content_length > static_cast<long long>(kMaxApiBody)) {
+    response.status = 413;
+    response.body = R"({"error":"the body is larger than 64 KiB"})";
+  } else {
+    // Read at most the limit plus one byte, so a lying Content-Length cannot make us buffer more.
+    std::vector<char> buffer(kMaxApiBody + 1);
+    size_t got = 0;
+    int r;
+    while (got < buffer.size() && (r = mg_read(connection, buffer.data() + got, buffer.size() - got)) > 0)
+      got += static_cast<size_t>(r);
+    request.body.assign(buffer.data(), got);
+    response = HandleApiRequest(service_, request);
+  }
+  mg_printf(connection,
+            "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: no-store\r\n"
+            "Connection: close\r\n\r\n",
+            response.status, Reason(response.status), response.content_type.c_str(), response.body.size());
+  mg_write(connection, response.body.data(), response.body.size());
+  return response.status;
+}
+
+void HttpServer::OnWebSocketReady(mg_connection* connection) {
+  {
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    clients_.insert(connection);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (subscription_) return;
+  // The loop thread only serialises into a short queue; the broadcaster writes.
+  subscription_ = service_.Subscribe([this](const LiveFrame& frame) {
+    std::string message = FrameMessage(frame);
+    {
+      std::lock_guard<std::mutex> inner(mutex_);
+      outbox_.push_back(std::move(message));
+      while (outbox_.size() > kMaxQueuedFrames) outbox_.pop_front();
+    }
+    wake_.notify_one();
+  });
+}
+
+void HttpServer::OnWebSocketClose(const mg_connection* connection) {
+  // Waits for a write to this client in progress: civetweb frees the connection after this.
+  std::lock_guard<std::mutex> lock(clients_mutex_);
+  clients_.erase(const_cast<mg_connection*>(connection));
+}
+
+void HttpServer::Broadcast() {
+  while (true) {
+    std::string message;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return stopping_ || !outbox_.empty(); });
+      if (stopping_) return;
+      message = std::move(outbox_.front());
+      outbox_.pop_front();
+    }
+    // Written without the queue's lock: a slow client delays only the broadcaster (frames then
+    // drop from the short queue), never the loop that publishes them.
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    for (mg_connection* client : clients_) {
+      mg_lock_connection(client);
+      mg_websocket_write(client, MG_WEBSOCKET_OPCODE_TEXT, message.data(), message.size());
+      mg_unlock_connection(client);
+    }
+  }
+}
+
+}  // namespace mocap::service

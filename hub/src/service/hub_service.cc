@@ -1,0 +1,624 @@
+// The live hub's loop and its requests (see hub_service.h).
+#include "service/hub_service.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <utility>
+
+#include "io/calibration_json.h"
+#include "util/json_file.h"
+#include "util/log.h"
+#include "wire/limits.h"
+#include "wire/packet.h"
+
+namespace mocap::service {
+namespace {
+
+constexpr uint64_t kSecondNs = 1'000'000'000;
+// How long a request thread waits for the loop itself (not for a node) before giving up.
+constexpr double kLoopAnswerSeconds = 5.0;
+
+uint64_t Ns(double seconds) { return static_cast<uint64_t>(seconds * 1e9); }
+
+FrameSetAssemblerOptions AssemblyOf(const ServeOptions& o, uint64_t epoch_ns) {
+  FrameSetAssemblerOptions a;
+  a.deadline_ns = static_cast<uint64_t>(o.deadline_ms * 1e6);
+  a.free_run = o.free_run;
+  a.rate_hz = o.rate_hz;
+  a.epoch_ns = epoch_ns;
+  return a;
+}
+
+std::vector<uint32_t> CameraIds(const Rig& rig) {
+  std::vector<uint32_t> ids;
+  for (const Camera& c : rig.cameras) ids.push_back(c.id);
+  return ids;
+}
+
+NodeRegistryOptions RegistryOf(const ServeOptions& o, const Rig& rig) {
+  NodeRegistryOptions r;
+  r.lost_after_ns = Ns(o.node_lost_after_s);
+  for (const Camera& c : rig.cameras) r.allowed_nodes.insert(c.id);
+  return r;
+}
+
+ControlRequestsOptions ControlsOf(const ServeOptions& o, uint64_t now_ns) {
+  ControlRequestsOptions c;
+  c.timeout_ns = Ns(o.request_timeout_s);
+  // A restarted hub must not reuse the sequences of a mask image a node may still hold
+  // half-assembled: start from the clock (tenths of a second wrap after 13 years).
+  c.first_sequence = static_cast<uint32_t>((now_ns / 100'000'000ull) % 0xF0000000ull) + 1;
+  return c;
+}
+
+Rig LoadRigOrThrow(const std::string& path) {
+  if (path.empty()) throw std::invalid_argument("serve needs a calibration (--calibration FILE)");
+  Rig rig = LoadRigJson(path);
+  if (rig.cameras.size() < 2) throw std::invalid_argument(path + ": needs at least 2 cameras");
+  return rig;
+}
+
+SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns) {
+  SessionInfo info;
+  info.rate_hz = o.rate_hz;
+  info.epoch_ns = epoch_ns;
+  info.free_run = o.free_run;
+  info.camera_ids = CameraIds(rig);
+  return info;
+}
+
+uint64_t EpochOf(const ServeOptions& o) { return o.epoch_ns ? o.epoch_ns : RealtimeNowNs(); }
+
+nlohmann::json RequestJson(const RequestResult& r) {
+  return {{"node", r.node_id},
+          {"outcome", RequestOutcomeName(r.outcome)},
+          {"reason", r.reason},
+          {"datagrams", r.datagrams},
+          {"retransmissions", r.retransmissions},
+          {"ms", static_cast<double>(r.finished_ns - r.submitted_ns) * 1e-6}};
+}
+
+}  // namespace
+
+void ServeOptions::Check() const {
+  ParseHostPort(listen);
+  if (!announce.empty()) ParseHostPort(announce);
+  if (!(rate_hz > 0.0 && rate_hz <= 1000.0)) throw std::invalid_argument("rate must be within (0, 1000] Hz");
+  if (!(deadline_ms > 0.0 && deadline_ms <= 1000.0)) throw std::invalid_argument("deadline must be within (0, 1000] ms");
+  if (!(node_lost_after_s >= 0.5 && node_lost_after_s <= 3600.0))
+    throw std::invalid_argument("node-lost-after must be within [0.5, 3600] s");
+  if (!(request_timeout_s >= 0.05 && request_timeout_s <= 60.0))
+    throw std::invalid_argument("request timeout must be within [0.05, 60] s");
+  if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
+    throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
+  if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
+}
+
+struct HubService::PreviewWait {
+  uint32_t node_id = 0;
+  bool thresholded = false;
+  uint64_t deadline_ns = 0;
+  std::promise<PreviewImage> promise;
+};
+
+struct HubService::MaskJob {
+  int frames_wanted = 0;
+  int frames_seen = 0;
+  uint64_t deadline_ns = 0;
+  std::map<uint32_t, std::vector<CameraFrame>> frames;  // by camera id
+  std::vector<CameraMask> masks;
+  std::map<uint64_t, uint32_t> requests;                // request id -> camera id
+  nlohmann::json results = nlohmann::json::array();
+  std::promise<nlohmann::json> promise;
+};
+
+HubService::HubService(ServeOptions options)
+    : options_((options.Check(), std::move(options))),
+      rig_(LoadRigOrThrow(options_.calibration)),
+      start_ns_(RealtimeNowNs()),
+      ingest_(CameraIds(rig_), AssemblyOf(options_, EpochOf(options_))),
+      registry_(RegistryOf(options_, rig_)),
+      controls_(ControlsOf(options_, start_ns_)),
+      live_(rig_, options_.rate_hz),
+      captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
+  if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
+  std::error_code ec;
+  std::filesystem::create_directories(options_.sessions_dir, ec);
+  if (ec) throw std::runtime_error(options_.sessions_dir + ": cannot create: " + ec.message());
+  for (const std::string& name : captures_.RecoverInterrupted())
+    log::Warn("session {} was interrupted (the service stopped during its capture); its raw log is kept", name);
+  if (!options_.masks_file.empty() && std::filesystem::exists(options_.masks_file)) {
+    masks_ = MasksFromJson(ReadJsonFile(options_.masks_file), options_.masks_file);
+    log::Info("{}: masks for {} cameras, sent to each node when it joins", options_.masks_file, masks_.size());
+  }
+}
+
+HubService::~HubService() = default;
+
+void HubService::Bind() {
+  socket_.Bind(ParseHostPort(options_.listen));
+  if (!options_.announce.empty()) {
+    announce_to_ = ParseHostPort(options_.announce);
+    socket_.EnableBroadcast();
+  }
+}
+
+// ---- the loop ----
+
+void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uint64_t)>& on_turn) {
+  running_ = true;
+  Datagram d;
+  while (!stop.load()) {
+    RunTasks();
+    // Wait briefly for the first datagram, then drain what is queued (bounded, so that tasks
+    // and ticks are served under a flood too).
+    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? 1 : 0); ++n) HandleDatagram(d);
+    const uint64_t now = RealtimeNowNs();
+    for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
+    Tick(now);
+    if (on_turn) on_turn(now);
+  }
+  for (const FrameSet& set : ingest_.Flush()) Publish(set);
+  running_ = false;
+  RunTasks();  // requests queued meanwhile are answered, later ones refused
+  if (captures_.running()) {
+    const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
+    log::Info("capture {} finished at shutdown: {} frame sets", summary.value("name", ""),
+              summary.value("frame_sets", 0));
+  }
+}
+
+void HubService::RunTasks() {
+  std::deque<std::function<void()>> tasks;
+  {
+    std::lock_guard<std::mutex> lock(tasks_mutex_);
+    tasks.swap(tasks_);
+  }
+  for (auto& task : tasks) task();
+}
+
+void HubService::HandleDatagram(const Datagram& d) {
+  const wire::DecodeResult& decoded = ingest_.Add(d, captures_.writer());
+  const std::string source = d.FromString();
+  if (!decoded.ok) {
+    registry_.OnMalformed(source, decoded.reason, d.receive_time_ns);
+    return;
+  }
+  const v1::Packet& packet = decoded.packet;
+  OnRegistryEvents(registry_.OnPacket(packet, source, d.receive_time_ns));
+  if (packet.has_control_ack() && ingest_.IsCamera(packet.control_ack().node_id())) {
+    if (auto finished = controls_.OnAck(packet.control_ack(), d.receive_time_ns)) OnRequestFinished(*finished);
+  } else if (packet.has_preview_chunk() && ingest_.IsCamera(packet.preview_chunk().node_id())) {
+    PreviewImage image;
+    if (previews_.Add(packet.preview_chunk(), d.receive_time_ns, &image) == PreviewAssembler::Outcome::kComplete)
+      OnPreview(image);
+  } else if (packet.has_marker_frame()) {
+    // A frame set completes with its last camera's datagram: publish it now, not at the next
+    // loop turn.
+    for (const FrameSet& set : ingest_.Collect(RealtimeNowNs())) Publish(set);
+  }
+}
+
+void HubService::Publish(const FrameSet& set) {
+  if (mask_job_) CollectMaskFrames(set);
+  const LiveFrame& frame = live_.Process(set, RealtimeNowNs);
+  ++frame_sets_;
+  points_published_ += frame.points.size();
+  for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
+  if (frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
+    hub_latency_ms_.Add(static_cast<double>(frame.publish_ns - frame.last_receive_ns) * 1e-6);
+  if (captures_.running()) captures_.CountFrameSet();
+  std::lock_guard<std::mutex> lock(subscribers_mutex_);
+  for (auto& [id, subscriber] : subscribers_) subscriber(frame);
+}
+
+void HubService::Tick(uint64_t now) {
+  captures_.MaybeFlush(now);
+  Announce(now);
+  OnRegistryEvents(registry_.Tick(now));
+  ControlRequests::TickResult tick = controls_.Tick(now);
+  for (const v1::Packet& packet : tick.resend) {
+    if (const NodeEntry* node = registry_.Find(packet.control().node_id()))
+      socket_.SendTo(ParseHostPort(node->address), wire::Encode(packet));
+  }
+  for (const RequestResult& result : tick.finished) OnRequestFinished(result);
+  previews_.DiscardStale(now);
+  for (auto it = preview_waiters_.begin(); it != preview_waiters_.end();) {
+    if (now < (*it)->deadline_ns) {
+      ++it;
+      continue;
+    }
+    (*it)->promise.set_exception(std::make_exception_ptr(
+        ApiError(504, "node " + std::to_string((*it)->node_id) + " sent no complete preview in time")));
+    it = preview_waiters_.erase(it);
+  }
+  if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
+    FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
+                    " frame sets arrived in time (are the nodes running?)",
+                504);
+}
+
+void HubService::Announce(uint64_t now) {
+  if (!announce_to_ || now < next_announce_ns_) return;
+  next_announce_ns_ = now + kSecondNs;
+  v1::Packet p;
+  p.set_version(wire::kProtocolVersion);
+  auto* a = p.mutable_hub_announce();
+  a->set_port(port());
+  a->set_epoch_ns(options_.epoch_ns);
+  a->set_rate_millihz(static_cast<uint32_t>(options_.rate_hz * 1000.0 + 0.5));
+  socket_.SendTo(*announce_to_, wire::Encode(p));
+}
+
+void HubService::OnRegistryEvents(const std::vector<RegistryEvent>& events) {
+  for (const RegistryEvent& e : events) {
+    log::Info("node {} {} ({})", e.node_id, RegistryEventName(e.kind), e.address);
+    const bool fresh = e.kind == RegistryEventKind::kJoined || e.kind == RegistryEventKind::kBack ||
+                       e.kind == RegistryEventKind::kRestarted;
+    if (!fresh) continue;
+    // The installation's mask goes to a node whenever it (re)joins: a restarted node has none.
+    for (const CameraMask& mask : masks_)
+      if (mask.camera_id == e.node_id) SendMask(mask, e.node_id);
+  }
+}
+
+void HubService::SendMask(const CameraMask& mask, uint32_t node_id) {
+  const SubmitResult submitted = controls_.Submit(node_id, MaskCommands(mask), RealtimeNowNs());
+  if (!submitted.ok) {
+    log::Warn("mask for node {} not sent: {}", node_id, submitted.error);
+    return;
+  }
+  if (const NodeEntry* node = registry_.Find(node_id)) {
+    const HostPort to = ParseHostPort(node->address);
+    for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+  }
+}
+
+void HubService::OnRequestFinished(const RequestResult& result) {
+  if (result.outcome == RequestOutcome::kRejected || result.outcome == RequestOutcome::kTimedOut)
+    log::Warn("node {}: request {}: {}", result.node_id, RequestOutcomeName(result.outcome), result.reason);
+  auto waiter = request_waiters_.find(result.request_id);
+  if (waiter != request_waiters_.end()) {
+    waiter->second.set_value(result);
+    request_waiters_.erase(waiter);
+    return;
+  }
+  if (!mask_job_) return;
+  auto part = mask_job_->requests.find(result.request_id);
+  if (part == mask_job_->requests.end()) return;
+  mask_job_->results.push_back(RequestJson(result));
+  mask_job_->requests.erase(part);
+  if (!mask_job_->requests.empty()) return;
+  // Every node answered: the masks are the installation's now.
+  masks_ = mask_job_->masks;
+  SaveMasks();
+  nlohmann::json answer = {{"frames", mask_job_->frames_seen},
+                           {"masks", MasksToJson(masks_)},
+                           {"nodes", mask_job_->results},
+                           {"file", options_.masks_file}};
+  mask_job_->promise.set_value(answer);
+  mask_job_.reset();
+}
+
+void HubService::OnPreview(const PreviewImage& image) {
+  for (auto it = preview_waiters_.begin(); it != preview_waiters_.end();) {
+    if ((*it)->node_id == image.node_id && (*it)->thresholded == image.thresholded) {
+      (*it)->promise.set_value(image);
+      it = preview_waiters_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+void HubService::CollectMaskFrames(const FrameSet& set) {
+  MaskJob& job = *mask_job_;
+  if (!job.requests.empty() || job.frames_seen >= job.frames_wanted) return;
+  for (const CameraFrame& camera : set.cameras) job.frames[camera.camera_id].push_back(camera);
+  if (++job.frames_seen == job.frames_wanted) FinishMaskCollection();
+}
+
+void HubService::FinishMaskCollection() {
+  MaskJob& job = *mask_job_;
+  AutoMaskOptions options;
+  options.min_frames = std::min<size_t>(options.min_frames, static_cast<size_t>(job.frames_wanted));
+  for (auto& [camera, frames] : job.frames) {
+    if (!registry_.Find(camera)) continue;
+    try {
+      job.masks.push_back(ComputeAutoMask(frames, options));
+    } catch (const std::exception& e) {
+      log::Warn("camera {}: no mask: {}", camera, e.what());
+    }
+  }
+  job.frames.clear();
+  if (job.masks.empty()) {
+    FailMaskJob("no camera delivered enough frames for a mask", 504);
+    return;
+  }
+  const uint64_t now = RealtimeNowNs();
+  for (const CameraMask& mask : job.masks) {
+    const SubmitResult submitted = controls_.Submit(mask.camera_id, MaskCommands(mask), now);
+    if (!submitted.ok) {
+      FailMaskJob("camera " + std::to_string(mask.camera_id) + ": " + submitted.error, 500);
+      return;
+    }
+    const HostPort to = ParseHostPort(registry_.Find(mask.camera_id)->address);
+    for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+    job.requests[submitted.request_id] = mask.camera_id;
+  }
+}
+
+void HubService::FailMaskJob(const std::string& reason, int status) {
+  mask_job_->promise.set_exception(std::make_exception_ptr(ApiError(status, reason)));
+  mask_job_.reset();
+}
+
+void HubService::SaveMasks() {
+  if (options_.masks_file.empty()) return;
+  try {
+    WriteJsonFile(MasksToJson(masks_), options_.masks_file);
+  } catch (const std::exception& e) {
+    log::Error("masks not kept: {}", e.what());
+  }
+}
+
+std::future<RequestResult> HubService::Submit(uint32_t node_id, const std::vector<v1::Control>& commands) {
+  const NodeEntry& node = KnownNode(node_id);
+  if (node.lost) throw ApiError(409, "node " + std::to_string(node_id) + " is lost (silent since " +
+                                         std::to_string((RealtimeNowNs() - node.last_seen_ns) / kSecondNs) + " s)");
+  const SubmitResult submitted = controls_.Submit(node_id, commands, RealtimeNowNs());
+  if (!submitted.ok) throw ApiError(503, submitted.error);
+  const HostPort to = ParseHostPort(node.address);
+  for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+  return request_waiters_[submitted.request_id].get_future();
+}
+
+const NodeEntry& HubService::KnownNode(uint32_t node_id) const {
+  const NodeEntry* node = registry_.Find(node_id);
+  if (!node) {
+    const bool calibrated = ingest_.IsCamera(node_id);
+    throw ApiError(404, "no node " + std::to_string(node_id) +
+                            (calibrated ? " has been heard from yet" : " (not a camera of the calibration)"));
+  }
+  return *node;
+}
+
+// ---- requests from other threads ----
+
+template <typename F>
+auto HubService::OnLoop(F f) -> decltype(f()) {
+  using Result = decltype(f());
+  auto task = std::make_shared<std::packaged_task<Result()>>(std::move(f));
+  std::future<Result> result = task->get_future();
+  {
+    std::lock_guard<std::mutex> lock(tasks_mutex_);
+    if (!running_) throw ApiError(503, "the service is not running");
+    tasks_.push_back([task] { (*task)(); });
+  }
+  return Await(std::move(result), kLoopAnswerSeconds);
+}
+
+template <typename T>
+T HubService::Await(std::future<T> future, double seconds) {
+  if (future.wait_for(std::chrono::duration<double>(seconds)) != std::future_status::ready)
+    throw ApiError(504, "no answer within " + std::to_string(static_cast<int>(std::ceil(seconds))) + " s");
+  try {
+    return future.get();
+  } catch (const std::future_error&) {
+    throw ApiError(503, "the service stopped before answering");
+  }
+}
+
+nlohmann::json HubService::Status() {
+  return OnLoop([this] {
+    const uint64_t now = RealtimeNowNs();
+    size_t online = 0;
+    const std::vector<NodeEntry> nodes = registry_.Nodes();
+    for (const NodeEntry& n : nodes) online += !n.lost;
+    const IngestStats& stats = ingest_.stats();
+    uint64_t unknown = 0;
+    for (const auto& [id, count] : stats.unknown_nodes) unknown += count;
+    return nlohmann::json{
+        {"uptime_s", static_cast<double>(now - start_ns_) * 1e-9},
+        {"udp_port", port()},
+        {"rate_hz", options_.rate_hz},
+        {"epoch_ns", options_.epoch_ns},
+        {"cameras", rig_.cameras.size()},
+        {"nodes_online", online},
+        {"nodes_known", nodes.size()},
+        {"frame_sets", frame_sets_},
+        {"incomplete_frame_sets", ingest_.assembler().incomplete_sets()},
+        {"late_frames", ingest_.assembler().late_frames()},
+        {"points_published", points_published_},
+        {"provisional_points_published", provisional_published_},
+        {"markers_confirmed", live_.tracker().NumMarkers()},
+        {"malformed_datagrams", registry_.malformed_total()},
+        {"unknown_datagrams", registry_.unknown_total() + unknown},
+        {"hub_latency_ms",
+         {{"p50", hub_latency_ms_.Percentile(50)},
+          {"p99", hub_latency_ms_.Percentile(99)},
+          {"max", hub_latency_ms_.max()},
+          {"frame_sets", hub_latency_ms_.count()},
+          {"definition", "last datagram of a frame set received (kernel time) -> its 3D result published"}}},
+        {"capture", captures_.Current(now)},
+        {"masks", masks_.size()},
+        {"requests_pending", controls_.pending()},
+    };
+  });
+}
+
+nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
+  const uint64_t now = RealtimeNowNs();
+  nlohmann::json j = {
+      {"id", n.id},
+      {"address", n.address},
+      {"state", n.lost ? "lost" : NodeStateName(n.state)},
+      {"firmware", n.firmware_version},
+      {"fps", n.fps},
+      {"detect_us_mean", n.detect_time_us_mean},
+      {"detect_us_max", n.detect_time_us_max},
+      {"frames_captured", n.frames_captured},
+      {"frames_sent", n.frames_sent},
+      {"frames_dropped", n.frames_dropped},
+      {"last_frame", n.last_frame_number},
+      {"last_seen_s", n.last_seen_ns && now > n.last_seen_ns ? static_cast<double>(now - n.last_seen_ns) * 1e-9 : 0.0},
+      {"times_lost", n.times_lost},
+      {"restarts", n.restarts},
+      {"threshold", n.threshold},
+      {"exposure_us", n.exposure_us},
+      {"gain_milli", n.gain_milli},
+      {"width", n.width},
+      {"height", n.height},
+      {"control_rejected", n.control_rejected},
+      {"camera_reopens", n.camera_reopens},
+      {"sync",
+       {{"edge_jitter_ns", n.sync.edge_jitter_ns},
+        {"unmatched_frames", n.sync.unmatched_frames},
+        {"missed_edges", n.sync.missed_edges},
+        {"spurious_edges", n.sync.spurious_edges}}},
+      {"has_status", n.has_status},
+      {"masked", false},
+  };
+  j["temperature_c"] = n.has_temperature ? nlohmann::json(n.temperature_c) : nlohmann::json(nullptr);
+  for (const CameraMask& m : masks_)
+    if (m.camera_id == n.id) j["masked"] = !m.regions.empty();
+  return j;
+}
+
+nlohmann::json HubService::Nodes() {
+  return OnLoop([this] {
+    nlohmann::json list = nlohmann::json::array();
+    for (const NodeEntry& n : registry_.Nodes()) list.push_back(NodeJson(n));
+    return list;
+  });
+}
+
+nlohmann::json HubService::Node(uint32_t node_id) {
+  return OnLoop([this, node_id] { return NodeJson(KnownNode(node_id)); });
+}
+
+nlohmann::json HubService::Configure(uint32_t node_id, const CameraSettings& s) {
+  if (s.threshold && (*s.threshold < 1 || *s.threshold > 255)) throw ApiError(400, "threshold must be 1..255");
+  if (s.exposure_us && (*s.exposure_us < 1 || *s.exposure_us > 1'000'000))
+    throw ApiError(400, "exposure must be 1..1000000 us");
+  if (s.gain_milli && (*s.gain_milli < 1000 || *s.gain_milli > 64000))
+    throw ApiError(400, "gain must be 1000..64000 (thousandths: 1x..64x)");
+  if (!s.threshold && !s.auto_threshold && !s.exposure_us && !s.gain_milli) throw ApiError(400, "nothing to set");
+  std::future<RequestResult> answer = OnLoop([this, node_id, s] {
+    const NodeEntry& node = KnownNode(node_id);
+    std::vector<v1::Control> commands;
+    if (s.threshold || s.auto_threshold) {
+      v1::Control c;
+      c.mutable_set_threshold()->set_value(s.threshold.value_or(0));
+      c.mutable_set_threshold()->set_automatic(s.auto_threshold);
+      commands.push_back(c);
+    }
+    if (s.exposure_us || s.gain_milli) {
+      // The node sets both at once: the one not given keeps the node's current value.
+      v1::Control c;
+      c.mutable_set_exposure()->set_exposure_us(s.exposure_us.value_or(node.exposure_us));
+      c.mutable_set_exposure()->set_gain_milli(s.gain_milli.value_or(node.gain_milli));
+      commands.push_back(c);
+    }
+    return Submit(node_id, commands);
+  });
+  return RequestJson(Await(std::move(answer), options_.request_timeout_s + 1.0));
+}
+
+nlohmann::json HubService::Identify(uint32_t node_id, uint32_t duration_ms) {
+  if (duration_ms < 100 || duration_ms > 60000) throw ApiError(400, "identify duration must be 100..60000 ms");
+  std::future<RequestResult> answer = OnLoop([this, node_id, duration_ms] {
+    v1::Control c;
+    c.mutable_identify()->set_duration_ms(duration_ms);
+    return Submit(node_id, {c});
+  });
+  return RequestJson(Await(std::move(answer), options_.request_timeout_s + 1.0));
+}
+
+std::vector<uint8_t> HubService::PreviewPng(uint32_t node_id, bool thresholded, uint32_t downscale) {
+  if (downscale != 1 && downscale != 2 && downscale != 4 && downscale != 8)
+    throw ApiError(400, "downscale must be 1, 2, 4 or 8");
+  std::future<PreviewImage> image = OnLoop([this, node_id, thresholded, downscale] {
+    v1::Control c;
+    c.mutable_preview_request()->set_mode(thresholded ? v1::PREVIEW_MODE_THRESHOLDED : v1::PREVIEW_MODE_RAW);
+    c.mutable_preview_request()->set_downscale(downscale);
+    Submit(node_id, {c});  // the image itself is the answer that counts
+    auto wait = std::make_unique<PreviewWait>();
+    wait->node_id = node_id;
+    wait->thresholded = thresholded;
+    wait->deadline_ns = RealtimeNowNs() + Ns(options_.request_timeout_s);
+    std::future<PreviewImage> future = wait->promise.get_future();
+    preview_waiters_.push_back(std::move(wait));
+    return future;
+  });
+  return EncodePng(Await(std::move(image), options_.request_timeout_s + 1.0));
+}
+
+nlohmann::json HubService::AutoMask(int frames) {
+  if (frames < 10 || frames > options_.auto_mask_max_frames)
+    throw ApiError(400, "frames must be 10.." + std::to_string(options_.auto_mask_max_frames));
+  const double collect_s = frames / options_.rate_hz + 2.0;
+  std::future<nlohmann::json> answer = OnLoop([this, frames, collect_s] {
+    if (mask_job_) throw ApiError(409, "an automatic mask is being made already");
+    mask_job_ = std::make_unique<MaskJob>();
+    mask_job_->frames_wanted = frames;
+    mask_job_->deadline_ns = RealtimeNowNs() + Ns(collect_s);
+    return mask_job_->promise.get_future();
+  });
+  return Await(std::move(answer), collect_s + options_.request_timeout_s + 1.0);
+}
+
+nlohmann::json HubService::ClearMasks() {
+  std::vector<std::future<RequestResult>> answers = OnLoop([this] {
+    std::vector<std::future<RequestResult>> futures;
+    for (const CameraMask& mask : masks_) {
+      const NodeEntry* node = registry_.Find(mask.camera_id);
+      if (!node || node->lost) continue;
+      CameraMask empty = mask;
+      empty.regions.clear();
+      futures.push_back(Submit(mask.camera_id, MaskCommands(empty)));
+    }
+    masks_.clear();
+    SaveMasks();
+    return futures;
+  });
+  nlohmann::json results = nlohmann::json::array();
+  for (auto& answer : answers) results.push_back(RequestJson(Await(std::move(answer), options_.request_timeout_s + 1.0)));
+  return {{"nodes", results}};
+}
+
+nlohmann::json HubService::StartCapture(const std::string& name) {
+  return OnLoop([this, name] {
+    const uint64_t now = RealtimeNowNs();
+    captures_.Start(name, ingest_.stats(), now);
+    log::Info("capture {} started", name);
+    return captures_.Current(now);
+  });
+}
+
+nlohmann::json HubService::StopCapture() {
+  return OnLoop([this] {
+    nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
+    log::Info("capture {} stopped: {} frame sets", summary.value("name", ""), summary.value("frame_sets", 0));
+    return summary;
+  });
+}
+
+nlohmann::json HubService::Sessions() {
+  return OnLoop([this] { return captures_.List(); });
+}
+
+int HubService::Subscribe(Subscriber subscriber) {
+  std::lock_guard<std::mutex> lock(subscribers_mutex_);
+  const int id = next_subscriber_++;
+  subscribers_[id] = std::move(subscriber);
+  return id;
+}
+
+void HubService::Unsubscribe(int id) {
+  std::lock_guard<std::mutex> lock(subscribers_mutex_);
+  subscribers_.erase(id);
+}
+
+}  // namespace mocap::service

@@ -1,0 +1,162 @@
+// The live hub (`mocap-hub serve`): one UDP socket to the nodes and one loop thread that owns all
+// state. Every datagram goes through FrameIngest (logged into the running capture), then to the
+// node registry (status, traffic), the control requests (acks) or the preview assembler; every
+// frame set is reconstructed and tracked at once and published to the subscribers; controls,
+// previews, automatic masks and captures are requested from any thread and run on the loop.
+//
+// Threads: Run() is the loop. The public request methods may be called from any other thread
+// (the HTTP server's); they hand work to the loop and wait for its answer, never longer than the
+// request timeout plus a margin. Subscribers are called on the loop thread and must return at
+// once (copy the frame and queue it).
+//
+// Error policy: bad options throw std::invalid_argument from the constructor; a request the
+// service cannot honour throws ApiError with the HTTP status that says whose fault it was (4xx:
+// the request, 504: a node that did not answer, 5xx: ours); outside input never throws.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/camera.h"
+#include "ingest/frame_ingest.h"
+#include "ingest/udp_socket.h"
+#include "service/api_error.h"
+#include "service/auto_mask.h"
+#include "service/capture.h"
+#include "service/control_requests.h"
+#include "service/live_reconstruction.h"
+#include "service/node_registry.h"
+#include "service/preview_assembler.h"
+#include "service/service_api.h"
+#include "util/latency_sample.h"
+
+namespace mocap::service {
+
+struct ServeOptions {
+  std::string listen = "0.0.0.0:30000";   // UDP from the nodes
+  std::string calibration;                // calibration JSON: the cameras and their geometry
+  std::string sessions_dir = "sessions";  // captures go to sessions_dir/NAME
+  std::string masks_file;                 // the installation's masks (JSON); empty: none kept
+  double rate_hz = 240.0;
+  uint64_t epoch_ns = 0;                  // time of frame 0; 0 = the service's start
+  std::string announce;                   // broadcast HOST:PORT for HubAnnounce; empty = none
+  double deadline_ms = 20.0;              // a frame set waits this long for late cameras
+  bool free_run = false;
+  double node_lost_after_s = 3.0;
+  double request_timeout_s = 2.0;         // a node that does not answer a control this long
+  int auto_mask_max_frames = 1000;
+
+  // Throws std::invalid_argument naming the bad option.
+  void Check() const;
+};
+
+class HubService : public ServiceApi {
+ public:
+  using Subscriber = std::function<void(const LiveFrame&)>;
+
+  // Loads the calibration and the mask file; throws std::invalid_argument / std::runtime_error.
+  explicit HubService(ServeOptions options);
+  ~HubService() override;
+
+  // Binds the UDP socket (so callers learn the port before nodes start).
+  void Bind();
+  uint16_t port() const { return socket_.port(); }
+  // The loop: runs until stop turns true; a capture still running is finished. on_turn (if
+  // set) is called once per loop turn with the time (a watchdog proves the loop is alive).
+  void Run(const std::atomic<bool>& stop, const std::function<void(uint64_t)>& on_turn = nullptr);
+
+  // ---- requests from other threads (each waits for the loop) ----
+  nlohmann::json Status() override;
+  nlohmann::json Nodes() override;
+  nlohmann::json Node(uint32_t node_id) override;
+  // Every setting given is sent as one request; returns the node's answer.
+  nlohmann::json Configure(uint32_t node_id, const CameraSettings& settings) override;
+  nlohmann::json Identify(uint32_t node_id, uint32_t duration_ms) override;
+  std::vector<uint8_t> PreviewPng(uint32_t node_id, bool thresholded, uint32_t downscale) override;
+  // Blobs of `frames` frame sets (the volume must be empty) -> each camera's mask, installed on
+  // its node and kept in the mask file. Clear removes every mask.
+  nlohmann::json AutoMask(int frames) override;
+  nlohmann::json ClearMasks() override;
+  nlohmann::json StartCapture(const std::string& name) override;
+  nlohmann::json StopCapture() override;
+  nlohmann::json Sessions() override;
+
+  int Subscribe(Subscriber subscriber);
+  void Unsubscribe(int id);
+
+ private:
+  struct MaskJob;
+  struct PreviewWait;
+
+  // Runs f on the loop thread and returns its result (or rethrows its exception).
+  template <typename F>
+  auto OnLoop(F f) -> decltype(f());
+  template <typename T>
+  T Await(std::future<T> future, double seconds);
+  void RunTasks();
+
+  void HandleDatagram(const Datagram& datagram);
+  void Publish(const FrameSet& set);
+  void Tick(uint64_t now_ns);
+  void Announce(uint64_t now_ns);
+  void OnRegistryEvents(const std::vector<RegistryEvent>& events);
+  void OnRequestFinished(const RequestResult& result);
+  void OnPreview(const PreviewImage& image);
+  void CollectMaskFrames(const FrameSet& set);
+  void FinishMaskCollection();
+  void FailMaskJob(const std::string& reason, int status);
+  std::future<RequestResult> Submit(uint32_t node_id, const std::vector<v1::Control>& commands);
+  void SendMask(const CameraMask& mask, uint32_t node_id);
+  void SaveMasks();
+  const NodeEntry& KnownNode(uint32_t node_id) const;  // throws ApiError 404
+  nlohmann::json NodeJson(const NodeEntry& node) const;
+  nlohmann::json CaptureJson() const;
+
+  ServeOptions options_;
+  Rig rig_;
+  UdpSocket socket_;
+  std::optional<HostPort> announce_to_;
+  uint64_t next_announce_ns_ = 0;
+  uint64_t start_ns_ = 0;
+  FrameIngest ingest_;
+  NodeRegistry registry_;
+  ControlRequests controls_;
+  PreviewAssembler previews_;
+  LiveReconstruction live_;
+  Captures captures_;
+  std::vector<CameraMask> masks_;
+
+  // Statistics of what was published.
+  uint64_t frame_sets_ = 0;
+  uint64_t points_published_ = 0;
+  uint64_t provisional_published_ = 0;
+  LatencySample hub_latency_ms_;  // last datagram of a set received -> its result published
+
+  // Loop-owned waiters.
+  std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
+  std::vector<std::unique_ptr<PreviewWait>> preview_waiters_;
+  std::unique_ptr<MaskJob> mask_job_;
+
+  // Work handed to the loop by other threads.
+  std::mutex tasks_mutex_;
+  std::deque<std::function<void()>> tasks_;
+  std::atomic<bool> running_{false};
+
+  std::mutex subscribers_mutex_;
+  std::map<int, Subscriber> subscribers_;
+  int next_subscriber_ = 1;
+};
+
+}  // namespace mocap::service

@@ -1,0 +1,40 @@
+// What the live hub offers its clients, apart from how they reach it: the HTTP/WebSocket API
+// (api_router.h) calls it, HubService implements it, tests and the request fuzzer fake it.
+// Every method may throw ApiError (api_error.h) with the status that says whose fault it was.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace mocap::service {
+
+// What an operator may change on a camera; absent fields stay as they are.
+struct CameraSettings {
+  std::optional<uint32_t> threshold;      // 1..255
+  bool auto_threshold = false;
+  std::optional<uint32_t> exposure_us;    // 1..1 000 000
+  std::optional<uint32_t> gain_milli;     // 1000..64 000
+};
+
+class ServiceApi {
+ public:
+  virtual ~ServiceApi() = default;
+  virtual nlohmann::json Status() = 0;
+  virtual nlohmann::json Nodes() = 0;
+  virtual nlohmann::json Node(uint32_t node_id) = 0;
+  virtual nlohmann::json Configure(uint32_t node_id, const CameraSettings& settings) = 0;
+  virtual nlohmann::json Identify(uint32_t node_id, uint32_t duration_ms) = 0;
+  // PNG bytes of the node's next preview.
+  virtual std::vector<uint8_t> PreviewPng(uint32_t node_id, bool thresholded, uint32_t downscale) = 0;
+  virtual nlohmann::json AutoMask(int frames) = 0;
+  virtual nlohmann::json ClearMasks() = 0;
+  virtual nlohmann::json StartCapture(const std::string& name) = 0;
+  virtual nlohmann::json StopCapture() = 0;
+  virtual nlohmann::json Sessions() = 0;
+};
+
+}  // namespace mocap::service
