@@ -59,15 +59,15 @@ class Watchdog {
 
 void RunServe(ServeArgs& args) {
   CheckOptions(args.options);
-  ParseHostPort(args.api);
   service::HubService hub(args.options);
   hub.Bind();
   service::HttpServer http(hub, args.api);
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
-  log::Info("serving: nodes to UDP port {}, API on http://{} (port {}), sessions in {}", hub.port(), args.api,
-            http.port(), args.options.sessions_dir);
+  const HostPort api = ParseHostPort(args.api);
+  log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(),
+            api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host, http.port(), args.options.sessions_dir);
   Watchdog watchdog;
   watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
   hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });

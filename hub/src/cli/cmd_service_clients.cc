@@ -169,9 +169,9 @@ void AddServiceClientCommands(CLI::App& app) {
     automatic->add_option("--frames", *frames, "Frame sets to look at")->check(CLI::Range(10, 100000))->capture_default_str();
     automatic->callback([api, frames] {
       const json answer = CallApiJson(*api, "POST", "/api/masks/auto", json{{"frames", *frames}});
-      for (const json& camera : answer["masks"]["cameras"])
-        std::printf("camera %s: %zu static blobs, %zu masked regions\n", Str(camera, "camera_id").c_str(),
-                    camera["blobs"].size(), camera["regions"].size());
+      for (const json& camera : answer["cameras"])
+        std::printf("camera %s: %s static blobs found, %s masked regions\n", Str(camera, "camera_id").c_str(),
+                    Str(camera, "static_blobs_found").c_str(), Str(camera, "regions").c_str());
       for (const json& node : answer["nodes"])
         std::printf("node %s: %s\n", Str(node, "node").c_str(), Str(node, "outcome").c_str());
     });

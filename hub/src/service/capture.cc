@@ -20,6 +20,12 @@ uint64_t DroppedFrames(const IngestStats& stats) {
   return dropped;
 }
 
+uint64_t CameraFrames(const IngestStats& stats) {
+  uint64_t frames = 0;
+  for (const auto& [id, node] : stats.nodes) frames += node.frames;
+  return frames;
+}
+
 }  // namespace
 
 bool ValidSessionName(const std::string& name) {
@@ -84,6 +90,7 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   if (!writer_) throw ApiError(409, "no capture is running");
   SessionInfo& info = writer_->info();
   info.frame_sets = frame_sets_;
+  info.camera_frames = CameraFrames(stats) - CameraFrames(at_start_);
   info.dropped_camera_frames = DroppedFrames(stats) - DroppedFrames(at_start_);
   info.extra["capture_state"] = "complete";
   info.extra["stopped_ns"] = now_ns;

@@ -110,6 +110,7 @@ struct HubService::MaskJob {
   std::vector<CameraMask> masks;
   std::map<uint64_t, uint32_t> requests;                // request id -> camera id
   nlohmann::json results = nlohmann::json::array();
+  nlohmann::json found = nlohmann::json::array();       // per camera: new static blobs, regions
   std::promise<nlohmann::json> promise;
 };
 
@@ -294,6 +295,7 @@ void HubService::OnRequestFinished(const RequestResult& result) {
   masks_ = mask_job_->masks;
   SaveMasks();
   nlohmann::json answer = {{"frames", mask_job_->frames_seen},
+                           {"cameras", mask_job_->found},
                            {"masks", MasksToJson(masks_)},
                            {"nodes", mask_job_->results},
                            {"file", options_.masks_file}};
@@ -326,7 +328,17 @@ void HubService::FinishMaskCollection() {
   for (auto& [camera, frames] : job.frames) {
     if (!registry_.Find(camera)) continue;
     try {
-      job.masks.push_back(ComputeAutoMask(frames, options));
+      CameraMask mask = ComputeAutoMask(frames, options);
+      job.found.push_back({{"camera_id", camera}, {"static_blobs_found", mask.blobs.size()}});
+      // Masks add up, as the commercial consoles' "mask visible" does: what the nodes mask
+      // already is invisible in these frames and must stay masked (`mask clear` removes all).
+      for (const CameraMask& kept : masks_) {
+        if (kept.camera_id != camera) continue;
+        mask.blobs.insert(mask.blobs.end(), kept.blobs.begin(), kept.blobs.end());
+        mask.regions.insert(mask.regions.end(), kept.regions.begin(), kept.regions.end());
+      }
+      job.found.back()["regions"] = mask.regions.size();
+      job.masks.push_back(std::move(mask));
     } catch (const std::exception& e) {
       log::Warn("camera {}: no mask: {}", camera, e.what());
     }
