@@ -1,0 +1,125 @@
+// The API's request surface without a network: each route reaches the right service call with
+// the right values, and every bad request is refused with the status and a reason.
+#include "service/api_router.h"
+
+#include <gtest/gtest.h>
+
+#include "service/fake_service_api.h"
+
+namespace mocap::service {
+namespace {
+
+struct Routed {
+  ApiResponse response;
+  nlohmann::json body;
+};
+
+Routed Send(FakeServiceApi& api, const std::string& method, const std::string& path, const std::string& body = "",
+            const std::string& query = "") {
+  Routed r;
+  r.response = HandleApiRequest(api, {method, path, query, body});
+  if (r.response.content_type == "application/json") r.body = nlohmann::json::parse(r.response.body);
+  return r;
+}
+
+TEST(ApiRouter, RoutesReachTheirCalls) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "GET", "/api/status").body["called"], "status");
+  EXPECT_EQ(Send(api, "GET", "/api/nodes").body["called"], "nodes");
+  EXPECT_EQ(Send(api, "GET", "/api/nodes/1/").body["called"], "node");
+  EXPECT_EQ(Send(api, "POST", "/api/capture/start", R"({"name": "take 1"})").body["called"], "start");
+  EXPECT_EQ(api.last_name, "take 1");  // the service judges names (capture_test)
+  EXPECT_EQ(Send(api, "POST", "/api/capture/stop").body["called"], "stop");
+  EXPECT_EQ(Send(api, "GET", "/api/sessions").body["called"], "sessions");
+  EXPECT_EQ(Send(api, "DELETE", "/api/masks").body["called"], "clearmasks");
+  EXPECT_EQ(Send(api, "POST", "/api/masks/auto", "").body["called"], "automask");
+  EXPECT_EQ(api.last_number, 100u);
+  Send(api, "POST", "/api/masks/auto", R"({"frames": 250})");
+  EXPECT_EQ(api.last_number, 250u);
+}
+
+TEST(ApiRouter, SettingsCarryExactlyWhatWasGiven) {
+  FakeServiceApi api;
+  ASSERT_EQ(Send(api, "POST", "/api/nodes/1/settings", R"({"threshold": 40, "gain_milli": 2000})").response.status, 200);
+  EXPECT_EQ(api.last_node, 1u);
+  EXPECT_EQ(api.last_settings.threshold.value_or(0), 40u);
+  EXPECT_EQ(api.last_settings.gain_milli.value_or(0), 2000u);
+  EXPECT_FALSE(api.last_settings.exposure_us.has_value());
+  EXPECT_FALSE(api.last_settings.auto_threshold);
+  ASSERT_EQ(Send(api, "POST", "/api/nodes/1/settings", R"({"auto_threshold": true})").response.status, 200);
+  EXPECT_TRUE(api.last_settings.auto_threshold);
+  EXPECT_FALSE(api.last_settings.threshold.has_value());
+}
+
+TEST(ApiRouter, PreviewIsAPngWithItsQuery) {
+  FakeServiceApi api;
+  const Routed r = Send(api, "GET", "/api/nodes/1/preview", "", "mode=thresholded&downscale=4");
+  EXPECT_EQ(r.response.status, 200);
+  EXPECT_EQ(r.response.content_type, "image/png");
+  EXPECT_EQ(r.response.body.substr(1, 3), "PNG");
+  EXPECT_TRUE(api.last_thresholded);
+  EXPECT_EQ(api.last_number, 4u);
+  Send(api, "GET", "/api/nodes/1/preview");
+  EXPECT_FALSE(api.last_thresholded);
+  EXPECT_EQ(api.last_number, 2u);
+}
+
+TEST(ApiRouter, BadRequestsAreRefusedWithTheirStatusAndAReason) {
+  struct Case {
+    const char *method, *path, *body, *query;
+    int status;
+  };
+  const Case cases[] = {
+      {"GET", "/api/nowhere", "", "", 404},
+      {"GET", "/", "", "", 404},
+      {"GET", "/api/nodes/0", "", "", 404},
+      {"GET", "/api/nodes/99999999999", "", "", 404},
+      {"GET", "/api/nodes/-3", "", "", 404},
+      {"GET", "/api/nodes/7", "", "", 404},  // the service does not know it
+      {"GET", "/api/nodes/1/reboot", "", "", 404},
+      {"POST", "/api/status", "", "", 405},
+      {"GET", "/api/capture/start", "", "", 405},
+      {"POST", "/api/nodes/1/settings", "{", "", 400},
+      {"POST", "/api/nodes/1/settings", "[1]", "", 400},
+      {"POST", "/api/nodes/1/settings", "{}", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": 0})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": 256})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": 4.5})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": "40"})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": 18446744073709551615})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"threshold": 40, "auto_threshold": true})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"auto_threshold": 1})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"exposure_us": 2000000})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"colour": "red"})", "", 400},
+      {"POST", "/api/nodes/1/identify", R"({"duration_ms": 5})", "", 400},
+      {"GET", "/api/nodes/1/preview", "", "mode=colour", 400},
+      {"GET", "/api/nodes/1/preview", "", "downscale=3", 400},
+      {"GET", "/api/nodes/1/preview", "", "zoom=2", 400},
+      {"POST", "/api/masks/auto", R"({"frames": 5})", "", 400},
+      {"POST", "/api/capture/start", "{}", "", 400},
+      {"POST", "/api/capture/start", R"({"name": 5})", "", 400},
+      {"POST", "/api/capture/stop", R"({"now": true})", "", 400},
+  };
+  for (const Case& c : cases) {
+    FakeServiceApi api;
+    const Routed r = Send(api, c.method, c.path, c.body, c.query);
+    EXPECT_EQ(r.response.status, c.status) << c.method << " " << c.path << " " << c.body << " " << c.query;
+    ASSERT_TRUE(r.body.contains("error")) << r.response.body;
+    EXPECT_FALSE(r.body["error"].get<std::string>().empty());
+    // A refused value never reaches the service (unknown nodes are the service's to judge).
+    if (c.status == 400) {
+      EXPECT_TRUE(api.calls.empty()) << c.path << " " << c.body;
+    }
+  }
+}
+
+TEST(ApiRouter, OversizedBodiesAndInvalidTextAreAnswered) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "POST", "/api/capture/start", std::string(kMaxApiBody + 1, ' ')).response.status, 413);
+  // Invalid UTF-8 in a field name comes back in the reason, replaced, never as an exception.
+  const Routed r = Send(api, "POST", "/api/nodes/1/settings", "{\"\xff\xfe\": 1}");
+  EXPECT_EQ(r.response.status, 400);
+}
+
+}  // namespace
+}  // namespace mocap::service

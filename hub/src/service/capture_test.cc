@@ -1,0 +1,103 @@
+// Captures: names that cannot escape the sessions directory, one capture at a time, sessions
+// that survive a killed service as "interrupted" and stay readable.
+#include "service/capture.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+#include "service/api_error.h"
+
+namespace mocap::service {
+namespace {
+namespace fs = std::filesystem;
+
+class CaptureTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("mocap_capture_test_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "sessions");
+    std::ofstream(dir_ / "cal.json") << "{}";
+    base_.rate_hz = 100;
+    base_.camera_ids = {1, 2};
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  Captures Make() { return Captures((dir_ / "sessions").string(), (dir_ / "cal.json").string(), base_); }
+  int StatusOf(const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const ApiError& e) {
+      return e.status;
+    }
+    return 0;
+  }
+
+  fs::path dir_;
+  SessionInfo base_;
+};
+
+TEST(SessionName, OnlyPlainNames) {
+  EXPECT_TRUE(ValidSessionName("take_01.walk-2"));
+  for (const char* bad : {"", ".hidden", "..", "../x", "a/b", "a b", "ä", std::string(65, 'a').c_str()})
+    EXPECT_FALSE(ValidSessionName(bad)) << bad;
+}
+
+TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
+  Captures captures = Make();
+  IngestStats stats;
+  stats.nodes[1].frames = 10;
+  captures.Start("take1", stats, 1'000'000'000);
+  ASSERT_NE(captures.writer(), nullptr);
+  const uint8_t datagram[] = {1, 2, 3};
+  captures.writer()->AppendDatagram(datagram, sizeof(datagram), 5);
+  captures.CountFrameSet();
+  EXPECT_EQ(StatusOf([&] { captures.Start("take2", stats, 2); }), 409);
+  stats.nodes[1].frames = 25;
+  stats.nodes[1].dropped_frames = 2;
+  const nlohmann::json summary = captures.Stop(stats, 3'000'000'000);
+  EXPECT_EQ(summary["name"], "take1");
+  EXPECT_EQ(summary["frame_sets"], 1);
+  EXPECT_EQ(captures.writer(), nullptr);
+  const SessionInfo info = LoadSessionInfo((dir_ / "sessions" / "take1").string());
+  EXPECT_EQ(info.extra["capture_state"], "complete");
+  EXPECT_EQ(info.camera_frames, 15u);
+  EXPECT_EQ(info.dropped_camera_frames, 2u);
+  EXPECT_EQ(info.source, "serve");
+  EXPECT_TRUE(fs::exists(dir_ / "sessions" / "take1" / "calibration.json"));
+  EXPECT_EQ(StatusOf([&] { captures.Stop(stats, 4); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.Start("take1", stats, 5); }), 409);  // exists
+  EXPECT_EQ(StatusOf([&] { captures.Start("../escape", stats, 5); }), 400);
+  EXPECT_FALSE(fs::exists(dir_ / "escape"));
+}
+
+TEST_F(CaptureTest, AKilledCaptureIsMarkedInterruptedAtTheNextStart) {
+  {
+    Captures captures = Make();
+    captures.Start("crash", IngestStats(), 1);
+    captures.writer()->Flush();
+    // The service dies here: no Stop, the writer is never finished.
+    const nlohmann::json listed = captures.List();
+    ASSERT_EQ(listed.size(), 1u);
+    EXPECT_EQ(listed[0]["state"], "capturing");
+  }
+  Captures restarted = Make();
+  EXPECT_EQ(restarted.RecoverInterrupted(), std::vector<std::string>{"crash"});
+  EXPECT_EQ(restarted.List()[0]["state"], "interrupted");
+  EXPECT_TRUE(restarted.RecoverInterrupted().empty());
+  // A damaged session.json is listed as unreadable, not fatal.
+  fs::create_directories(dir_ / "sessions" / "broken");
+  std::ofstream(dir_ / "sessions" / "broken" / "session.json") << "{ nope";
+  const nlohmann::json listed = restarted.List();
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(listed[0]["name"], "broken");
+  EXPECT_EQ(listed[0]["state"], "unreadable");
+  EXPECT_TRUE(restarted.RecoverInterrupted().empty());
+}
+
+}  // namespace
+}  // namespace mocap::service

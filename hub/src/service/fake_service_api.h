@@ -1,0 +1,63 @@
+// A ServiceApi that records what the router asked for and answers with what it was given, for
+// the router's test and fuzzer (no loop, no nodes).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "service/api_error.h"
+#include "service/service_api.h"
+
+namespace mocap::service {
+
+class FakeServiceApi : public ServiceApi {
+ public:
+  std::vector<std::string> calls;
+  CameraSettings last_settings;
+  uint32_t last_node = 0;
+  uint32_t last_number = 0;
+  bool last_thresholded = false;
+  std::string last_name;
+  uint32_t known_node = 1;  // other ids answer 404, as the service does
+
+  nlohmann::json Status() override { return Call("status"); }
+  nlohmann::json Nodes() override { return Call("nodes"); }
+  nlohmann::json Node(uint32_t id) override { return Call("node", id); }
+  nlohmann::json Configure(uint32_t id, const CameraSettings& s) override {
+    last_settings = s;
+    return Call("configure", id);
+  }
+  nlohmann::json Identify(uint32_t id, uint32_t ms) override {
+    last_number = ms;
+    return Call("identify", id);
+  }
+  std::vector<uint8_t> PreviewPng(uint32_t id, bool thresholded, uint32_t downscale) override {
+    last_thresholded = thresholded;
+    last_number = downscale;
+    Call("preview", id);
+    return {0x89, 'P', 'N', 'G'};
+  }
+  nlohmann::json AutoMask(int frames) override {
+    last_number = static_cast<uint32_t>(frames);
+    return Call("automask");
+  }
+  nlohmann::json ClearMasks() override { return Call("clearmasks"); }
+  nlohmann::json StartCapture(const std::string& name) override {
+    last_name = name;
+    return Call("start");
+  }
+  nlohmann::json StopCapture() override { return Call("stop"); }
+  nlohmann::json Sessions() override { return Call("sessions"); }
+
+ private:
+  nlohmann::json Call(const std::string& what, uint32_t node = 0) {
+    calls.push_back(what);
+    if (node) {
+      last_node = node;
+      if (node != known_node) throw ApiError(404, "no node " + std::to_string(node));
+    }
+    return {{"called", what}};
+  }
+};
+
+}  // namespace mocap::service
