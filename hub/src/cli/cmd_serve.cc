@@ -1,6 +1,6 @@
 // `serve`: the live hub as a long-running service (service/hub_service.h) with its HTTP +
 // WebSocket API (service/http_server.h). Options come from flags and/or a config file
-// (--config FILE, INI/TOML `key = value`, one line per long flag name); flags win. Under systemd
+// (--config FILE, `key = value`, one line per long option name; cli/config_file.h); flags win. Under systemd
 // (Type=notify) it reports READY=1 once both sockets are bound, pings the watchdog from the
 // loop itself, so a stuck loop gets the service restarted, and STOPPING=1 on the way out.
 #include <atomic>
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/config_file.h"
 #include "ingest/udp_socket.h"
 #include "service/http_server.h"
 #include "service/hub_service.h"
@@ -82,12 +83,14 @@ void AddServeCommand(CLI::App& app) {
       "serve", "Run the live hub: node registry and control, captures, live 3D, HTTP/WebSocket API");
   auto args = std::make_shared<ServeArgs>();
   service::ServeOptions& o = args->options;
-  command->set_config("--config", "", "Config file (INI/TOML: `key = value` per long option name)");
+  auto config = std::make_shared<std::string>();
+  command->add_option("--config", *config, "Config file: `key = value` per long option name; flags win")
+      ->check(CLI::ExistingFile);
   command->add_option("--listen", o.listen, "HOST:PORT receiving the nodes' UDP")->capture_default_str();
   command->add_option("--api", args->api, "HOST:PORT of the HTTP/WebSocket API (keep it on localhost)")
       ->capture_default_str();
-  command->add_option("--calibration", o.calibration, "Calibration JSON (names the cameras)")
-      ->required()
+  // Required, but checked in ServeOptions::Check: it may come from the config file.
+  command->add_option("--calibration", o.calibration, "Calibration JSON (names the cameras); required")
       ->check(CLI::ExistingFile);
   command->add_option("--sessions-dir", o.sessions_dir, "Where captures go (one directory per session)")
       ->capture_default_str();
@@ -102,7 +105,10 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
-  command->callback([args] { RunServe(*args); });
+  command->callback([args, config, command] {
+    if (!config->empty()) ApplyConfigFile(*command, *config);
+    RunServe(*args);
+  });
 }
 
 }  // namespace mocap

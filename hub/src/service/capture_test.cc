@@ -43,7 +43,8 @@ class CaptureTest : public ::testing::Test {
 
 TEST(SessionName, OnlyPlainNames) {
   EXPECT_TRUE(ValidSessionName("take_01.walk-2"));
-  for (const char* bad : {"", ".hidden", "..", "../x", "a/b", "a b", "ä", std::string(65, 'a').c_str()})
+  for (const std::string& bad : {std::string(""), std::string(".hidden"), std::string(".."), std::string("../x"),
+                                 std::string("a/b"), std::string("a b"), std::string("ä"), std::string(65, 'a')})
     EXPECT_FALSE(ValidSessionName(bad)) << bad;
 }
 

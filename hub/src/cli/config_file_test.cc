@@ -1,0 +1,76 @@
+// Config files: the format, the errors with file:line, flags winning, and the shipped example
+// naming only real options of serve.
+#include "cli/config_file.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "cli/commands.h"
+
+namespace mocap {
+namespace {
+
+std::string WriteTemp(const std::string& text) {
+  const std::string path = "/tmp/mocap_config_test_" + std::to_string(::getpid()) + ".conf";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ConfigFile, KeysValuesCommentsAndQuotes) {
+  const std::string path = WriteTemp("# comment\n\n  rate = 120 \nname = \"a b\"\nempty =\n");
+  const std::vector<ConfigEntry> entries = ReadConfigFile(path);
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_EQ(entries[0].line, 3);
+  EXPECT_EQ(entries[0].key, "rate");
+  EXPECT_EQ(entries[0].value, "120");
+  EXPECT_EQ(entries[1].value, "a b");
+  EXPECT_EQ(entries[2].value, "");
+  std::remove(path.c_str());
+}
+
+TEST(ConfigFile, ErrorsNameTheLine) {
+  const std::string path = WriteTemp("rate = 1\nno equals sign\n");
+  try {
+    ReadConfigFile(path);
+    FAIL() << "accepted a line without '='";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+  EXPECT_THROW(ReadConfigFile("/nonexistent/hub.conf"), std::runtime_error);
+}
+
+TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
+  CLI::App app;
+  CLI::App* command = app.add_subcommand("serve");
+  double rate = 0;
+  std::string listen;
+  command->add_option("--rate", rate);
+  command->add_option("--listen", listen);
+  const std::string path = WriteTemp("rate = 120\nlisten = 1.2.3.4:5\n");
+  app.parse("serve --listen 9.9.9.9:1", false);
+  ApplyConfigFile(*command, path);
+  EXPECT_EQ(rate, 120.0);
+  EXPECT_EQ(listen, "9.9.9.9:1");
+  std::ofstream(path) << "colour = red\n";
+  EXPECT_THROW(ApplyConfigFile(*command, path), UsageError);
+  std::ofstream(path) << "rate = fast\n";
+  EXPECT_THROW(ApplyConfigFile(*command, path), UsageError);
+  std::remove(path.c_str());
+}
+
+TEST(ConfigFile, TheShippedExampleNamesOnlyServeOptions) {
+  CLI::App app;
+  AddServeCommand(app);
+  CLI::App* serve = app.get_subcommand("serve");
+  const std::vector<ConfigEntry> entries = ReadConfigFile(MOCAP_HUB_CONF_EXAMPLE);
+  EXPECT_GE(entries.size(), 5u);
+  for (const ConfigEntry& e : entries) EXPECT_NE(serve->get_option_no_throw("--" + e.key), nullptr) << e.key;
+}
+
+}  // namespace
+}  // namespace mocap
