@@ -58,8 +58,11 @@ TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
   EXPECT_EQ(listen, "9.9.9.9:1");
   std::ofstream(path) << "colour = red\n";
   EXPECT_THROW(ApplyConfigFile(*command, path), UsageError);
+  CLI::App fresh;
+  CLI::App* other = fresh.add_subcommand("serve");
+  other->add_option("--rate", rate);
   std::ofstream(path) << "rate = fast\n";
-  EXPECT_THROW(ApplyConfigFile(*command, path), UsageError);
+  EXPECT_THROW(ApplyConfigFile(*other, path), UsageError);
   std::remove(path.c_str());
 }
 
