@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Simulated capture session as real processes: renders (or reuses) camera frames, starts
-# `mocap-hub record` and one `mocap-node` per camera replaying its frames with a simulated trigger
-# on a shared epoch (each node in its own network namespace when possible), stops them, fills
-# gaps with `reconstruct` and evaluates both TRCs against the truth, printing accuracy and latency.
+# Simulated capture session as real processes, driven as an operator drives an installation:
+# renders (or reuses) camera frames, starts the live hub (`mocap-hub serve`) and one `mocap-node`
+# per camera replaying its frames with a simulated trigger on a shared epoch (each node in its
+# own network namespace when possible), prints the node table, captures the session with
+# `capture start`/`capture stop`, fills gaps with `reconstruct` and evaluates both the live result
+# (every point serve published, as published) and the final TRC against the truth.
 set -euo pipefail
 
 usage() {
@@ -104,26 +106,27 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 1' INT TERM
 
-# The hub picks a free port and reports it.
+# The live hub picks free ports (UDP for the nodes, HTTP for the CLI) and reports them.
 session="$out/session"
 rm -rf "$session"
 # Frame 0 a few seconds ahead, so every process is up before the first trigger.
 epoch=$(( $(date +%s%N) + 3000000000 ))
-: > "$out/record.log"
-# Nodes stop at the end of their recording; the hub stops after all frame sets or 3 s of silence.
-"$hub" record --listen 0.0.0.0:0 --calibration "$frames_dir/calibration.json" -o "$session" \
-    --rate "$rate" --epoch-ns "$epoch" --frames "$frames" --idle-timeout 3 \
-    > "$out/record.out" 2> "$out/record.log" &
+: > "$out/serve.log"
+"$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
+    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" > /dev/null 2> "$out/serve.log" &
 hub_pid=$!
 pids+=("$hub_pid")
-port=""
+port="" api_port=""
 for _ in $(seq 100); do
-    port=$(sed -n 's/.*(port \([0-9]*\)).*/\1/p' "$out/record.log" | head -1)
-    [ -n "$port" ] && break
-    kill -0 "$hub_pid" 2> /dev/null || { cat "$out/record.log" >&2; die "mocap-hub record failed"; }
+    port=$(sed -n 's/.*UDP port \([0-9]*\) for the nodes.*/\1/p' "$out/serve.log" | head -1)
+    api_port=$(sed -n 's/.*API http:[^ ]*:\([0-9]*\),.*/\1/p' "$out/serve.log" | head -1)
+    [ -n "$port" ] && [ -n "$api_port" ] && break
+    kill -0 "$hub_pid" 2> /dev/null || { cat "$out/serve.log" >&2; die "mocap-hub serve failed"; }
     sleep 0.05
 done
-[ -n "$port" ] || die "mocap-hub record did not report its port"
+[ -n "$port" ] && [ -n "$api_port" ] || die "mocap-hub serve did not report its ports"
+export MOCAP_HUB_API="127.0.0.1:$api_port"
+"$hub" capture start session > /dev/null || die "capture start failed"
 
 prefix=$(( session_tag % 200 + 20 ))
 i=0
@@ -162,6 +165,14 @@ else
 fi
 log "session: ${#ids[@]} cameras x $frames frames at $rate Hz from $frames_dir"
 
+# The operator's view once every node is up.
+for _ in $(seq 200); do
+    running=$("$hub" nodes --json | grep -c '"state": "running"' || true)
+    [ "$running" -ge "${#ids[@]}" ] && break
+    sleep 0.05
+done
+if [ "$json" = 1 ]; then "$hub" nodes >&2; else "$hub" nodes; fi
+
 # Nodes end with their recording; allow the replay's length plus start-up and a margin.
 limit=$(awk -v n="$frames" -v r="$rate" 'BEGIN { printf "%d", n / r + 15 }')
 failed=0
@@ -172,34 +183,39 @@ for p in "${pids[@]:1}"; do
     wait "$p" || failed=1
 done
 [ "$failed" = 0 ] || log "warning: a node exited with an error (see $out/node*.log)"
-while kill -0 "$hub_pid" 2> /dev/null && [ $((SECONDS - start)) -lt $((limit + 5)) ]; do sleep 0.2; done
-kill -INT "$hub_pid" 2> /dev/null || true
-wait "$hub_pid" || { cat "$out/record.log" >&2; die "mocap-hub record failed"; }
+sleep 0.2  # the last frame sets' deadline
+"$hub" capture stop > /dev/null || die "capture stop failed"
+status=$("$hub" status --json)
+kill -TERM "$hub_pid" 2> /dev/null || true
+wait "$hub_pid" || { cat "$out/serve.log" >&2; die "mocap-hub serve failed"; }
 pids=()
-[ -s "$session/markers.trc" ] || die "$session/markers.trc was not written"
+[ -s "$session/live_points.tsv" ] || die "$session/live_points.tsv was not written"
 
 # Gap filling needs hindsight: reconstruct the recorded 2D log again offline.
 # shellcheck disable=SC2086  # reconstruct_args is a list of options
 "$hub" reconstruct "$session" --calibration "$frames_dir/calibration.json" -o "$session/filled.trc" $reconstruct_args \
     > "$out/reconstruct.log" 2>&1 \
     || { cat "$out/reconstruct.log" >&2; die "reconstruct failed"; }
-live=$("$hub" eval --truth "$frames_dir/truth.trc" --result "$session/markers.trc" --visibility "$frames_dir/visibility.tsv" --json)
+live=$("$hub" eval --truth "$frames_dir/truth.trc" --result "$session/live_points.tsv" --visibility "$frames_dir/visibility.tsv" --json)
 filled=$("$hub" eval --truth "$frames_dir/truth.trc" --result "$session/filled.trc" --visibility "$frames_dir/visibility.tsv" --json)
-latency=$(sed -n 's/.*latency \(.*\)$/\1/p' "$out/record.out")
-sets=$(sed -n 's/^[^:]*: \([0-9]*\) frame sets, \([0-9]*\) incomplete.*/\1 \2/p' "$out/record.out")
+sets=$(python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); print(d["frame_sets"])' "$session/session.json")
+latency=$(python3 -c '
+import json, sys
+s = json.loads(sys.argv[1])
+n, h = s["node_latency_ms"], s["hub_latency_ms"]
+print(json.dumps({"trigger_to_send_p50": n["p50"], "trigger_to_send_p99": n["p99"],
+                  "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"]}))' "$status")
 
 if [ "$json" = 1 ]; then
-    printf '{"trc": "%s", "live_trc": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \
-        "$session/filled.trc" "$session/markers.trc" "${#ids[@]}" "$frames" "$rate" \
-        "$([ "$netns_ok" = 1 ] && echo netns || echo loopback)" "${sets%% *}" \
-        "$(echo "$latency" | awk '{ printf "{\"trigger_to_send_p50\": %s, \"trigger_to_send_p99\": %s, \"send_to_result_p50\": %s, \"send_to_result_p99\": %s}", $3, $6, $10, $13 }')" \
-        "$live" "$filled"
+    printf '{"trc": "%s", "live_points": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \
+        "$session/filled.trc" "$session/live_points.tsv" "${#ids[@]}" "$frames" "$rate" \
+        "$([ "$netns_ok" = 1 ] && echo netns || echo loopback)" "$sets" "$latency" "$live" "$filled"
 else
-    echo "frame sets: ${sets%% *} (${sets##* } incomplete)"
-    echo "latency: $latency"
+    echo "frame sets: $sets"
+    echo "latency (ms): $latency"
     echo
-    echo "live TRC (recorded while the nodes ran): $session/markers.trc"
-    "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/markers.trc" --visibility "$frames_dir/visibility.tsv"
+    echo "live result (every point serve published, as published): $session/live_points.tsv"
+    "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/live_points.tsv" --visibility "$frames_dir/visibility.tsv"
     echo
     echo "final TRC (reconstructed from the recorded 2D log, gaps filled): $session/filled.trc"
     "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/filled.trc" --visibility "$frames_dir/visibility.tsv"

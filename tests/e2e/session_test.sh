@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ctest e2e: a small simulated session through real processes (sim render -> one mocap-node per
-# camera -> mocap-hub record over UDP -> reconstruct -> eval) must meet the accuracy targets.
+# camera -> mocap-hub serve over UDP, capture start/stop -> reconstruct -> eval) must meet the
+# accuracy targets, the live result included.
 # usage: session_test.sh BIN_DIR WORK_DIR
 set -euo pipefail
 bin=${1:?usage: session_test.sh BIN_DIR WORK_DIR}
@@ -14,7 +15,7 @@ mkdir -p "$work"
     --json > "$work/result.json"
 cat "$work/result.json"
 
-# The final TRC (gap-filled) must meet the project's targets; the live one must be close.
+# The final TRC (gap-filled) and the live result itself must meet the project's targets.
 python3 - "$work/result.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
@@ -28,12 +29,13 @@ need("final rmse_mm", f["rmse_mm"], 1.5)
 need("final ghosts_per_frame", f["ghosts_per_frame"], 0.02)
 need("final missing_per_frame", f["missing_per_frame"], 0.01)
 need("live rmse_mm", l["rmse_mm"], 1.5)
-need("live ghosts_per_frame", l["ghosts_per_frame"], 0.1)
+need("live ghosts_per_frame", l["ghosts_per_frame"], 0.02)
+need("live missing_per_frame", l["missing_per_frame"], 0.01)
 need("frames not assembled", d["frames"] - d["frame_sets"], 0)
 need("final fragmentation - 1", f["fragmentation"] - 1.0, 0.25)
 lat = d["latency_ms"]
 if not (0 < lat["trigger_to_send_p50"] <= lat["trigger_to_send_p99"] and
-        0 < lat["send_to_result_p50"] <= lat["send_to_result_p99"]):
+        0 < lat["hub_p50"] <= lat["hub_p99"] <= lat["hub_max"]):
     failures.append(f"latency figures missing or inconsistent: {lat}")
 for failure in failures:
     print("session_test: FAILED: " + failure, file=sys.stderr)

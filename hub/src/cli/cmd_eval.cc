@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "eval/marker_accuracy.h"
+#include "io/live_points.h"
 #include "io/trc.h"
 #include "io/visibility.h"
 
@@ -28,7 +29,9 @@ struct EvalArgs {
 void RunEval(const EvalArgs& args) {
   CheckOptions(args.options);
   const MarkerTrajectories truth = ReadTrc(args.truth);
-  const MarkerTrajectories result = ReadTrc(args.result);
+  // A capture's live_points.tsv judges what serve published live, frame by frame.
+  const bool live = std::filesystem::path(args.result).extension() == ".tsv";
+  const MarkerTrajectories result = live ? ReadLivePoints(args.result) : ReadTrc(args.result);
   std::string visibility_path = args.visibility;
   if (visibility_path.empty() && !args.session.empty()) {
     visibility_path = (std::filesystem::path(args.session) / "visibility.tsv").string();
@@ -58,7 +61,7 @@ void AddEvalCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("eval", "Accuracy of reconstructed markers against the truth");
   auto args = std::make_shared<EvalArgs>();
   command->add_option("--truth", args->truth, "Ground-truth TRC (e.g. SESSION/truth.trc)")->required();
-  command->add_option("--result", args->result, "Reconstructed TRC")->required();
+  command->add_option("--result", args->result, "Reconstructed TRC, or a capture's live_points.tsv")->required();
   CLI::Option* session = command->add_option(
       "--session", args->session, "Simulated session: count as missing only markers >= 2 cameras saw");
   command->add_option("--visibility", args->visibility, "visibility.tsv to use instead of --session's")

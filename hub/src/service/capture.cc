@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "io/live_points.h"
 #include "service/api_error.h"
 #include "util/log.h"
 
@@ -78,6 +79,9 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   } catch (const std::exception& e) {
     throw ApiError(500, e.what());
   }
+  live_ = std::ofstream(path / "live_points.tsv");
+  if (!live_) throw ApiError(500, (path / "live_points.tsv").string() + ": cannot create");
+  live_ << LivePointsHeader(base_.rate_hz);
   writer_ = std::move(writer);
   name_ = name;
   started_ns_ = now_ns;
@@ -97,6 +101,7 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;
   nlohmann::json summary = Current(now_ns);
   summary["state"] = "complete";
+  live_.close();
   try {
     writer_->Finish();
   } catch (const std::exception& e) {
@@ -110,7 +115,18 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
 void Captures::MaybeFlush(uint64_t now_ns) {
   if (!writer_ || now_ns < last_flush_ns_ + kFlushEveryNs) return;
   writer_->Flush();
+  live_.flush();
   last_flush_ns_ = now_ns;
+}
+
+void Captures::AddPublished(const LiveFrame& frame) {
+  ++frame_sets_;
+  for (const LivePoint& p : frame.points) {
+    const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
+                                         : static_cast<long long>(p.marker);
+    live_ << LivePointLine(frame.frame_number, p.position.x(), p.position.y(), p.position.z(), id, p.provisional(),
+                           p.views, p.rms_px);
+  }
 }
 
 nlohmann::json Captures::Current(uint64_t now_ns) const {

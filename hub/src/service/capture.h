@@ -1,12 +1,14 @@
 // Captures on command: named sessions under the sessions directory, in the format `record`
 // writes (raw.mlog with every datagram as received, session.json, the calibration beside them),
-// flushed at least every 50 ms so a killed service loses at most that much. session.json says
+// flushed at least every 50 ms so a killed service loses at most that much; beside them
+// live_points.tsv (io/live_points.h), every point published while capturing, as published. session.json says
 // "capture_state": "capturing" while one runs and "complete" when it was stopped; a session a
 // killed service left "capturing" is marked "interrupted" at the next start (it stays readable:
 // `reconstruct` reads it up to its last flushed record).
 #pragma once
 
 #include <cstdint>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +17,7 @@
 
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
+#include "service/live_reconstruction.h"
 
 namespace mocap::service {
 
@@ -36,8 +39,8 @@ class Captures {
   SessionWriter* writer() { return writer_.get(); }
   // Flushes the raw log when 50 ms passed since the last flush.
   void MaybeFlush(uint64_t now_ns);
-  // Counts a frame set published while capturing.
-  void CountFrameSet() { ++frame_sets_; }
+  // A frame published while capturing: counted and its points kept.
+  void AddPublished(const LiveFrame& frame);
 
   bool running() const { return writer_ != nullptr; }
   nlohmann::json Current(uint64_t now_ns) const;  // null when none
@@ -48,6 +51,7 @@ class Captures {
   std::string calibration_file_;
   SessionInfo base_;
   std::unique_ptr<SessionWriter> writer_;
+  std::ofstream live_;
   std::string name_;
   uint64_t started_ns_ = 0;
   uint64_t last_flush_ns_ = 0;

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/live_points.h"
 #include "service/api_error.h"
 
 namespace mocap::service {
@@ -56,7 +57,12 @@ TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
   ASSERT_NE(captures.writer(), nullptr);
   const uint8_t datagram[] = {1, 2, 3};
   captures.writer()->AppendDatagram(datagram, sizeof(datagram), 5);
-  captures.CountFrameSet();
+  LiveFrame frame;
+  frame.frame_number = 7;
+  frame.points.resize(2);
+  frame.points[0].marker = 3;
+  frame.points[1].provisional_track = 12;
+  captures.AddPublished(frame);
   EXPECT_EQ(StatusOf([&] { captures.Start("take2", stats, 2); }), 409);
   stats.nodes[1].frames = 25;
   stats.nodes[1].dropped_frames = 2;
@@ -70,6 +76,9 @@ TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
   EXPECT_EQ(info.dropped_camera_frames, 2u);
   EXPECT_EQ(info.source, "serve");
   EXPECT_TRUE(fs::exists(dir_ / "sessions" / "take1" / "calibration.json"));
+  const MarkerTrajectories live = ReadLivePoints((dir_ / "sessions" / "take1" / "live_points.tsv").string());
+  EXPECT_EQ(live.frame_numbers, std::vector<uint64_t>{7});
+  EXPECT_EQ(live.names, (std::vector<std::string>{"M004", "P1"}));
   EXPECT_EQ(StatusOf([&] { captures.Stop(stats, 4); }), 409);
   EXPECT_EQ(StatusOf([&] { captures.Start("take1", stats, 5); }), 409);  // exists
   EXPECT_EQ(StatusOf([&] { captures.Start("../escape", stats, 5); }), 400);

@@ -209,7 +209,10 @@ void HubService::Publish(const FrameSet& set) {
   for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
   if (frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
     hub_latency_ms_.Add(static_cast<double>(frame.publish_ns - frame.last_receive_ns) * 1e-6);
-  if (captures_.running()) captures_.CountFrameSet();
+  for (const CameraFrame& camera : set.cameras)
+    if (camera.trigger_time_ns && camera.send_time_ns >= camera.trigger_time_ns)
+      trigger_to_send_ms_.Add(static_cast<double>(camera.send_time_ns - camera.trigger_time_ns) * 1e-6);
+  if (captures_.running()) captures_.AddPublished(frame);
   std::lock_guard<std::mutex> lock(subscribers_mutex_);
   for (auto& [id, subscriber] : subscribers_) subscriber(frame);
 }
@@ -453,6 +456,11 @@ nlohmann::json HubService::Status() {
           {"max", hub_latency_ms_.max()},
           {"frame_sets", hub_latency_ms_.count()},
           {"definition", "last datagram of a frame set received (kernel time) -> its 3D result published"}}},
+        {"node_latency_ms",
+         {{"p50", trigger_to_send_ms_.Percentile(50)},
+          {"p99", trigger_to_send_ms_.Percentile(99)},
+          {"max", trigger_to_send_ms_.max()},
+          {"definition", "trigger (mid-exposure) -> the node sent the frame's datagrams, node clocks"}}},
         {"capture", captures_.Current(now)},
         {"masks", masks_.size()},
         {"requests_pending", controls_.pending()},
