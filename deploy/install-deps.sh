@@ -18,6 +18,8 @@ HOST_PACKAGES=(
     libcmocka-dev libgtest-dev libgmock-dev
     # hub libraries
     libeigen3-dev libceres-dev libopencv-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+    # the live hub's HTTP + WebSocket API
+    libcivetweb-dev
     # node hardware backends
     libgpiod-dev libcamera-dev libsystemd-dev
     # fuzzing and sanitizers
@@ -31,6 +33,8 @@ HOST_PACKAGES=(
     time zlib1g-dev
     # network namespaces, veth and tc for the node fault tests and the simulated rig
     iproute2
+    # systemd-analyze checks the units (label deploy); python3 (above) runs the serve test
+    systemd
     # build cache: a fresh clone rebuilds from it in minutes
     ccache
 )

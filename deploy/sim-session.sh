@@ -19,6 +19,7 @@ usage: deploy/sim-session.sh --motion M.trc | --frames-dir DIR   [options]
   --render-args "..."  extra `sim render` options (default "--occlusion 0.02 --noise 1.5")
   --reconstruct-args "..."  extra `reconstruct` options for the final TRC (default
                        "--max-ray-distance-mm 3": rendered centroids are precise to ~0.1 px)
+  --serve-args "..."   extra `serve` options for the live result (default the same gate)
   --threshold T        node detection threshold (default 32: background 12, noise sigma 1.5)
   --network MODE       netns: one network namespace + veth per node (default when root and
                        `ip netns` works); loopback: every node on 127.0.0.1; auto (default)
@@ -31,6 +32,7 @@ die() { echo "sim-session: error: $*" >&2; exit 1; }
 
 motion="" frames_dir="" cameras=8 out=sim-session bin=build/bin threshold=32 network=auto json=0
 reconstruct_args="--max-ray-distance-mm 3"
+serve_args="--max-ray-distance-mm 3"
 render_args="--occlusion 0.02 --noise 1.5"
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -41,6 +43,7 @@ while [ $# -gt 0 ]; do
         --bin) bin=${2:?}; shift 2 ;;
         --render-args) render_args=${2?}; shift 2 ;;
         --reconstruct-args) reconstruct_args=${2?}; shift 2 ;;
+        --serve-args) serve_args=${2?}; shift 2 ;;
         --threshold) threshold=${2:?}; shift 2 ;;
         --network) network=${2:?}; shift 2 ;;
         --json) json=1; shift ;;
@@ -112,8 +115,9 @@ rm -rf "$session"
 # Frame 0 a few seconds ahead, so every process is up before the first trigger.
 epoch=$(( $(date +%s%N) + 3000000000 ))
 : > "$out/serve.log"
+# shellcheck disable=SC2086  # serve_args is a list of options
 "$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
-    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" > /dev/null 2> "$out/serve.log" &
+    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" $serve_args > /dev/null 2> "$out/serve.log" &
 hub_pid=$!
 pids+=("$hub_pid")
 port="" api_port=""

@@ -105,6 +105,9 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
+  command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
+                      "Epipolar gate of live reconstruction (as reconstruct's)")
+      ->capture_default_str();
   command->callback([args, config, command] {
     if (!config->empty()) ApplyConfigFile(*command, *config);
     RunServe(*args);

@@ -57,6 +57,7 @@ struct ServeOptions {
   double node_lost_after_s = 3.0;
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
   int auto_mask_max_frames = 1000;
+  ReconstructorOptions recon;             // as `reconstruct` takes them
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
