@@ -20,6 +20,8 @@ usage: deploy/sim-session.sh --motion M.trc | --frames-dir DIR   [options]
   --reconstruct-args "..."  extra `reconstruct` options for the final TRC (default
                        "--max-ray-distance-mm 3": rendered centroids are precise to ~0.1 px)
   --serve-args "..."   extra `serve` options for the live result (default the same gate)
+  --hub-cpus LIST      run serve on these CPUs only (taskset list, e.g. 0), so that benchmarks
+  --node-cpus LIST     measure the hub apart from the node processes sharing its machine
   --threshold T        node detection threshold (default 32: background 12, noise sigma 1.5)
   --network MODE       netns: one network namespace + veth per node (default when root and
                        `ip netns` works); loopback: every node on 127.0.0.1; auto (default)
@@ -33,6 +35,7 @@ die() { echo "sim-session: error: $*" >&2; exit 1; }
 motion="" frames_dir="" cameras=8 out=sim-session bin=build/bin threshold=32 network=auto json=0
 reconstruct_args="--max-ray-distance-mm 3"
 serve_args="--max-ray-distance-mm 3"
+hub_cpus="" node_cpus=""
 render_args="--occlusion 0.02 --noise 1.5"
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -44,6 +47,8 @@ while [ $# -gt 0 ]; do
         --render-args) render_args=${2?}; shift 2 ;;
         --reconstruct-args) reconstruct_args=${2?}; shift 2 ;;
         --serve-args) serve_args=${2?}; shift 2 ;;
+        --hub-cpus) hub_cpus=${2:?}; shift 2 ;;
+        --node-cpus) node_cpus=${2:?}; shift 2 ;;
         --threshold) threshold=${2:?}; shift 2 ;;
         --network) network=${2:?}; shift 2 ;;
         --json) json=1; shift ;;
@@ -116,7 +121,10 @@ rm -rf "$session"
 epoch=$(( $(date +%s%N) + 3000000000 ))
 : > "$out/serve.log"
 # shellcheck disable=SC2086  # serve_args is a list of options
-"$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
+hub_pin=() node_pin=()
+[ -z "$hub_cpus" ] || hub_pin=(taskset -c "$hub_cpus")
+[ -z "$node_cpus" ] || node_pin=(taskset -c "$node_cpus")
+"${hub_pin[@]}" "$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
     --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" $serve_args > /dev/null 2> "$out/serve.log" &
 hub_pid=$!
 pids+=("$hub_pid")
@@ -157,7 +165,7 @@ for id in "${ids[@]}"; do
         hub_addr="10.$prefix.$i.1"
         run=(ip netns exec "$ns")
     fi
-    "${run[@]}" "$node" --source "replay:$frames_dir/cam$id" --sync "sim:$rate" --epoch-ns "$epoch" \
+    "${run[@]}" "${node_pin[@]}" "$node" --source "replay:$frames_dir/cam$id" --sync "sim:$rate" --epoch-ns "$epoch" \
         --hub "$hub_addr:$port" --id "$id" --threshold "$threshold" --log-level warning \
         > "$out/node$id.log" 2>&1 &
     pids+=("$!")

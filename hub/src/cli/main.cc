@@ -63,7 +63,7 @@ CLI::App& CommandGroup(CLI::App& app, const std::string& name) {
 }  // namespace mocap
 
 int main(int argc, char** argv) {
-  CLI::App app{"mocap-hub: record, reconstruct, simulate and evaluate optical marker motion capture"};
+  CLI::App app{"mocap-hub: serve, record, reconstruct, calibrate, simulate and evaluate optical marker motion capture"};
   app.require_subcommand(1);
   app.fallthrough();  // --log-level is accepted after the command name too
   mocap::log::SetLevel(mocap::log::Level::kInfo);

@@ -207,7 +207,9 @@ void HubService::Publish(const FrameSet& set) {
   ++frame_sets_;
   points_published_ += frame.points.size();
   for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
-  if (frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
+  // The hub's own latency: sets that waited out their deadline for an absent camera measure the
+  // deadline, not the hub, and are counted as incomplete instead.
+  if (set.cameras.size() == rig_.cameras.size() && frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
     hub_latency_ms_.Add(static_cast<double>(frame.publish_ns - frame.last_receive_ns) * 1e-6);
   for (const CameraFrame& camera : set.cameras)
     if (camera.trigger_time_ns && camera.send_time_ns >= camera.trigger_time_ns)
@@ -455,7 +457,8 @@ nlohmann::json HubService::Status() {
           {"p99", hub_latency_ms_.Percentile(99)},
           {"max", hub_latency_ms_.max()},
           {"frame_sets", hub_latency_ms_.count()},
-          {"definition", "last datagram of a frame set received (kernel time) -> its 3D result published"}}},
+          {"definition",
+           "complete frame sets: last datagram received (kernel time) -> 3D result published"}}},
         {"node_latency_ms",
          {{"p50", trigger_to_send_ms_.Percentile(50)},
           {"p99", trigger_to_send_ms_.Percentile(99)},

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Hub-internal latency of the live hub at scale: for each camera count, a synthetic subject of
+# MARKERS markers at RATE Hz is rendered and replayed through real mocap-node processes (one per
+# camera, each in its own network namespace when root) into `mocap-hub serve`
+# (deploy/sim-session.sh), and serve's own figures are printed: last datagram of a frame set
+# received (kernel time) -> its 3D result published, p50 / p99 / max, beside the frame sets
+# assembled and the live result's accuracy.
+# The hub runs on CPU 0 and the nodes on the others (taskset), so the figure is the hub's, not
+# the scheduler's: on a small machine the nodes' detection would otherwise starve it. Images are
+# 1280x800 by default (--width/--height).
+# usage: tools/serve-bench/serve-bench.sh [--cameras "8 16 32"] [--markers 60] [--rate 240]
+#                                         [--seconds 4] [--width 1280 --height 800]
+#                                         [--bin build/bin] [--out serve-bench]
+set -euo pipefail
+cameras="8 16 32" markers=60 rate=240 seconds=4 bin=build/bin out=serve-bench width=1280 height=800
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --cameras) cameras=${2:?}; shift 2 ;;
+        --markers) markers=${2:?}; shift 2 ;;
+        --rate) rate=${2:?}; shift 2 ;;
+        --seconds) seconds=${2:?}; shift 2 ;;
+        --width) width=${2:?}; shift 2 ;;
+        --height) height=${2:?}; shift 2 ;;
+        --bin) bin=${2:?}; shift 2 ;;
+        --out) out=${2:?}; shift 2 ;;
+        -h|--help) sed -n 2,14p "$0"; exit 0 ;;
+        *) echo "serve-bench: unknown argument '$1'" >&2; exit 1 ;;
+    esac
+done
+here=$(cd "$(dirname "$0")/../.." && pwd)
+mkdir -p "$out"
+frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
+"$bin/mocap-hub" sim motion -o "$out/motion.trc" --markers "$markers" --frames "$frames" --rate "$rate" --seed 7 \
+    > /dev/null
+printf "%7s %7s %6s %10s %12s %12s %12s %14s %14s\n" cameras markers rate "sets" "hub p50 ms" "hub p99 ms" \
+    "hub max ms" "live missing" "live ghosts"
+cpus=$(nproc)
+node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
+for n in $cameras; do
+    mkdir -p "$out/c$n"
+    "$bin/mocap-hub" sim rig --motion "$out/motion.trc" --cameras "$n" --width "$width" --height "$height" \
+        -o "$out/c$n/rig.json" > /dev/null
+    rm -rf "$out/c$n/frames"
+    "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/c$n/rig.json" -o "$out/c$n/frames" \
+        --occlusion 0.02 --noise 1.5 > /dev/null
+    "$here/deploy/sim-session.sh" --frames-dir "$out/c$n/frames" --out "$out/c$n" --bin "$bin" \
+        --hub-cpus 0 --node-cpus "$node_cpus" --json > "$out/c$n.json" 2> "$out/c$n.log"
+    python3 - "$out/c$n.json" "$n" "$markers" "$rate" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+lat, live = d["latency_ms"], d["live"]
+print("%7s %7s %6s %4d/%-5d %12.3f %12.3f %12.3f %14.4f %14.4f" % (
+    sys.argv[2], sys.argv[3], sys.argv[4], d["frame_sets"], d["frames"], lat["hub_p50"], lat["hub_p99"],
+    lat["hub_max"], live["missing_per_frame"], live["ghosts_per_frame"]))
+PY
+done
