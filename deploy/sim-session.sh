@@ -214,9 +214,11 @@ sets=$(python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); print(d["
 latency=$(python3 -c '
 import json, sys
 s = json.loads(sys.argv[1])
-n, h = s["node_latency_ms"], s["hub_latency_ms"]
+n, h, p = s["node_latency_ms"], s["hub_latency_ms"], s["processing_ms"]
 print(json.dumps({"trigger_to_send_p50": n["p50"], "trigger_to_send_p99": n["p99"],
-                  "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"]}))' "$status")
+                  "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"],
+                  "processing_p50": p["p50"], "processing_p99": p["p99"], "processing_max": p["max"],
+                  "incomplete_frame_sets": s["incomplete_frame_sets"]}))' "$status")
 
 if [ "$json" = 1 ]; then
     printf '{"trc": "%s", "live_points": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \

@@ -3,8 +3,9 @@
 # MARKERS markers at RATE Hz is rendered and replayed through real mocap-node processes (one per
 # camera, each in its own network namespace when root) into `mocap-hub serve`
 # (deploy/sim-session.sh), and serve's own figures are printed: last datagram of a frame set
-# received (kernel time) -> its 3D result published, p50 / p99 / max, beside the frame sets
-# assembled and the live result's accuracy.
+# received (kernel time) -> its 3D result published (complete sets), p50 / p99 / max, and the
+# reconstruction + tracking time alone, beside the frame sets assembled (incomplete: a camera
+# missed the deadline) and the live result's accuracy. Milliseconds.
 # The hub runs on CPU 0 and the nodes on the others (taskset), so the figure is the hub's, not
 # the scheduler's: on a small machine the nodes' detection would otherwise starve it. Images are
 # 1280x800 by default (--width/--height).
@@ -32,8 +33,8 @@ mkdir -p "$out"
 frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
 "$bin/mocap-hub" sim motion -o "$out/motion.trc" --markers "$markers" --frames "$frames" --rate "$rate" --seed 7 \
     > /dev/null
-printf "%7s %7s %6s %10s %12s %12s %12s %14s %14s\n" cameras markers rate "sets" "hub p50 ms" "hub p99 ms" \
-    "hub max ms" "live missing" "live ghosts"
+printf "%7s %7s %6s %10s %11s %11s %11s %11s %11s %11s %13s %12s\n" cameras markers rate "sets" "incomplete" \
+    "hub p50" "hub p99" "hub max" "proc p50" "proc p99" "live missing" "live ghosts"
 cpus=$(nproc)
 node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 for n in $cameras; do
@@ -49,8 +50,9 @@ for n in $cameras; do
 import json, sys
 d = json.load(open(sys.argv[1]))
 lat, live = d["latency_ms"], d["live"]
-print("%7s %7s %6s %4d/%-5d %12.3f %12.3f %12.3f %14.4f %14.4f" % (
-    sys.argv[2], sys.argv[3], sys.argv[4], d["frame_sets"], d["frames"], lat["hub_p50"], lat["hub_p99"],
-    lat["hub_max"], live["missing_per_frame"], live["ghosts_per_frame"]))
+print("%7s %7s %6s %4d/%-5d %11d %11.3f %11.3f %11.3f %11.3f %11.3f %13.4f %12.4f" % (
+    sys.argv[2], sys.argv[3], sys.argv[4], d["frame_sets"], d["frames"], lat["incomplete_frame_sets"],
+    lat["hub_p50"], lat["hub_p99"], lat["hub_max"], lat["processing_p50"], lat["processing_p99"],
+    live["missing_per_frame"], live["ghosts_per_frame"]))
 PY
 done

@@ -203,7 +203,9 @@ void HubService::HandleDatagram(const Datagram& d) {
 
 void HubService::Publish(const FrameSet& set) {
   if (mask_job_) CollectMaskFrames(set);
+  const uint64_t start_ns = RealtimeNowNs();
   const LiveFrame& frame = live_.Process(set, RealtimeNowNs);
+  processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
   ++frame_sets_;
   points_published_ += frame.points.size();
   for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
@@ -459,6 +461,11 @@ nlohmann::json HubService::Status() {
           {"frame_sets", hub_latency_ms_.count()},
           {"definition",
            "complete frame sets: last datagram received (kernel time) -> 3D result published"}}},
+        {"processing_ms",
+         {{"p50", processing_ms_.Percentile(50)},
+          {"p99", processing_ms_.Percentile(99)},
+          {"max", processing_ms_.max()},
+          {"definition", "reconstruction + tracking of one frame set"}}},
         {"node_latency_ms",
          {{"p50", trigger_to_send_ms_.Percentile(50)},
           {"p99", trigger_to_send_ms_.Percentile(99)},

@@ -145,6 +145,7 @@ class HubService : public ServiceApi {
   uint64_t provisional_published_ = 0;
   LatencySample hub_latency_ms_;  // last datagram of a set received -> its result published
   LatencySample trigger_to_send_ms_;  // per camera frame, on the nodes' clocks
+  LatencySample processing_ms_;       // reconstruction + tracking of one frame set
 
   // Loop-owned waiters.
   std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
