@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "wire/limits.h"
 #include "wire/packet.h"
 
 namespace mocap {
@@ -32,13 +31,7 @@ void Recorder::Bind() {
 void Recorder::Announce(uint64_t now_ns) {
   if (!announce_to_ || now_ns < next_announce_ns_) return;
   next_announce_ns_ = now_ns + 1'000'000'000ull;
-  v1::Packet p;
-  p.set_version(wire::kProtocolVersion);
-  auto* a = p.mutable_hub_announce();
-  a->set_port(port());
-  a->set_epoch_ns(options_.epoch_ns);
-  a->set_rate_millihz(static_cast<uint32_t>(options_.rate_hz * 1000.0 + 0.5));
-  socket_.SendTo(*announce_to_, wire::Encode(p));
+  socket_.SendTo(*announce_to_, wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz));
 }
 
 void Recorder::Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set) {

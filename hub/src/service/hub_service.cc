@@ -9,7 +9,6 @@
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
-#include "wire/limits.h"
 #include "wire/packet.h"
 
 namespace mocap::service {
@@ -250,13 +249,7 @@ void HubService::Tick(uint64_t now) {
 void HubService::Announce(uint64_t now) {
   if (!announce_to_ || now < next_announce_ns_) return;
   next_announce_ns_ = now + kSecondNs;
-  v1::Packet p;
-  p.set_version(wire::kProtocolVersion);
-  auto* a = p.mutable_hub_announce();
-  a->set_port(port());
-  a->set_epoch_ns(options_.epoch_ns);
-  a->set_rate_millihz(static_cast<uint32_t>(options_.rate_hz * 1000.0 + 0.5));
-  socket_.SendTo(*announce_to_, wire::Encode(p));
+  socket_.SendTo(*announce_to_, wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz));
 }
 
 void HubService::OnRegistryEvents(const std::vector<RegistryEvent>& events) {

@@ -164,6 +164,16 @@ std::vector<uint8_t> Encode(const v1::Packet& packet) {
   return bytes;
 }
 
+std::vector<uint8_t> EncodeHubAnnounce(uint16_t port, uint64_t epoch_ns, double rate_hz) {
+  v1::Packet p;
+  p.set_version(kProtocolVersion);
+  v1::HubAnnounce* a = p.mutable_hub_announce();
+  a->set_port(port);
+  a->set_epoch_ns(epoch_ns);
+  a->set_rate_millihz(static_cast<uint32_t>(rate_hz * 1000.0 + 0.5));
+  return Encode(p);
+}
+
 uint32_t ToSubpixel(double px) {
   if (!(px > 0.0)) return 0;
   const double q = std::round(px * kSubpixelScale);

@@ -26,6 +26,9 @@ std::string Validate(const v1::Packet& packet);
 // Serializes a valid packet (deterministic field order) and checks the 1400-byte limit.
 std::vector<uint8_t> Encode(const v1::Packet& packet);
 
+// The hub's HubAnnounce datagram: where nodes send (port), frame 0's time and the trigger rate.
+std::vector<uint8_t> EncodeHubAnnounce(uint16_t port, uint64_t epoch_ns, double rate_hz);
+
 uint32_t ToSubpixel(double px);
 double FromSubpixel(uint32_t q);
 
