@@ -131,10 +131,15 @@ void HttpServer::OnWebSocketReady(mg_connection* connection) {
     std::lock_guard<std::mutex> lock(clients_mutex_);
     clients_.insert(connection);
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (subscription_) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (subscribed_) return;
+    subscribed_ = true;
+  }
+  // Subscribed without holding mutex_: the loop calls subscribers under its own lock and the
+  // callback takes mutex_, so holding mutex_ here would order the two locks both ways.
   // The loop thread only serialises into a short queue; the broadcaster writes.
-  subscription_ = service_.Subscribe([this](const LiveFrame& frame) {
+  const int id = service_.Subscribe([this](const LiveFrame& frame) {
     std::string message = FrameMessage(frame);
     {
       std::lock_guard<std::mutex> inner(mutex_);
@@ -143,6 +148,8 @@ void HttpServer::OnWebSocketReady(mg_connection* connection) {
     }
     wake_.notify_one();
   });
+  std::lock_guard<std::mutex> lock(mutex_);
+  subscription_ = id;
 }
 
 void HttpServer::OnWebSocketClose(const mg_connection* connection) {

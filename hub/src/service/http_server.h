@@ -54,6 +54,7 @@ class HttpServer {
   std::deque<std::string> outbox_;  // serialised frames waiting for the broadcaster
   std::mutex clients_mutex_;  // clients_, held while writing to them
   std::set<mg_connection*> clients_;
+  bool subscribed_ = false;
   int subscription_ = 0;
   bool stopping_ = false;
   std::thread broadcaster_;

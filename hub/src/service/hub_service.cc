@@ -147,7 +147,10 @@ void HubService::Bind() {
 // ---- the loop ----
 
 void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uint64_t)>& on_turn) {
-  running_ = true;
+  {
+    std::lock_guard<std::mutex> lock(tasks_mutex_);
+    running_ = true;
+  }
   Datagram d;
   while (!stop.load()) {
     RunTasks();
@@ -160,7 +163,11 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     if (on_turn) on_turn(now);
   }
   for (const FrameSet& set : ingest_.Flush()) Publish(set);
-  running_ = false;
+  {
+    // Under the queue's lock: no request slips in after the last turn below.
+    std::lock_guard<std::mutex> lock(tasks_mutex_);
+    running_ = false;
+  }
   RunTasks();  // requests queued meanwhile are answered, later ones refused
   if (captures_.running()) {
     const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
@@ -428,9 +435,6 @@ nlohmann::json HubService::Status() {
     size_t online = 0;
     const std::vector<NodeEntry> nodes = registry_.Nodes();
     for (const NodeEntry& n : nodes) online += !n.lost;
-    const IngestStats& stats = ingest_.stats();
-    uint64_t unknown = 0;
-    for (const auto& [id, count] : stats.unknown_nodes) unknown += count;
     return nlohmann::json{
         {"uptime_s", static_cast<double>(now - start_ns_) * 1e-9},
         {"udp_port", port()},
@@ -446,7 +450,7 @@ nlohmann::json HubService::Status() {
         {"provisional_points_published", provisional_published_},
         {"markers_confirmed", live_.tracker().NumMarkers()},
         {"malformed_datagrams", registry_.malformed_total()},
-        {"unknown_datagrams", registry_.unknown_total() + unknown},
+        {"unknown_datagrams", registry_.unknown_total()},
         {"hub_latency_ms",
          {{"p50", hub_latency_ms_.Percentile(50)},
           {"p99", hub_latency_ms_.Percentile(99)},
