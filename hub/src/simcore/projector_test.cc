@@ -1,5 +1,5 @@
 // Tests of the fault model: exact projections without faults, and each fault's statistics.
-#include "sim/projector.h"
+#include "simcore/projector.h"
 
 #include <cmath>
 #include <map>
@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "io/marker_trajectories.h"
-#include "sim/ring_rig.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/ring_rig.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 namespace {
