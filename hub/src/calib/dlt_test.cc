@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "calib/test_scene.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {

@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "calib/rigid_fit.h"
-#include "calib/test_scene.h"
+#include "simcore/test_scenes.h"
 #include "calib/wand_calibration.h"
 
 int main(int argc, char** argv) {
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   const double noise = argc > 3 ? std::atof(argv[3]) : 0.15;
   const Rig truth = testing::RingRig(cameras, 7);
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, frames, noise, 8);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, frames, noise, 8);
   WandCalibrationOptions options;
   options.bundle.num_threads = 1;
   const auto start = std::chrono::steady_clock::now();

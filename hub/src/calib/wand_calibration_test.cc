@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "calib/rigid_fit.h"
-#include "calib/test_scene.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {
@@ -45,7 +45,7 @@ Errors CompareToTruth(const Rig& truth, const Rig& result) {
 TEST(WandCalibrationTest, EightCameraRigWithDistortionMeetsAccuracyTargets) {
   const Rig truth = testing::RingRig(8, 11);
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 1500, 0.15, 12);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 1500, 0.15, 12);
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   ASSERT_TRUE(result.AllAccepted());
   ASSERT_EQ(result.rig.cameras.size(), 8u);
@@ -71,7 +71,7 @@ TEST(WandCalibrationTest, ReferenceCameraIsTheMostObservedOne) {
   // Pull camera 4 back and widen it so that it sees the wand more often than any other.
   truth.cameras[3].intrinsics.fx = truth.cameras[3].intrinsics.fy = 600.0;
   const WandGeometry wand = WandGeometry::TwoMarker(400.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 800, 0.1, 22);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 800, 0.1, 22);
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   size_t most = 0;
   uint32_t most_id = 0;
@@ -95,7 +95,7 @@ TEST(WandCalibrationTest, CameraThatHardlySawTheWandIsRefusedWithAdvice) {
   truth.cameras[1] = testing::LookAtCamera(2, truth.cameras[1].CenterInWorld(),
                                            truth.cameras[1].CenterInWorld() + Eigen::Vector3d(10.0, 0.0, 1000.0));
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 800, 0.15, 32);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 800, 0.15, 32);
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   EXPECT_FALSE(result.AllAccepted());
   EXPECT_FALSE(result.cameras[1].accepted);
@@ -114,7 +114,7 @@ TEST(WandCalibrationTest, CameraWithWrongIntrinsicsIsRefusedAsABadSolve) {
   intrinsics.cameras[4].intrinsics.fx *= 1.12;
   intrinsics.cameras[4].intrinsics.fy *= 1.12;
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 1000, 0.15, 36);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 1000, 0.15, 36);
   const WandCalibrationResult result = CalibrateWand(scene.frames, intrinsics, wand, WandCalibrationOptions());
   EXPECT_FALSE(result.cameras[4].accepted);
   EXPECT_NE(result.cameras[4].reason.find("check camera 5's intrinsics"), std::string::npos)
@@ -133,7 +133,7 @@ TEST(WandCalibrationTest, CameraWithWrongIntrinsicsIsRefusedAsABadSolve) {
 TEST(WandCalibrationTest, ThreeMarkerWand) {
   const Rig truth = testing::RingRig(8, 41);
   const WandGeometry wand = WandGeometry::ThreeMarker(600.0, 200.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 800, 0.15, 42);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 800, 0.15, 42);
   const WandCalibrationResult result = CalibrateWand(scene.frames, truth, wand, WandCalibrationOptions());
   ASSERT_TRUE(result.AllAccepted());
   // The off-centre middle marker must orient every frame's wand: none may be lost to a reversed end order.
@@ -153,7 +153,7 @@ TEST(WandCalibrationTest, RefinesPerturbedFocalLengths) {
     camera.intrinsics.cx += 4.0;
   }
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  const testing::WandScene scene = testing::MakeWandScene(truth, wand, 1500, 0.15, 52);
+  const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, 1500, 0.15, 52);
   WandCalibrationOptions options;
   options.bundle.refine_intrinsics = IntrinsicsRefinement::kFocalAndPrincipal;
   const WandCalibrationResult result = CalibrateWand(scene.frames, guess, wand, options);

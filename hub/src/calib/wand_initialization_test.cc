@@ -9,7 +9,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "calib/test_scene.h"
+#include "simcore/test_scenes.h"
 #include "calib/wand_observations.h"
 
 namespace mocap {
@@ -25,7 +25,7 @@ struct Scene {
   std::vector<WandFrame> frames;
 
   explicit Scene(int num_frames) {
-    const testing::WandScene scene = testing::MakeWandScene(truth, wand, num_frames, 0.15, 5);
+    const testing::WandScene scene = testing::MakeWandScene(truth, wand.marker_offsets_mm, num_frames, 0.15, 5);
     WandSelectionStats stats;
     frames = SelectWandFrames(scene.frames, truth, wand, WandSelectionOptions(), &stats);
   }

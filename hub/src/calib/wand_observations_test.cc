@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "calib/test_scene.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {
@@ -15,7 +15,7 @@ namespace {
 TEST(WandObservationsTest, StaticReflectionsAreMaskedAndFlickerDisqualifies) {
   const Rig rig = testing::RingRig(4, 1);
   const WandGeometry wand = WandGeometry::TwoMarker(500.0);
-  testing::WandScene scene = testing::MakeWandScene(rig, wand, 300, 0.1, 2);
+  testing::WandScene scene = testing::MakeWandScene(rig, wand.marker_offsets_mm, 300, 0.1, 2);
   WandSelectionStats clean;
   const size_t clean_frames = SelectWandFrames(scene.frames, rig, wand, WandSelectionOptions(), &clean).size();
   ASSERT_GT(clean_frames, 100u);

@@ -19,7 +19,7 @@
 #include "ingest/session.h"
 #include "io/calibration_json.h"
 #include "recon/reconstructor.h"
-#include "sim/wand.h"
+#include "simcore/wand.h"
 #include "util/json_file.h"
 
 namespace mocap {

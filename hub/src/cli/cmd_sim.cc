@@ -13,7 +13,7 @@
 #include "io/calibration_json.h"
 #include "io/trc.h"
 #include "sim/project_session.h"
-#include "sim/ring_rig.h"
+#include "simcore/ring_rig.h"
 
 namespace mocap {
 namespace {

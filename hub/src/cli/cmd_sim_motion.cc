@@ -6,7 +6,7 @@
 
 #include "cli/commands.h"
 #include "io/trc.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 

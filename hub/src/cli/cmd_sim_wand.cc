@@ -15,7 +15,7 @@
 #include "ingest/session.h"
 #include "io/calibration_json.h"
 #include "sim/project_session.h"
-#include "sim/wand.h"
+#include "simcore/wand.h"
 
 namespace mocap {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "sim/projector.h"
+#include "simcore/projector.h"
 
 namespace mocap {
 

@@ -9,7 +9,7 @@
 
 #include "cli/hub_process_testing.h"
 #include "io/trc.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 namespace {

@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "calib/wand_calibration.h"
-#include "sim/projector.h"
-#include "sim/ring_rig.h"
-#include "sim/wand.h"
+#include "simcore/projector.h"
+#include "simcore/ring_rig.h"
+#include "simcore/wand.h"
 
 namespace mocap {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "recon/testing/synthetic_scene.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {

@@ -5,7 +5,7 @@
 #include "recon/clustering_matcher.h"
 #include "recon/greedy_matcher.h"
 #include "recon/relaxation_matcher.h"
-#include "recon/testing/synthetic_scene.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {

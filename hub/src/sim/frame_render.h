@@ -9,7 +9,7 @@
 
 #include "geometry/camera.h"
 #include "io/marker_trajectories.h"
-#include "sim/projector.h"
+#include "simcore/projector.h"
 #include "sim/spot_render.h"
 
 namespace mocap {

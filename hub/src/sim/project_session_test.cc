@@ -12,8 +12,8 @@
 #include "io/calibration_json.h"
 #include "io/trc.h"
 #include "io/visibility.h"
-#include "sim/ring_rig.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/ring_rig.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 namespace {

@@ -13,7 +13,7 @@
 #include "io/marker_trajectories.h"
 #include "io/trc.h"
 #include "recon/reconstructor.h"
-#include "recon/testing/synthetic_scene.h"
+#include "simcore/test_scenes.h"
 #include "track/gap_filler.h"
 #include "track/tracker.h"
 

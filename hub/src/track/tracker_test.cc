@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "recon/reconstructor.h"
-#include "recon/testing/synthetic_scene.h"
+#include "simcore/test_scenes.h"
 #include "track/gap_filler.h"
 
 namespace mocap {

@@ -10,7 +10,7 @@
 
 #include "geometry/camera.h"
 #include "io/marker_trajectories.h"
-#include "sim/motion_volume.h"
+#include "simcore/motion_volume.h"
 
 namespace mocap {
 

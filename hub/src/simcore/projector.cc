@@ -1,6 +1,6 @@
 // Fault model of the simulator. Occlusion is a two-state Markov chain per (camera, marker) whose
 // stationary probability is --occlusion and mean sojourn --occlusion-frames.
-#include "sim/projector.h"
+#include "simcore/projector.h"
 
 #include "io/marker_trajectories.h"
 
@@ -89,12 +89,17 @@ double FaultyProjector::BlobRadiusPx(const Camera& camera, double depth_mm) cons
 
 std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_t trigger_time_ns,
                                                   const Eigen::Vector3d* points,
-                                                  std::vector<int>* cameras_seeing) {
+                                                  std::vector<int>* cameras_seeing,
+                                                  std::vector<std::vector<int>>* blob_markers) {
   cameras_seeing->assign(num_markers_, 0);
+  if (blob_markers) blob_markers->clear();
   std::vector<CameraFrame> frames;
+  std::vector<int> markers;
   for (size_t i = 0; i < rig_.cameras.size(); ++i) {
     CameraFrame frame;
-    if (!ProjectCamera(i, frame_number, points, cameras_seeing, &frame)) continue;
+    markers.clear();
+    if (!ProjectCamera(i, frame_number, points, cameras_seeing, &frame, &markers)) continue;
+    if (blob_markers) blob_markers->push_back(markers);
     frame.trigger_time_ns = trigger_time_ns;
     // Exposure start to readout on a small global-shutter sensor, then detection on the node.
     frame.capture_time_ns = trigger_time_ns + 150000;
@@ -137,7 +142,8 @@ std::vector<FaultyProjector::MarkerImage> FaultyProjector::ImageMarkers(size_t i
 }
 
 bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
-                                    std::vector<int>* cameras_seeing, CameraFrame* out) {
+                                    std::vector<int>* cameras_seeing, CameraFrame* out,
+                                    std::vector<int>* blob_markers) {
   const Camera& camera = rig_.cameras[index];
   CameraState& state = states_[index];
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -204,6 +210,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
       nearest = std::min(nearest, spot.depth);
     }
     const size_t members = end - begin;
+    blob_markers->push_back(static_cast<int>(spots[grouped[begin].second].marker));
     begin = end;
     Blob blob;
     blob.pixel = clamp_to_image(add_noise(weighted / area));
@@ -228,6 +235,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     blob.peak = 80 + static_cast<uint32_t>(unit(state.rng) * 175.0);
     blob.mean = static_cast<uint32_t>(0.7 * blob.peak);
     frame.blobs.push_back(blob);
+    blob_markers->push_back(-1);
   };
   for (const Eigen::Vector2d& spot : state.static_spots) add_spurious(spot);
   const double flicker_mean = options_.spurious - static_cast<double>(state.static_spots.size());
@@ -239,10 +247,24 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     }
   }
 
-  // Detectors report blobs in scanline order, which carries no marker identity.
-  std::sort(frame.blobs.begin(), frame.blobs.end(), [](const Blob& a, const Blob& b) {
-    return a.pixel.y() != b.pixel.y() ? a.pixel.y() < b.pixel.y() : a.pixel.x() < b.pixel.x();
+  // Detectors report blobs in scanline order, which carries no marker identity (the markers of
+  // the blobs follow their blobs).
+  std::vector<size_t> scanline(frame.blobs.size());
+  std::iota(scanline.begin(), scanline.end(), size_t{0});
+  std::sort(scanline.begin(), scanline.end(), [&](size_t i, size_t j) {
+    const Eigen::Vector2d& a = frame.blobs[i].pixel;
+    const Eigen::Vector2d& b = frame.blobs[j].pixel;
+    if (a.y() != b.y()) return a.y() < b.y();
+    return a.x() != b.x() ? a.x() < b.x() : i < j;
   });
+  std::vector<Blob> blobs(scanline.size());
+  std::vector<int> markers(scanline.size());
+  for (size_t k = 0; k < scanline.size(); ++k) {
+    blobs[k] = frame.blobs[scanline[k]];
+    markers[k] = (*blob_markers)[scanline[k]];
+  }
+  frame.blobs.swap(blobs);
+  blob_markers->swap(markers);
   return true;
 }
 

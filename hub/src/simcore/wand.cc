@@ -1,6 +1,6 @@
 // Wand waving: the centre travels from one random spot of the volume to the next with a smooth
 // velocity; the axis turns at a random, smoothly changing angular velocity (Ornstein-Uhlenbeck).
-#include "sim/wand.h"
+#include "simcore/wand.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // sim wand: the waved volume is where the cameras look, the wand keeps its length, the path
 // stays inside and covers the volume at a hand's speed, seeds replay, the L-frame follows.
-#include "sim/wand.h"
+#include "simcore/wand.h"
 
 #include <cmath>
 #include <set>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/ring_rig.h"
+#include "simcore/ring_rig.h"
 
 namespace mocap {
 namespace {

@@ -1,5 +1,5 @@
 // Motion bounding box.
-#include "sim/motion_volume.h"
+#include "simcore/motion_volume.h"
 
 #include <stdexcept>
 

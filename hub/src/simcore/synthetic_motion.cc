@@ -1,5 +1,5 @@
 // Rest pose on a body-sized cylinder, then a heading turn, a circular walk and limb swings.
-#include "sim/synthetic_motion.h"
+#include "simcore/synthetic_motion.h"
 
 #include <cmath>
 #include <random>

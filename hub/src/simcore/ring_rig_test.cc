@@ -1,6 +1,6 @@
 // Tests of up-axis detection and ring rig placement: every camera sees the whole motion the
 // right way up, placement is seeded and the options are checked.
-#include "sim/ring_rig.h"
+#include "simcore/ring_rig.h"
 
 #include <cmath>
 #include <filesystem>
@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "io/trc.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 namespace {

@@ -1,5 +1,5 @@
 // Ring placement: distance from the field of view so the whole volume fits every camera.
-#include "sim/ring_rig.h"
+#include "simcore/ring_rig.h"
 
 #include <cmath>
 #include <random>
@@ -7,23 +7,12 @@
 
 #include <Eigen/Geometry>
 
+#include "simcore/look_at.h"
+
 namespace mocap {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// cam_from_world rotation of a camera at `center` looking at `target` with world `up` above the
-// image (OpenCV axes: x right, y down, z forward).
-Eigen::Matrix3d LookAt(const Eigen::Vector3d& center, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
-  const Eigen::Vector3d forward = (target - center).normalized();
-  const Eigen::Vector3d right = forward.cross(up).normalized();
-  const Eigen::Vector3d down = forward.cross(right);
-  Eigen::Matrix3d rotation;
-  rotation.row(0) = right.transpose();
-  rotation.row(1) = down.transpose();
-  rotation.row(2) = forward.transpose();
-  return rotation;
-}
 
 }  // namespace
 
@@ -79,8 +68,7 @@ Rig MakeRingRig(const MotionVolume& volume, const RingRigOptions& options) {
     const Eigen::Vector3d position = center + ring_radius * (std::cos(angle) * east + std::sin(angle) * north) +
                                      (elevation + jitter(100.0)) * up;
     const Eigen::Vector3d target = center + Eigen::Vector3d(jitter(50.0), jitter(50.0), jitter(50.0));
-    camera.rotation = LookAt(position, target, up);
-    camera.translation = -camera.rotation * position;
+    AimCamera(position, target, up, &camera);
     rig.cameras.push_back(camera);
   }
   return rig;

@@ -40,8 +40,11 @@ class FaultyProjector {
   // One frame: `points` holds num_markers positions (NaN = marker absent). Returns the frames of
   // the cameras that did not drop this frame, blobs in scanline order. cameras_seeing (resized
   // to num_markers) counts, per marker, the cameras in which it makes (part of) a blob.
+  // blob_markers (optional) gets, per returned frame and blob, the marker that made it (the
+  // first of a merged blob's markers) or -1 for a false blob: what tests need to hide a marker.
   std::vector<CameraFrame> Project(uint64_t frame_number, uint64_t trigger_time_ns,
-                                   const Eigen::Vector3d* points, std::vector<int>* cameras_seeing);
+                                   const Eigen::Vector3d* points, std::vector<int>* cameras_seeing,
+                                   std::vector<std::vector<int>>* blob_markers = nullptr);
 
   // Radius in pixels of a marker's blob at this depth in front of the camera.
   double BlobRadiusPx(const Camera& camera, double depth_mm) const;
@@ -74,7 +77,7 @@ class FaultyProjector {
 
   // False when the camera drops this frame.
   bool ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
-                     std::vector<int>* cameras_seeing, CameraFrame* frame);
+                     std::vector<int>* cameras_seeing, CameraFrame* frame, std::vector<int>* blob_markers);
 
   const Rig& rig_;
   size_t num_markers_;

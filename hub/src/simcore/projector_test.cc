@@ -1,5 +1,5 @@
 // Tests of the fault model: exact projections without faults, and each fault's statistics.
-#include "sim/projector.h"
+#include "simcore/projector.h"
 
 #include <cmath>
 #include <map>
@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "io/marker_trajectories.h"
-#include "sim/ring_rig.h"
-#include "sim/synthetic_motion.h"
+#include "simcore/ring_rig.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap {
 namespace {
@@ -239,6 +239,38 @@ TEST(ProjectorTest, BehindOrOutsideIsNotSeenAndSeedsReplay) {
       for (size_t k = 0; k < a[c].blobs.size(); ++k) EXPECT_EQ(a[c].blobs[k].pixel, b[c].blobs[k].pixel);
     }
   }
+}
+
+TEST(ProjectorTest, EachBlobNamesTheMarkerThatMadeIt) {
+  const Scene scene = MakeScene(5);
+  ProjectOptions options;
+  options.noise_px = 0.05;
+  options.spurious = 3.0;
+  options.merge_px = 0.0;  // no merging: every marker blob is one marker's
+  FaultyProjector projector(scene.rig, scene.motion.NumMarkers(), options);
+  std::vector<int> seeing;
+  std::vector<std::vector<int>> markers;
+  const std::vector<CameraFrame> frames =
+      projector.Project(4, 0, &scene.motion.points[4 * scene.motion.NumMarkers()], &seeing, &markers);
+  ASSERT_EQ(markers.size(), frames.size());
+  int spurious = 0, real = 0;
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const Camera& camera = scene.rig.cameras[f];
+    ASSERT_EQ(markers[f].size(), frames[f].blobs.size());
+    for (size_t b = 0; b < frames[f].blobs.size(); ++b) {
+      const int m = markers[f][b];
+      if (m < 0) {
+        ++spurious;
+        continue;
+      }
+      ++real;
+      Eigen::Vector2d pixel;
+      ASSERT_TRUE(camera.ProjectToPixel(scene.motion.At(4, static_cast<size_t>(m)), &pixel));
+      EXPECT_LT((pixel - frames[f].blobs[b].pixel).norm(), 0.5) << "camera " << f << " blob " << b;
+    }
+  }
+  EXPECT_GT(real, 0);
+  EXPECT_GE(spurious, static_cast<int>(frames.size()));  // the static half: one per camera at least
 }
 
 TEST(ProjectorTest, OptionsChecked) {

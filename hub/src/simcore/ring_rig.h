@@ -6,7 +6,7 @@
 #include <string>
 
 #include "geometry/camera.h"
-#include "sim/motion_volume.h"
+#include "simcore/motion_volume.h"
 
 namespace mocap {
 
