@@ -119,6 +119,7 @@ std::string AutoMaskOptions::Check() const {
   if (min_frames == 0) return "min_frames must be > 0";
   if (!(min_presence > 0.0 && min_presence <= 1.0)) return "min_presence must be in (0, 1]";
   if (!(match_radius_px > 0.0)) return "match_radius_px must be > 0";
+  if (!(max_drift_px >= 0.0)) return "max_drift_px must be >= 0";
   if (!(margin_px >= 0.0) || !(margin_per_radius >= 0.0)) return "margins must be >= 0";
   if (max_candidates == 0) return "max_candidates must be > 0";
   return {};
@@ -167,6 +168,7 @@ CameraMask ComputeAutoMask(const std::vector<CameraFrame>& frames, const AutoMas
   for (const Candidate& c : candidates) {
     const double presence = static_cast<double>(c.frames_seen) / static_cast<double>(frames.size());
     if (presence < options.min_presence) continue;
+    if (c.max_x - c.min_x > options.max_drift_px || c.max_y - c.min_y > options.max_drift_px) continue;
     mask.blobs.push_back({c.x(), c.y(), c.max_radius, presence});
     const double reach = c.max_radius * (1.0 + options.margin_per_radius) + options.margin_px;
     MaskRect r;

@@ -1,7 +1,7 @@
 // Automatic masks for static reflections (what commercial systems call masking visible
 // reflections): with the capture volume empty, every blob a camera keeps seeing at the same
 // place is a reflection or a light, not a marker. From N frames of one camera this finds the
-// blobs present in at least a fraction of the frames, masks each with a margin that grows with
+// blobs present in at least a fraction of the frames whose centroid stays put, masks each with a margin that grows with
 // its size, and turns the mask into the node's representation: SetMask rectangles when few
 // enough, else the node's 1-bit cell image in chunks (firmware/node/control.h limits). Masks
 // are kept with the installation as JSON.
@@ -25,6 +25,8 @@ struct AutoMaskOptions {
   size_t min_frames = 10;
   double min_presence = 0.8;          // fraction of the frames a static blob appears in
   double match_radius_px = 3.0;       // a blob this close to a static blob's centre is that blob
+  double max_drift_px = 1.5;          // a static blob's centroid only jitters; a marker creeping
+                                      // a few pixels while the volume is not empty is no reflection
   double margin_px = 2.0;             // masked beyond each blob's own radius ...
   double margin_per_radius = 1.0;     // ... plus this many of its radii (halos grow with size)
   size_t max_candidates = 4096;       // blobs tracked across frames (bounded work on noisy input)

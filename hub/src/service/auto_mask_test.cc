@@ -87,6 +87,28 @@ TEST(AutoMask, FindsPersistentBlobsOnly) {
   EXPECT_LT(mask.regions[0].width, 20u);  // tight around the screw head: no wanderer joined it
 }
 
+TEST(AutoMask, ACreepingMarkerIsNoReflection) {
+  // A marker that stays in view but creeps 5 px over the frames (a subject standing nearly
+  // still) is followed by one candidate all along, yet it is not static.
+  std::vector<CameraFrame> frames = Frames({{200.0, 100.0, 12, 1.0}}, 60, 3);
+  for (size_t f = 0; f < frames.size(); ++f) {
+    Blob b;
+    b.pixel = {500.0 + 0.08 * static_cast<double>(f), 300.0};
+    b.area = 20;
+    frames[f].blobs.push_back(b);
+  }
+  const CameraMask mask = ComputeAutoMask(frames, AutoMaskOptions{});
+  ASSERT_EQ(mask.blobs.size(), 1u);
+  EXPECT_NEAR(mask.blobs[0].x, 200.0, 0.1);
+  EXPECT_FALSE(Covers(mask.regions, 502.0, 300.0));
+  // With the bound lifted it is masked, drift and all: the bound is what keeps it out.
+  AutoMaskOptions loose;
+  loose.max_drift_px = 10.0;
+  const CameraMask all = ComputeAutoMask(frames, loose);
+  EXPECT_EQ(all.blobs.size(), 2u);
+  EXPECT_TRUE(Covers(all.regions, 502.0, 300.0));
+}
+
 TEST(AutoMask, RegionsAreClippedAndMerged) {
   const std::vector<Spot> spots = {{1.0, 1.0, 50, 1.0}, {1278.0, 798.0, 50, 1.0}, {600.0, 300.0, 50, 1.0},
                                    {606.0, 300.0, 50, 1.0}};
@@ -109,6 +131,9 @@ TEST(AutoMask, RefusesTooFewOrMixedFrames) {
   AutoMaskOptions bad;
   bad.min_presence = 0.0;
   EXPECT_THROW(ComputeAutoMask(Frames({}, 20, 1), bad), std::invalid_argument);
+  AutoMaskOptions negative_drift;
+  negative_drift.max_drift_px = -1.0;
+  EXPECT_THROW(ComputeAutoMask(Frames({}, 20, 1), negative_drift), std::invalid_argument);
 }
 
 CameraMask GridMask(int n) {
