@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
@@ -27,6 +29,16 @@ struct LivePoint {
   bool provisional() const { return marker < 0; }
 };
 
+// A rigid body's pose in one frame (filled once rigid bodies exist; streams carry them).
+struct LiveBody {
+  uint32_t id = 0;                     // 1-based, in the bodies file's order
+  std::string name;
+  bool tracked = false;                // false: pose unknown this frame (position/rotation unset)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               // world, mm
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // body -> world
+  double mean_error_mm = 0.0;          // mean distance of its fitted markers
+};
+
 struct LiveFrame {
   uint64_t frame_number = 0;
   uint64_t trigger_time_ns = 0;        // earliest camera trigger time (session clock), 0 if none
@@ -35,6 +47,7 @@ struct LiveFrame {
   int cameras = 0;                     // camera frames in the set
   std::vector<LivePoint> points;
   std::vector<TrackSample> samples;    // confirmed markers' samples (may reach back in time)
+  std::vector<LiveBody> bodies;        // empty until rigid bodies are defined
 };
 
 class LiveReconstruction {
