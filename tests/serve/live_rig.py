@@ -1,0 +1,223 @@
+"""The live rig the serve and stream tests share: `mocap-hub serve` with one real `mocap-node`
+process per camera on loopback replaying rendered frames, a systemd notify socket the test owns,
+and small clients (HTTP, WebSocket, PNG) written with the Python standard library only.
+
+Every wait is bounded; stop() kills every process the rig started."""
+
+import base64
+import json
+import os
+import re
+import socket
+import struct
+import subprocess
+import threading
+import time
+import zlib
+
+
+def render_scene(bin_dir, work, cameras, rate, markers=12, frames=200, reflections=0):
+    """A synthetic motion, a ring rig and its rendered frames in work/frames."""
+    motion = os.path.join(work, "motion.trc")
+    run(bin_dir, "sim", "motion", "-o", motion, "--markers", str(markers), "--frames", str(frames),
+        "--rate", str(rate))
+    rig = os.path.join(work, "rig.json")
+    run(bin_dir, "sim", "rig", "--motion", motion, "--cameras", str(cameras), "-o", rig, "--width", "640",
+        "--height", "400")
+    run(bin_dir, "sim", "render", "--motion", motion, "--rig", rig, "-o", os.path.join(work, "frames"),
+        "--reflections", str(reflections))
+
+
+def wait_for(what, predicate, timeout=10.0, step=0.05):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(step)
+    raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def run(bin_dir, *args, check=True, env=None):
+    """mocap-hub ARGS from bin_dir; raises on a non-zero exit unless check is False."""
+    result = subprocess.run([os.path.join(bin_dir, "mocap-hub"), *args], capture_output=True, text=True,
+                            timeout=60, env=env)
+    if check and result.returncode != 0:
+        raise AssertionError(f"mocap-hub {' '.join(args)} exited {result.returncode}: {result.stderr}")
+    return result
+
+
+def read_png_grey(data):
+    """8-bit greyscale PNG -> (width, height, rows); the five PNG row filters undone."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    pos, idat, width = 8, b"", 0
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            width, height, depth, colour = struct.unpack(">IIBB", body[:10])
+            assert (depth, colour) == (8, 0), "expected 8-bit grey"
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    raw = zlib.decompress(idat)
+    rows, prev = [], bytearray(width)
+    for y in range(height):
+        line = raw[y * (width + 1):(y + 1) * (width + 1)]
+        f, cur = line[0], bytearray(line[1:])
+        for x in range(width):
+            a = cur[x - 1] if x else 0
+            b, c = prev[x], prev[x - 1] if x else 0
+            if f == 1:
+                cur[x] = (cur[x] + a) & 255
+            elif f == 2:
+                cur[x] = (cur[x] + b) & 255
+            elif f == 3:
+                cur[x] = (cur[x] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                cur[x] = (cur[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(cur)
+        prev = cur
+    return width, height, rows
+
+
+def websocket_messages(port, path, count, timeout=10.0):
+    """The first `count` text messages of a WebSocket (RFC 6455 client, no extensions)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    key = base64.b64encode(os.urandom(16)).decode()
+    s.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+               f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
+    buf = b""
+    while b"\r\n\r\n" not in buf:
+        buf += s.recv(4096)
+    head, buf = buf.split(b"\r\n\r\n", 1)
+    assert b" 101 " in head.split(b"\r\n")[0], head
+
+    def take(n):
+        nonlocal buf
+        while len(buf) < n:
+            chunk = s.recv(65536)
+            assert chunk, "WebSocket closed"
+            buf += chunk
+        out, buf = buf[:n], buf[n:]
+        return out
+
+    messages = []
+    while len(messages) < count:
+        b0, b1 = take(2)
+        n = b1 & 127
+        if n == 126:
+            n = struct.unpack(">H", take(2))[0]
+        elif n == 127:
+            n = struct.unpack(">Q", take(8))[0]
+        payload = take(n)
+        if b0 & 15 == 1:
+            messages.append(json.loads(payload))
+    s.close()
+    return messages
+
+
+def http(port, method, path, body=b"", headers=""):
+    s = socket.create_connection(("127.0.0.1", port), timeout=10)
+    s.sendall(f"{method} {path} HTTP/1.1\r\nHost: x\r\nContent-Length: {len(body)}\r\n{headers}"
+              f"Connection: close\r\n\r\n".encode() + body)
+    data = b""
+    while True:
+        chunk = s.recv(65536)
+        if not chunk:
+            break
+        data += chunk
+    s.close()
+    head, _, payload = data.partition(b"\r\n\r\n")
+    return int(head.split()[1]), payload
+
+
+class Rig:
+    """serve + one mocap-node per camera, replaying rendered frames (work/frames) in a loop.
+    serve_args are added to serve's command line (streams and the like)."""
+
+    def __init__(self, bin_dir, work, rate, serve_args=()):
+        self.bin, self.work, self.rate, self.serve_args = bin_dir, work, rate, list(serve_args)
+        self.frames = os.path.join(work, "frames")
+        self.notify_path = os.path.join(work, "notify.sock")
+        self.serve = None
+        self.nodes = {}
+        self.epoch = time.time_ns() + 1_000_000_000
+
+    def start_serve(self):
+        if os.path.exists(self.notify_path):
+            os.unlink(self.notify_path)
+        self.notify = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self.notify.bind(self.notify_path)
+        self.notify.settimeout(0.2)
+        # Read as systemd does, all the time: sd_notify blocks when the socket's queue is full.
+        self.received = []
+        threading.Thread(target=self.drain_notifications, args=(self.notify,), daemon=True).start()
+        env = dict(os.environ, NOTIFY_SOCKET=self.notify_path, WATCHDOG_USEC="400000")
+        env.pop("WATCHDOG_PID", None)
+        env.pop("MOCAP_HUB_API", None)
+        self.log_path = os.path.join(self.work, "serve.log")
+        with open(self.log_path, "w") as log:
+            self.serve = subprocess.Popen(
+                [os.path.join(self.bin, "mocap-hub"), "serve", "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0",
+                 "--calibration", os.path.join(self.frames, "calibration.json"),
+                 "--sessions-dir", os.path.join(self.work, "sessions"),
+                 "--masks-file", os.path.join(self.work, "masks.json"),
+                 "--rate", str(self.rate), "--epoch-ns", str(self.epoch), "--request-timeout", "1",
+                 *self.serve_args],
+                stdout=subprocess.DEVNULL, stderr=log, env=env)
+        line = wait_for("serve to report its ports", lambda: re.search(
+            r"UDP port (\d+) for the nodes, API http://[^:]+:(\d+)", self.log()))
+        self.udp_port, self.api_port = int(line.group(1)), int(line.group(2))
+        self.api = f"127.0.0.1:{self.api_port}"
+        self.env = dict(os.environ, MOCAP_HUB_API=self.api)
+
+    def log(self):
+        with open(self.log_path) as f:
+            return f.read()
+
+    def drain_notifications(self, sock):
+        while True:
+            try:
+                self.received.append(sock.recv(4096).decode())
+            except socket.timeout:
+                continue
+            except OSError:
+                return
+
+    def notifications(self, seconds):
+        """What serve sent to the notify socket during the next `seconds`."""
+        first = len(self.received)
+        time.sleep(seconds)
+        return "\n".join(self.received[first:])
+
+    def start_node(self, node_id):
+        with open(os.path.join(self.work, f"node{node_id}.log"), "w") as log:
+            self.nodes[node_id] = subprocess.Popen(
+                [os.path.join(self.bin, "mocap-node"), "--source", f"replay:{self.frames}/cam{node_id}",
+                 "--sync", f"sim:{self.rate}", "--epoch-ns", str(self.epoch),
+                 "--hub", f"127.0.0.1:{self.udp_port}", "--id", str(node_id), "--threshold", "32",
+                 "--replay-loop", "--log-level", "warning"],
+                stdout=log, stderr=log)
+
+    def start(self, cameras):
+        """serve, then one node per camera; returns once every node is running."""
+        self.start_serve()
+        for node_id in range(1, cameras + 1):
+            self.start_node(node_id)
+        wait_for("every node running", lambda: len([n for n in self.nodes_json().values()
+                                                     if n["state"] == "running"]) == cameras, timeout=15)
+
+    def hub(self, *args, check=True):
+        return run(self.bin, *args, check=check, env=self.env)
+
+    def nodes_json(self):
+        return {n["id"]: n for n in json.loads(self.hub("nodes", "--json").stdout)}
+
+    def stop(self):
+        for p in list(self.nodes.values()) + ([self.serve] if self.serve else []):
+            if p.poll() is None:
+                p.kill()
+            p.wait()
