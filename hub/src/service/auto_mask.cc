@@ -17,14 +17,17 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// One blob followed across frames.
+// One blob followed across frames. The first pass finds where it is (its mean centroid); the
+// second counts the steady sightings, those that stay near that mean: a reflection's centroid
+// only jitters (apart from the odd frame a marker passing by merges with it), while a marker
+// creeping through the view is followed by one candidate whose sightings spread out.
 struct Candidate {
   double sum_x = 0.0, sum_y = 0.0;
   size_t sightings = 0;
-  size_t frames_seen = 0;
-  size_t last_frame = SIZE_MAX;
-  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;  // centroid spread
-  double max_radius = 0.0;
+  size_t steady_frames = 0;
+  size_t last_steady_frame = SIZE_MAX;
+  double min_x = 0.0, max_x = 0.0, min_y = 0.0, max_y = 0.0;  // steady centroids' spread
+  double max_radius = 0.0;                                    // of the steady sightings
   double x() const { return sum_x / sightings; }
   double y() const { return sum_y / sightings; }
 };
@@ -119,7 +122,7 @@ std::string AutoMaskOptions::Check() const {
   if (min_frames == 0) return "min_frames must be > 0";
   if (!(min_presence > 0.0 && min_presence <= 1.0)) return "min_presence must be in (0, 1]";
   if (!(match_radius_px > 0.0)) return "match_radius_px must be > 0";
-  if (!(max_drift_px >= 0.0)) return "max_drift_px must be >= 0";
+  if (!(steady_radius_px > 0.0)) return "steady_radius_px must be > 0";
   if (!(margin_px >= 0.0) || !(margin_per_radius >= 0.0)) return "margins must be >= 0";
   if (max_candidates == 0) return "max_candidates must be > 0";
   return {};
@@ -150,25 +153,30 @@ CameraMask ComputeAutoMask(const std::vector<CameraFrame>& frames, const AutoMas
         if (candidates.size() >= options.max_candidates) continue;
         i = candidates.size();
         candidates.emplace_back();
-        candidates[i].min_x = candidates[i].max_x = x;
-        candidates[i].min_y = candidates[i].max_y = y;
         index.Insert(i, x, y);
       }
+      candidates[i].sum_x += x;
+      candidates[i].sum_y += y;
+      ++candidates[i].sightings;
+    }
+  }
+  for (size_t f = 0; f < frames.size(); ++f) {
+    for (const Blob& blob : frames[f].blobs) {
+      const double x = blob.pixel.x(), y = blob.pixel.y();
+      const size_t i = index.Nearest(candidates, x, y, options.steady_radius_px);
+      if (i == SIZE_MAX) continue;
       Candidate& c = candidates[i];
-      c.sum_x += x;
-      c.sum_y += y;
-      ++c.sightings;
+      if (c.steady_frames == 0) c.min_x = c.max_x = x, c.min_y = c.max_y = y;
       c.min_x = std::min(c.min_x, x), c.max_x = std::max(c.max_x, x);
       c.min_y = std::min(c.min_y, y), c.max_y = std::max(c.max_y, y);
       c.max_radius = std::max(c.max_radius, std::sqrt(blob.area / kPi));
-      if (c.last_frame != f) ++c.frames_seen, c.last_frame = f;
+      if (c.last_steady_frame != f) ++c.steady_frames, c.last_steady_frame = f;
     }
   }
   std::vector<MaskRect> regions;
   for (const Candidate& c : candidates) {
-    const double presence = static_cast<double>(c.frames_seen) / static_cast<double>(frames.size());
+    const double presence = static_cast<double>(c.steady_frames) / static_cast<double>(frames.size());
     if (presence < options.min_presence) continue;
-    if (c.max_x - c.min_x > options.max_drift_px || c.max_y - c.min_y > options.max_drift_px) continue;
     mask.blobs.push_back({c.x(), c.y(), c.max_radius, presence});
     const double reach = c.max_radius * (1.0 + options.margin_per_radius) + options.margin_px;
     MaskRect r;

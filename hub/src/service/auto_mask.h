@@ -25,8 +25,9 @@ struct AutoMaskOptions {
   size_t min_frames = 10;
   double min_presence = 0.8;          // fraction of the frames a static blob appears in
   double match_radius_px = 3.0;       // a blob this close to a static blob's centre is that blob
-  double max_drift_px = 1.5;          // a static blob's centroid only jitters; a marker creeping
-                                      // a few pixels while the volume is not empty is no reflection
+  double steady_radius_px = 1.5;      // only sightings this close to a blob's mean centroid count
+                                      // towards its presence: a marker creeping a few pixels while
+                                      // the volume is not empty is no reflection
   double margin_px = 2.0;             // masked beyond each blob's own radius ...
   double margin_per_radius = 1.0;     // ... plus this many of its radii (halos grow with size)
   size_t max_candidates = 4096;       // blobs tracked across frames (bounded work on noisy input)

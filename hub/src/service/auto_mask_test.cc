@@ -103,7 +103,7 @@ TEST(AutoMask, ACreepingMarkerIsNoReflection) {
   EXPECT_FALSE(Covers(mask.regions, 502.0, 300.0));
   // With the bound lifted it is masked, drift and all: the bound is what keeps it out.
   AutoMaskOptions loose;
-  loose.max_drift_px = 10.0;
+  loose.steady_radius_px = 10.0;
   const CameraMask all = ComputeAutoMask(frames, loose);
   EXPECT_EQ(all.blobs.size(), 2u);
   EXPECT_TRUE(Covers(all.regions, 502.0, 300.0));
@@ -131,9 +131,9 @@ TEST(AutoMask, RefusesTooFewOrMixedFrames) {
   AutoMaskOptions bad;
   bad.min_presence = 0.0;
   EXPECT_THROW(ComputeAutoMask(Frames({}, 20, 1), bad), std::invalid_argument);
-  AutoMaskOptions negative_drift;
-  negative_drift.max_drift_px = -1.0;
-  EXPECT_THROW(ComputeAutoMask(Frames({}, 20, 1), negative_drift), std::invalid_argument);
+  AutoMaskOptions no_steady_radius;
+  no_steady_radius.steady_radius_px = 0.0;
+  EXPECT_THROW(ComputeAutoMask(Frames({}, 20, 1), no_steady_radius), std::invalid_argument);
 }
 
 CameraMask GridMask(int n) {
