@@ -31,9 +31,7 @@ HostPort ParseHostPort(const std::string& text) {
   return hp;
 }
 
-namespace {
-
-sockaddr_in Resolve(const HostPort& hp) {
+sockaddr_in ResolveHostPort(const HostPort& hp) {
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
   addr.sin_port = htons(hp.port);
@@ -53,19 +51,19 @@ sockaddr_in Resolve(const HostPort& hp) {
   return addr;
 }
 
-}  // namespace
-
 uint64_t RealtimeNowNs() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
   return uint64_t(ts.tv_sec) * 1'000'000'000ull + uint64_t(ts.tv_nsec);
 }
 
-std::string Datagram::FromString() const {
+std::string SockaddrToString(const sockaddr_in& address) {
   char buf[INET_ADDRSTRLEN] = "?";
-  inet_ntop(AF_INET, &from.sin_addr, buf, sizeof buf);
-  return std::string(buf) + ":" + std::to_string(ntohs(from.sin_port));
+  inet_ntop(AF_INET, &address.sin_addr, buf, sizeof buf);
+  return std::string(buf) + ":" + std::to_string(ntohs(address.sin_port));
 }
+
+std::string Datagram::FromString() const { return SockaddrToString(from); }
 
 UdpSocket::~UdpSocket() {
   if (fd_ >= 0) close(fd_);
@@ -80,7 +78,7 @@ void UdpSocket::Bind(const HostPort& address) {
   // A deep receive buffer absorbs bursts from many nodes while the hub is busy with a frame.
   const int rcvbuf = 8 * 1024 * 1024;
   setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
-  const sockaddr_in addr = Resolve(address);
+  const sockaddr_in addr = ResolveHostPort(address);
   if (bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)
     throw std::runtime_error("cannot listen on " + where + ": " + std::strerror(errno));
 }
@@ -89,6 +87,13 @@ void UdpSocket::EnableBroadcast() {
   const int one = 1;
   if (setsockopt(fd_, SOL_SOCKET, SO_BROADCAST, &one, sizeof one) != 0)
     throw std::runtime_error("cannot enable broadcast: " + std::string(std::strerror(errno)));
+}
+
+void UdpSocket::EnableMulticast(int ttl) {
+  const unsigned char hops = static_cast<unsigned char>(ttl), loop = 1;
+  if (setsockopt(fd_, IPPROTO_IP, IP_MULTICAST_TTL, &hops, sizeof hops) != 0 ||
+      setsockopt(fd_, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) != 0)
+    throw std::runtime_error("cannot enable multicast: " + std::string(std::strerror(errno)));
 }
 
 uint16_t UdpSocket::port() const {
@@ -136,9 +141,12 @@ bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
 }
 
 bool UdpSocket::SendTo(const HostPort& to, const std::vector<uint8_t>& bytes) {
-  const sockaddr_in addr = Resolve(to);
-  return sendto(fd_, bytes.data(), bytes.size(), MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&addr),
-                sizeof addr) == static_cast<ssize_t>(bytes.size());
+  return SendTo(ResolveHostPort(to), bytes.data(), bytes.size());
+}
+
+bool UdpSocket::SendTo(const sockaddr_in& to, const uint8_t* bytes, size_t size) {
+  return sendto(fd_, bytes, size, MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&to), sizeof to) ==
+         static_cast<ssize_t>(size);
 }
 
 }  // namespace mocap

@@ -16,6 +16,9 @@ struct HostPort {
 };
 // "HOST:PORT" (HOST may be empty or "*" for any address). Throws std::invalid_argument.
 HostPort ParseHostPort(const std::string& text);
+// The IPv4 address of HOST:PORT (names resolved once). Throws std::runtime_error.
+sockaddr_in ResolveHostPort(const HostPort& address);
+std::string SockaddrToString(const sockaddr_in& address);
 
 struct Datagram {
   std::vector<uint8_t> bytes;
@@ -33,6 +36,9 @@ class UdpSocket {
 
   void Bind(const HostPort& address);
   void EnableBroadcast();
+  // Datagrams to multicast groups leave with this TTL (1: the local network only) and loop
+  // back to listeners on this host.
+  void EnableMulticast(int ttl);
   uint16_t port() const;
   // The largest UDP payload IPv4 carries; Receive's buffer holds it whole.
   static constexpr size_t kMaxDatagram = 65507;
@@ -40,6 +46,7 @@ class UdpSocket {
   bool Receive(Datagram* datagram, int timeout_ms);
   // Best effort: a full send buffer or an unreachable peer is reported by the return value.
   bool SendTo(const HostPort& to, const std::vector<uint8_t>& bytes);
+  bool SendTo(const sockaddr_in& to, const uint8_t* bytes, size_t size);
   int fd() const { return fd_; }
 
  private:

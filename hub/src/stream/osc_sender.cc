@@ -1,0 +1,156 @@
+// OSC bundles per frame over liblo (see osc_sender.h).
+#include "stream/osc_sender.h"
+
+#include <lo/lo.h>
+
+#include <memory>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "ingest/udp_socket.h"
+
+namespace mocap::stream {
+namespace {
+
+constexpr std::chrono::milliseconds kIdleWait{100};
+
+// One message of the address space, built by liblo or described for tests.
+template <typename Sink>
+void VisitFrame(const service::LiveFrame& frame, uint32_t parts, uint64_t* points_dropped, Sink&& sink) {
+  const bool points = parts & kPartPoints, bodies = parts & kPartBodies;
+  size_t point_count = points ? std::min(frame.points.size(), kMaxOscPoints) : 0;
+  size_t body_count = 0;
+  if (bodies)
+    for (const service::LiveBody& b : frame.bodies) body_count += b.tracked;
+  if (points_dropped) *points_dropped += points ? frame.points.size() - point_count : 0;
+  sink.Frame(frame.frame_number, frame.trigger_time_ns, point_count, body_count);
+  for (size_t i = 0; i < point_count; ++i) sink.Point(frame.points[i]);
+  if (bodies)
+    for (const service::LiveBody& b : frame.bodies)
+      if (b.tracked) sink.Body(b);
+}
+
+struct ShapeSink {
+  std::vector<OscMessageShape>* out;
+  void Frame(uint64_t, uint64_t, size_t, size_t) { out->push_back({"/mocap/frame", "hhii"}); }
+  void Point(const service::LivePoint& p) {
+    out->push_back(p.marker >= 0 ? OscMessageShape{"/mocap/marker", "iffffi"} : OscMessageShape{"/mocap/point", "hffffi"});
+  }
+  void Body(const service::LiveBody&) { out->push_back({"/mocap/rigidbody", "sffffffff"}); }
+};
+
+struct BundleSink {
+  lo_bundle bundle;
+  void Add(const char* path, lo_message m) { lo_bundle_add_message(bundle, path, m); }
+  void Frame(uint64_t number, uint64_t trigger_ns, size_t points, size_t bodies) {
+    lo_message m = lo_message_new();
+    lo_message_add_int64(m, static_cast<int64_t>(number));
+    lo_message_add_int64(m, static_cast<int64_t>(trigger_ns));
+    lo_message_add_int32(m, static_cast<int32_t>(points));
+    lo_message_add_int32(m, static_cast<int32_t>(bodies));
+    Add("/mocap/frame", m);
+  }
+  void Point(const service::LivePoint& p) {
+    lo_message m = lo_message_new();
+    if (p.marker >= 0)
+      lo_message_add_int32(m, p.marker + 1);
+    else
+      lo_message_add_int64(m, p.provisional_track ? static_cast<int64_t>(p.provisional_track) : -1);
+    lo_message_add_float(m, static_cast<float>(p.position.x()));
+    lo_message_add_float(m, static_cast<float>(p.position.y()));
+    lo_message_add_float(m, static_cast<float>(p.position.z()));
+    lo_message_add_float(m, static_cast<float>(p.rms_px));
+    lo_message_add_int32(m, p.views);
+    Add(p.marker >= 0 ? "/mocap/marker" : "/mocap/point", m);
+  }
+  void Body(const service::LiveBody& b) {
+    lo_message m = lo_message_new();
+    lo_message_add_string(m, b.name.c_str());
+    for (double v : {b.position.x(), b.position.y(), b.position.z(), b.orientation.x(), b.orientation.y(),
+                     b.orientation.z(), b.orientation.w(), b.mean_error_mm})
+      lo_message_add_float(m, static_cast<float>(v));
+    Add("/mocap/rigidbody", m);
+  }
+};
+
+}  // namespace
+
+struct OscSender::Targets {
+  std::vector<lo_address> addresses;
+  ~Targets() {
+    for (lo_address a : addresses) lo_address_free(a);
+  }
+};
+
+void OscOptions::Check() const {
+  if (targets.empty()) throw std::invalid_argument("OSC: no targets");
+  for (const std::string& t : targets) {
+    const HostPort hp = ParseHostPort(t);
+    if (hp.host.empty() || hp.port == 0) throw std::invalid_argument("OSC target '" + t + "' must be HOST:PORT");
+  }
+  if (parts == 0 || (parts & ~(kPartPoints | kPartBodies)))
+    throw std::invalid_argument("OSC parts must be points and/or bodies");
+  if (ttl < 1 || ttl > 255) throw std::invalid_argument("OSC TTL must be 1-255");
+  if (queue_frames == 0) throw std::invalid_argument("OSC queue must hold at least one frame");
+}
+
+std::vector<OscMessageShape> OscBundleShape(const service::LiveFrame& frame, uint32_t parts) {
+  std::vector<OscMessageShape> out;
+  VisitFrame(frame, parts, nullptr, ShapeSink{&out});
+  return out;
+}
+
+OscSender::OscSender(OscOptions options)
+    : options_((options.Check(), std::move(options))), targets_(std::make_unique<Targets>()),
+      queue_(options_.queue_frames) {
+  for (const std::string& t : options_.targets) {
+    const HostPort hp = ParseHostPort(t);
+    lo_address a = lo_address_new(hp.host.c_str(), std::to_string(hp.port).c_str());
+    if (!a) throw std::invalid_argument("OSC target '" + t + "': liblo cannot use it");
+    lo_address_set_ttl(a, options_.ttl);
+    targets_->addresses.push_back(a);
+  }
+  thread_ = std::thread([this] { Run(); });
+}
+
+OscSender::~OscSender() {
+  stop_ = true;
+  queue_.Close();
+  if (thread_.joinable()) thread_.join();
+}
+
+OscStats OscSender::stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  OscStats s = stats_;
+  s.frames_dropped = queue_.dropped();
+  return s;
+}
+
+nlohmann::json OscSender::StatsJson() const {
+  const OscStats s = stats();
+  return {{"targets", options_.targets},
+          {"bundles", s.bundles},
+          {"send_failures", s.send_failures},
+          {"frames_dropped", s.frames_dropped},
+          {"points_dropped", s.points_dropped}};
+}
+
+void OscSender::Run() {
+  while (!stop_) {
+    const SharedFrame frame = queue_.Pop(kIdleWait);
+    if (!frame) continue;
+    lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+    uint64_t points_dropped = 0;
+    VisitFrame(*frame, options_.parts, &points_dropped, BundleSink{bundle});
+    uint64_t sent = 0, failed = 0;
+    for (lo_address a : targets_->addresses) (lo_send_bundle(a, bundle) > 0 ? sent : failed)++;
+    lo_bundle_free_recursive(bundle);
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    stats_.bundles += sent;
+    stats_.send_failures += failed;
+    stats_.points_dropped += points_dropped;
+  }
+}
+
+}  // namespace mocap::stream

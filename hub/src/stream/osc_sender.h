@@ -1,0 +1,80 @@
+// OSC output (liblo from Debian): every published frame as one OSC bundle to each configured
+// target, for VR, game engines, show control and patchers (Max, Pure Data, TouchDesigner).
+// The address space (documented in the README; millimetres, world frame):
+//   /mocap/frame      h:frame_number h:trigger_time_ns i:points i:bodies
+//   /mocap/marker     i:marker f:x f:y f:z f:residual_px i:views     (confirmed; marker 1-based)
+//   /mocap/point      h:track f:x f:y f:z f:residual_px i:views      (provisional; track -1: none)
+//   /mocap/rigidbody  s:name f:x f:y f:z f:qx f:qy f:qz f:qw f:mean_error_mm   (tracked bodies)
+// /mocap/frame comes first in its bundle. A bundle holds at most kMaxOscPoints points (the
+// rest are counted as dropped: one UDP datagram per frame). Its own thread builds and sends, so
+// the hub's loop only queues a shared frame.
+//
+// Threads: Publish() from the hub's loop, stats() from any. Errors: the constructor throws
+// std::invalid_argument for a bad target or part list; failed sends are counted.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "stream/frame_queue.h"
+#include "stream/stream_encoding.h"
+
+namespace mocap::stream {
+
+constexpr size_t kMaxOscPoints = 1000;
+
+struct OscOptions {
+  std::vector<std::string> targets;   // HOST:PORT each (unicast, broadcast or multicast)
+  uint32_t parts = kDefaultParts;     // points and/or bodies
+  int ttl = 1;                        // for multicast targets
+  size_t queue_frames = 4;
+
+  void Check() const;  // throws std::invalid_argument
+};
+
+struct OscStats {
+  uint64_t bundles = 0;
+  uint64_t send_failures = 0;
+  uint64_t frames_dropped = 0;
+  uint64_t points_dropped = 0;
+};
+
+// The messages of one frame's bundle, in order (path, OSC type tags): what the sender builds,
+// exposed so tests can check the address space without a network.
+struct OscMessageShape {
+  std::string path;
+  std::string types;
+};
+std::vector<OscMessageShape> OscBundleShape(const service::LiveFrame& frame, uint32_t parts);
+
+class OscSender {
+ public:
+  explicit OscSender(OscOptions options);
+  ~OscSender();
+  OscSender(const OscSender&) = delete;
+  OscSender& operator=(const OscSender&) = delete;
+
+  void Publish(SharedFrame frame) { queue_.Push(std::move(frame)); }
+  OscStats stats() const;
+  nlohmann::json StatsJson() const;
+
+ private:
+  struct Targets;
+  void Run();
+
+  const OscOptions options_;
+  std::unique_ptr<Targets> targets_;
+  FrameQueue queue_;
+  mutable std::mutex stats_mutex_;
+  OscStats stats_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace mocap::stream

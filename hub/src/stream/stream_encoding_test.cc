@@ -1,0 +1,153 @@
+// The stream's messages: every field of a frame survives libprotobuf's own parse, parts leave
+// out what was not asked for, the size limit drops points (counted) instead of overflowing a
+// datagram, and requests are decoded or refused with a reason.
+#include "stream/stream_encoding.h"
+
+#include <gtest/gtest.h>
+
+#include "mocap_stream.pb.h"
+
+namespace mocap::stream {
+namespace {
+
+service::LiveFrame Frame(size_t points) {
+  service::LiveFrame f;
+  f.frame_number = 1234567;
+  f.trigger_time_ns = 1'800'000'000'123'456'789ull;
+  f.publish_ns = f.trigger_time_ns + 2'500'000;
+  f.cameras = 8;
+  for (size_t i = 0; i < points; ++i) {
+    service::LivePoint p;
+    p.position = {100.0 + static_cast<double>(i), -200.5, 1500.25};
+    p.rms_px = 0.25;
+    p.views = 3 + static_cast<int>(i % 4);
+    if (i % 3 == 0) p.provisional_track = 900 + i;  // provisional
+    else p.marker = static_cast<int>(i);            // confirmed column i
+    f.points.push_back(p);
+  }
+  service::LiveBody body;
+  body.id = 1;
+  body.name = "wand";
+  body.tracked = true;
+  body.position = {1.0, 2.0, 3.0};
+  body.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  body.mean_error_mm = 0.3;
+  f.bodies.push_back(body);
+  service::LiveBody lost;
+  lost.id = 2;
+  lost.name = "drone";
+  f.bodies.push_back(lost);
+  return f;
+}
+
+v1::StreamFrame Parse(const EncodedFrame& e) {
+  v1::StreamFrame out;
+  EXPECT_TRUE(out.ParseFromString(e.bytes));
+  return out;
+}
+
+TEST(StreamEncoding, EveryFieldSurvivesTheRoundTrip) {
+  const service::LiveFrame f = Frame(7);
+  const v1::StreamFrame m = Parse(EncodeStreamFrame(f, kPartPoints | kPartBodies));
+  EXPECT_EQ(m.frame_number(), f.frame_number);
+  EXPECT_EQ(m.trigger_time_ns(), f.trigger_time_ns);
+  EXPECT_EQ(m.publish_time_ns(), f.publish_ns);
+  EXPECT_EQ(m.cameras(), 8u);
+  EXPECT_EQ(m.parts(), kPartPoints | kPartBodies);
+  ASSERT_EQ(m.points_size(), 7);
+  for (int i = 0; i < 7; ++i) {
+    const v1::Point& p = m.points(i);
+    EXPECT_FLOAT_EQ(p.x(), 100.0f + static_cast<float>(i));
+    EXPECT_FLOAT_EQ(p.y(), -200.5f);
+    EXPECT_FLOAT_EQ(p.z(), 1500.25f);
+    EXPECT_FLOAT_EQ(p.residual_px(), 0.25f);
+    EXPECT_EQ(p.views(), static_cast<uint32_t>(3 + i % 4));
+    if (i % 3 == 0) {
+      EXPECT_EQ(p.marker(), 0);
+      EXPECT_EQ(p.provisional_track(), 900u + static_cast<uint64_t>(i));
+    } else {
+      EXPECT_EQ(p.marker(), i + 1);  // 1-based, as the TRC's M001
+      EXPECT_EQ(p.provisional_track(), 0u);
+    }
+  }
+  ASSERT_EQ(m.bodies_size(), 2);
+  EXPECT_EQ(m.bodies(0).name(), "wand");
+  EXPECT_TRUE(m.bodies(0).tracked());
+  EXPECT_FLOAT_EQ(m.bodies(0).z(), 3.0f);
+  EXPECT_NEAR(m.bodies(0).qz(), std::sin(0.25), 1e-6);
+  EXPECT_NEAR(m.bodies(0).qw(), std::cos(0.25), 1e-6);
+  EXPECT_FALSE(m.bodies(1).tracked());
+  EXPECT_EQ(m.bodies(1).qw(), 0.0f);
+  EXPECT_EQ(m.points_dropped(), 0u);
+}
+
+TEST(StreamEncoding, OnlyThePartsAskedFor) {
+  const service::LiveFrame f = Frame(5);
+  const v1::StreamFrame points = Parse(EncodeStreamFrame(f, kPartPoints));
+  EXPECT_EQ(points.points_size(), 5);
+  EXPECT_EQ(points.bodies_size(), 0);
+  const v1::StreamFrame bodies = Parse(EncodeStreamFrame(f, kPartBodies));
+  EXPECT_EQ(bodies.points_size(), 0);
+  EXPECT_EQ(bodies.bodies_size(), 2);
+  EXPECT_EQ(bodies.frame_number(), f.frame_number);
+}
+
+TEST(StreamEncoding, PointsBeyondTheLimitAreDroppedAndCounted) {
+  const service::LiveFrame f = Frame(4000);
+  const EncodedFrame whole = EncodeStreamFrame(f, kPartPoints, 1'000'000);
+  EXPECT_EQ(whole.points_dropped, 0u);
+  EXPECT_GT(whole.bytes.size(), kMaxStreamMessage);
+  const EncodedFrame capped = EncodeStreamFrame(f, kPartPoints | kPartBodies);
+  EXPECT_LE(capped.bytes.size(), kMaxStreamMessage);
+  const v1::StreamFrame m = Parse(capped);
+  EXPECT_GT(m.points_size(), 1000);
+  EXPECT_EQ(static_cast<size_t>(m.points_size()) + m.points_dropped(), f.points.size());
+  EXPECT_EQ(capped.points_dropped, m.points_dropped());
+  EXPECT_EQ(m.bodies_size(), 2);
+  // Tight limits never overshoot either.
+  for (size_t limit : {64u, 200u, 1000u, 5000u}) EXPECT_LE(EncodeStreamFrame(f, kPartPoints, limit).bytes.size(), limit);
+}
+
+TEST(StreamEncoding, RequestsDecodedOrRefusedWithAReason) {
+  auto decode = [](const std::string& bytes) {
+    return DecodeStreamRequest(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+  };
+  StreamRequest r = decode(EncodeSubscribe(kPartBodies));
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_TRUE(r.subscribe);
+  EXPECT_EQ(r.parts, kPartBodies);
+  r = decode(EncodeSubscribe(0));
+  ASSERT_TRUE(r.ok);
+  EXPECT_EQ(r.parts, kDefaultParts);
+  r = decode(EncodeUnsubscribe());
+  ASSERT_TRUE(r.ok);
+  EXPECT_FALSE(r.subscribe);
+
+  v1::StreamRequest future;
+  future.set_version(2);
+  future.mutable_subscribe();
+  r = decode(future.SerializeAsString());
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("version 2"), std::string::npos) << r.reason;
+  r = decode(EncodeSubscribe(64));
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("unknown part"), std::string::npos) << r.reason;
+  v1::StreamRequest empty;
+  empty.set_version(1);
+  EXPECT_FALSE(decode(empty.SerializeAsString()).ok);
+  EXPECT_FALSE(decode(std::string("\xff\xff\xff", 3)).ok);
+  r = decode(std::string(100, '\0'));
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.reason.find("100 bytes"), std::string::npos);
+  EXPECT_FALSE(DecodeStreamRequest(nullptr, 0).ok);
+}
+
+TEST(StreamEncoding, PartLists) {
+  EXPECT_EQ(ParseParts("points"), kPartPoints);
+  EXPECT_EQ(ParseParts("bodies,points,labels"), kAllParts);
+  EXPECT_THROW(ParseParts("points,skeletons"), std::invalid_argument);
+  EXPECT_THROW(ParseParts(""), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mocap::stream

@@ -1,0 +1,136 @@
+// The UDP stream's thread (see udp_stream_server.h).
+#include "stream/udp_stream_server.h"
+
+#include <arpa/inet.h>
+#include <sys/socket.h>
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "util/log.h"
+
+namespace mocap::stream {
+namespace {
+
+// How long the thread waits for a frame before it looks at requests again: subscriptions are
+// served within this even when no frames flow.
+constexpr std::chrono::milliseconds kIdleWait{20};
+
+}  // namespace
+
+void UdpStreamOptions::Check() const {
+  ParseHostPort(listen);
+  if (!multicast.empty()) {
+    const HostPort group = ParseHostPort(multicast);
+    in_addr addr{};
+    if (inet_pton(AF_INET, group.host.c_str(), &addr) != 1 || !IN_MULTICAST(ntohl(addr.s_addr)) || group.port == 0)
+      throw std::invalid_argument("stream multicast '" + multicast + "' is not a multicast GROUP:PORT (224.0.0.0/4)");
+  }
+  if (multicast_parts == 0 || (multicast_parts & ~kAllParts))
+    throw std::invalid_argument("stream multicast parts must be points, bodies and/or labels");
+  if (multicast_ttl < 1 || multicast_ttl > 255) throw std::invalid_argument("stream multicast TTL must be 1-255");
+  if (max_subscribers == 0) throw std::invalid_argument("stream max subscribers must be > 0");
+  if (!(subscription_s > 0.0)) throw std::invalid_argument("stream subscription lifetime must be > 0");
+  if (queue_frames == 0) throw std::invalid_argument("stream queue must hold at least one frame");
+}
+
+UdpStreamServer::UdpStreamServer(UdpStreamOptions options)
+    : options_((options.Check(), std::move(options))),
+      queue_(options_.queue_frames),
+      table_(options_.max_subscribers, static_cast<uint64_t>(options_.subscription_s * 1e9)) {
+  socket_.Bind(ParseHostPort(options_.listen));
+  if (!options_.multicast.empty()) {
+    socket_.EnableMulticast(options_.multicast_ttl);
+    multicast_ = ResolveHostPort(ParseHostPort(options_.multicast));
+    has_multicast_ = true;
+  }
+  thread_ = std::thread([this] { Run(); });
+}
+
+UdpStreamServer::~UdpStreamServer() {
+  stop_ = true;
+  queue_.Close();
+  if (thread_.joinable()) thread_.join();
+}
+
+UdpStreamStats UdpStreamServer::stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  UdpStreamStats s = stats_;
+  s.frames_dropped = queue_.dropped();
+  return s;
+}
+
+nlohmann::json UdpStreamServer::StatsJson() const {
+  const UdpStreamStats s = stats();
+  return {{"port", port()},
+          {"multicast", options_.multicast},
+          {"subscribers", s.subscribers},
+          {"frames", s.frames},
+          {"datagrams", s.datagrams},
+          {"send_failures", s.send_failures},
+          {"frames_dropped", s.frames_dropped},
+          {"bad_requests", s.bad_requests},
+          {"points_dropped", s.points_dropped}};
+}
+
+void UdpStreamServer::Run() {
+  while (!stop_) {
+    const SharedFrame frame = queue_.Pop(kIdleWait);
+    ServeRequests(RealtimeNowNs());
+    if (frame) Send(*frame);
+  }
+}
+
+void UdpStreamServer::ServeRequests(uint64_t now_ns) {
+  Datagram datagram;
+  uint64_t bad = 0;
+  // Bounded per turn: a flood of requests cannot keep frames from going out.
+  for (int i = 0; i < 256 && socket_.Receive(&datagram, 0); ++i) {
+    const StreamRequest request = DecodeStreamRequest(datagram.bytes.data(), datagram.bytes.size());
+    if (!request.ok) {
+      ++bad;
+      log::Debug("stream: bad request from {}: {}", datagram.FromString(), request.reason);
+      continue;
+    }
+    if (!request.subscribe) {
+      table_.Unsubscribe(datagram.from);
+    } else if (!table_.Subscribe(datagram.from, request.parts, now_ns)) {
+      ++bad;
+      log::Warn("stream: refused {}: {} subscribers already", datagram.FromString(), options_.max_subscribers);
+    }
+  }
+  table_.Expire(now_ns);
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  stats_.bad_requests += bad;
+  stats_.subscribers = table_.subscribers().size();
+}
+
+void UdpStreamServer::Send(const service::LiveFrame& frame) {
+  std::map<uint32_t, EncodedFrame> encoded;  // one encoding per distinct set of parts
+  auto message = [&](uint32_t parts) -> const EncodedFrame& {
+    auto it = encoded.find(parts);
+    if (it == encoded.end()) it = encoded.emplace(parts, EncodeStreamFrame(frame, parts)).first;
+    return it->second;
+  };
+  uint64_t sent = 0, failed = 0;
+  auto send = [&](const sockaddr_in& to, const EncodedFrame& m) {
+    if (socket_.SendTo(to, reinterpret_cast<const uint8_t*>(m.bytes.data()), m.bytes.size()))
+      ++sent;
+    else
+      ++failed;
+  };
+  for (const StreamSubscriber& s : table_.subscribers()) send(s.address, message(s.parts));
+  if (has_multicast_) send(multicast_, message(options_.multicast_parts));
+  uint32_t points_dropped = 0;
+  for (const auto& [parts, m] : encoded) points_dropped = std::max(points_dropped, m.points_dropped);
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  if (sent) ++stats_.frames;
+  stats_.datagrams += sent;
+  stats_.send_failures += failed;
+  stats_.points_dropped += points_dropped;
+}
+
+}  // namespace mocap::stream
