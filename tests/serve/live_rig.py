@@ -166,7 +166,7 @@ class Rig:
                  "--sessions-dir", os.path.join(self.work, "sessions"),
                  "--masks-file", os.path.join(self.work, "masks.json"),
                  "--rate", str(self.rate), "--epoch-ns", str(self.epoch), "--request-timeout", "1",
-                 *self.serve_args],
+                 "--stream", "127.0.0.1:0", *self.serve_args],
                 stdout=subprocess.DEVNULL, stderr=log, env=env)
         line = wait_for("serve to report its ports", lambda: re.search(
             r"UDP port (\d+) for the nodes, API http://[^:]+:(\d+)", self.log()))

@@ -1,5 +1,6 @@
 // `serve`: the live hub as a long-running service (service/hub_service.h) with its HTTP +
-// WebSocket API (service/http_server.h). Options come from flags and/or a config file
+// WebSocket API (api/http_server.h) and its streams (stream/): the hub's one subscription
+// shares each frame once and hands it to every adapter's queue. Options come from flags and/or a config file
 // (--config FILE, `key = value`, one line per long option name; cli/config_file.h); flags win. Under systemd
 // (Type=notify) it reports READY=1 once both sockets are bound, pings the watchdog from the
 // loop itself, so a stuck loop gets the service restarted, and STOPPING=1 on the way out.
@@ -7,13 +8,18 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include "cli/commands.h"
 #include "cli/config_file.h"
 #include "ingest/udp_socket.h"
-#include "service/http_server.h"
+#include "api/http_server.h"
 #include "service/hub_service.h"
+#include "stream/osc_sender.h"
+#include "stream/shared_frame.h"
+#include "stream/udp_stream_server.h"
 #include "util/log.h"
 
 #ifdef MOCAP_HAVE_SYSTEMD
@@ -29,6 +35,37 @@ void OnSignal(int) { g_stop.store(true); }
 struct ServeArgs {
   service::ServeOptions options;
   std::string api = "127.0.0.1:7801";
+  stream::UdpStreamOptions stream;
+  std::string stream_multicast_parts = "points,bodies";
+  std::string osc_targets;             // comma-separated HOST:PORT
+  std::string osc_parts = "points,bodies";
+};
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// The streams serve asked for; each one's options are checked before anything starts.
+struct Streams {
+  std::unique_ptr<stream::UdpStreamServer> udp;
+  std::unique_ptr<stream::OscSender> osc;
+
+  explicit Streams(ServeArgs& args) {
+    if (args.stream.listen != "off") {
+      args.stream.multicast_parts = stream::ParseParts(args.stream_multicast_parts);
+      udp = std::make_unique<stream::UdpStreamServer>(args.stream);
+    }
+    if (!args.osc_targets.empty()) {
+      stream::OscOptions osc_options;
+      osc_options.targets = SplitList(args.osc_targets);
+      osc_options.parts = stream::ParseParts(args.osc_parts);
+      osc = std::make_unique<stream::OscSender>(osc_options);
+    }
+  }
 };
 
 // Watchdog pings at half the interval systemd asks for; nothing without systemd.
@@ -62,13 +99,26 @@ void RunServe(ServeArgs& args) {
   CheckOptions(args.options);
   service::HubService hub(args.options);
   hub.Bind();
-  service::HttpServer http(hub, args.api);
+  Streams streams(args);
+  api::HttpServer http(hub, args.api);
+  hub.Subscribe([&](const service::LiveFrame& frame) {
+    const stream::SharedFrame shared = stream::ShareFrame(frame);
+    http.Publish(shared);
+    if (streams.udp) streams.udp->Publish(shared);
+    if (streams.osc) streams.osc->Publish(shared);
+  });
+  if (streams.udp) hub.AddStatusSection("stream", [&] { return streams.udp->StatsJson(); });
+  if (streams.osc) hub.AddStatusSection("osc", [&] { return streams.osc->StatsJson(); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
   const HostPort api = ParseHostPort(args.api);
   log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(),
             api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host, http.port(), args.options.sessions_dir);
+  if (streams.udp)
+    log::Info("stream: UDP port {}{}", streams.udp->port(),
+              args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);
+  if (streams.osc) log::Info("OSC: bundles to {}", args.osc_targets);
   Watchdog watchdog;
   watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
   hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });
@@ -107,6 +157,17 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
                       "Epipolar gate of live reconstruction (as reconstruct's)")
+      ->capture_default_str();
+  command->add_option("--stream", args->stream.listen,
+                      "HOST:PORT of the live stream (subscriptions in, frames out); off: none")
+      ->capture_default_str();
+  command->add_option("--stream-multicast", args->stream.multicast,
+                      "Also send every frame to this multicast GROUP:PORT (e.g. 239.255.42.1:7803)");
+  command->add_option("--stream-multicast-parts", args->stream_multicast_parts,
+                      "Parts of the multicast frames: points,bodies,labels")
+      ->capture_default_str();
+  command->add_option("--osc", args->osc_targets, "Send OSC bundles per frame to HOST:PORT[,HOST:PORT...]");
+  command->add_option("--osc-parts", args->osc_parts, "Parts of the OSC bundles: points,bodies")
       ->capture_default_str();
   command->callback([args, config, command] {
     if (!config->empty()) ApplyConfigFile(*command, *config);

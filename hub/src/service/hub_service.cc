@@ -435,7 +435,7 @@ nlohmann::json HubService::Status() {
     size_t online = 0;
     const std::vector<NodeEntry> nodes = registry_.Nodes();
     for (const NodeEntry& n : nodes) online += !n.lost;
-    return nlohmann::json{
+    nlohmann::json status{
         {"uptime_s", static_cast<double>(now - start_ns_) * 1e-9},
         {"udp_port", port()},
         {"rate_hz", options_.rate_hz},
@@ -472,7 +472,15 @@ nlohmann::json HubService::Status() {
         {"masks", masks_.size()},
         {"requests_pending", controls_.pending()},
     };
+    std::lock_guard<std::mutex> lock(status_sections_mutex_);
+    for (const auto& [name, section] : status_sections_) status[name] = section();
+    return status;
   });
+}
+
+void HubService::AddStatusSection(const std::string& name, std::function<nlohmann::json()> section) {
+  std::lock_guard<std::mutex> lock(status_sections_mutex_);
+  status_sections_[name] = std::move(section);
 }
 
 nlohmann::json HubService::NodeJson(const NodeEntry& n) const {

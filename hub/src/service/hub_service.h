@@ -96,6 +96,9 @@ class HubService : public ServiceApi {
 
   int Subscribe(Subscriber subscriber);
   void Unsubscribe(int id);
+  // Status() carries section() under `name` (the streams' figures); any thread, any time;
+  // section() runs on the loop, so it must be quick and thread-safe.
+  void AddStatusSection(const std::string& name, std::function<nlohmann::json()> section);
 
  private:
   struct MaskJob;
@@ -156,6 +159,9 @@ class HubService : public ServiceApi {
   std::mutex tasks_mutex_;
   std::deque<std::function<void()>> tasks_;
   std::atomic<bool> running_{false};
+
+  std::mutex status_sections_mutex_;
+  std::map<std::string, std::function<nlohmann::json()>> status_sections_;
 
   std::mutex subscribers_mutex_;
   std::map<int, Subscriber> subscribers_;

@@ -1,5 +1,5 @@
 // civetweb adapter of the live hub's API (see http_server.h).
-#include "service/http_server.h"
+#include "api/http_server.h"
 
 #include <civetweb.h>
 
@@ -9,9 +9,16 @@
 
 #include "ingest/udp_socket.h"
 #include "service/api_router.h"
+#include "stream/stream_encoding.h"
 #include "util/log.h"
 
-namespace mocap::service {
+namespace mocap::api {
+
+using service::LiveFrame;
+using service::LivePoint;
+using service::ApiRequest;
+using service::ApiResponse;
+using service::kMaxApiBody;
 namespace {
 
 constexpr size_t kMaxQueuedFrames = 4;
@@ -21,7 +28,26 @@ HttpServer* ServerOf(const mg_connection* connection) {
 }
 
 int RequestTrampoline(mg_connection* connection, void*) { return ServerOf(connection)->OnRequest(connection); }
-int WebSocketConnect(const mg_connection*, void*) { return 0; }  // accept
+// The parts a /api/stream client asked for (its query's parts=...); 0 when the list is bad.
+uint32_t PartsOf(const mg_connection* connection) {
+  const mg_request_info* info = mg_get_request_info(connection);
+  const char* query = info->query_string ? info->query_string : "";
+  char value[64];
+  if (mg_get_var(query, std::strlen(query), "parts", value, sizeof value) < 0) return stream::kDefaultParts;
+  try {
+    return stream::ParseParts(value);
+  } catch (const std::invalid_argument&) {
+    return 0;
+  }
+}
+
+bool IsStream(const mg_connection* connection) {
+  const char* uri = mg_get_request_info(connection)->local_uri;
+  return uri && std::strcmp(uri, "/api/stream") == 0;
+}
+
+// Refuses (non-zero) a /api/stream upgrade with an unknown part.
+int WebSocketConnect(const mg_connection* connection, void*) { return IsStream(connection) && !PartsOf(connection); }
 void WebSocketReady(mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketReady(connection); }
 int WebSocketData(mg_connection*, int, char*, size_t, void*) { return 1; }  // keep open, ignore input
 void WebSocketClose(const mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketClose(connection); }
@@ -63,7 +89,8 @@ std::string FrameMessage(const LiveFrame& frame) {
 
 }  // namespace
 
-HttpServer::HttpServer(HubService& service, const std::string& listen) : service_(service) {
+HttpServer::HttpServer(service::HubService& service, const std::string& listen)
+    : service_(service), queue_(kMaxQueuedFrames) {
   const HostPort address = ParseHostPort(listen);
   const std::string ports = (address.host.empty() || address.host == "*" ? std::string("0.0.0.0") : address.host) +
                             ":" + std::to_string(address.port);
@@ -78,18 +105,14 @@ HttpServer::HttpServer(HubService& service, const std::string& listen) : service
   const int n = mg_get_server_ports(context_, 4, bound);
   if (n > 0) port_ = static_cast<uint16_t>(bound[0].port);
   mg_set_request_handler(context_, "/api", RequestTrampoline, nullptr);
-  mg_set_websocket_handler(context_, "/api/live", WebSocketConnect, WebSocketReady, WebSocketData, WebSocketClose,
-                           nullptr);
+  for (const char* path : {"/api/live", "/api/stream"})
+    mg_set_websocket_handler(context_, path, WebSocketConnect, WebSocketReady, WebSocketData, WebSocketClose, nullptr);
   broadcaster_ = std::thread([this] { Broadcast(); });
 }
 
 HttpServer::~HttpServer() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
-  if (subscription_) service_.Unsubscribe(subscription_);
+  stopping_ = true;
+  queue_.Close();
   broadcaster_.join();
   mg_stop(context_);
   mg_exit_library();
@@ -102,9 +125,9 @@ int HttpServer::OnRequest(mg_connection* connection) {
   request.path = info->local_uri ? info->local_uri : "";
   request.query = info->query_string ? info->query_string : "";
   ApiResponse response;
-  if (request.path == "/api/live") {
+  if (request.path == "/api/live" || request.path == "/api/stream") {
     response.status = 400;
-    response.body = R"({"error":"/api/live is a WebSocket: connect with an Upgrade request"})";
+    response.body = "{\"error\":\"" + request.path + " is a WebSocket: connect with an Upgrade request\"}";
   } else if (info->content_length > static_cast<long long>(kMaxApiBody)) {
     response.status = 413;
     response.body = R"({"error":"the body is larger than 64 KiB"})";
@@ -127,29 +150,11 @@ int HttpServer::OnRequest(mg_connection* connection) {
 }
 
 void HttpServer::OnWebSocketReady(mg_connection* connection) {
-  {
-    std::lock_guard<std::mutex> lock(clients_mutex_);
-    clients_.insert(connection);
-  }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (subscribed_) return;
-    subscribed_ = true;
-  }
-  // Subscribed without holding mutex_: the loop calls subscribers under its own lock and the
-  // callback takes mutex_, so holding mutex_ here would order the two locks both ways.
-  // The loop thread only serialises into a short queue; the broadcaster writes.
-  const int id = service_.Subscribe([this](const LiveFrame& frame) {
-    std::string message = FrameMessage(frame);
-    {
-      std::lock_guard<std::mutex> inner(mutex_);
-      outbox_.push_back(std::move(message));
-      while (outbox_.size() > kMaxQueuedFrames) outbox_.pop_front();
-    }
-    wake_.notify_one();
-  });
-  std::lock_guard<std::mutex> lock(mutex_);
-  subscription_ = id;
+  Client client;
+  client.binary = IsStream(connection);
+  client.parts = client.binary ? PartsOf(connection) : 0;
+  std::lock_guard<std::mutex> lock(clients_mutex_);
+  clients_[connection] = client;
 }
 
 void HttpServer::OnWebSocketClose(const mg_connection* connection) {
@@ -159,24 +164,31 @@ void HttpServer::OnWebSocketClose(const mg_connection* connection) {
 }
 
 void HttpServer::Broadcast() {
-  while (true) {
-    std::string message;
-    {
-      std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !outbox_.empty(); });
-      if (stopping_) return;
-      message = std::move(outbox_.front());
-      outbox_.pop_front();
-    }
-    // Written without the queue's lock: a slow client delays only the broadcaster (frames then
-    // drop from the short queue), never the loop that publishes them.
+  while (!stopping_) {
+    const stream::SharedFrame frame = queue_.Pop(std::chrono::milliseconds(200));
+    if (!frame) continue;
+    // Encoded here, not on the loop: once as JSON and once per distinct set of parts. Written
+    // without the queue's lock: a slow client delays only the broadcaster (frames then drop
+    // from the short queue), never the loop that publishes them.
+    std::string json;
+    std::map<uint32_t, std::string> binary;
     std::lock_guard<std::mutex> lock(clients_mutex_);
-    for (mg_connection* client : clients_) {
-      mg_lock_connection(client);
-      mg_websocket_write(client, MG_WEBSOCKET_OPCODE_TEXT, message.data(), message.size());
-      mg_unlock_connection(client);
+    for (auto& [connection, client] : clients_) {
+      const std::string* message;
+      if (client.binary) {
+        auto it = binary.find(client.parts);
+        if (it == binary.end()) it = binary.emplace(client.parts, stream::EncodeStreamFrame(*frame, client.parts).bytes).first;
+        message = &it->second;
+      } else {
+        if (json.empty()) json = FrameMessage(*frame);
+        message = &json;
+      }
+      mg_lock_connection(connection);
+      mg_websocket_write(connection, client.binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT,
+                         message->data(), message->size());
+      mg_unlock_connection(connection);
     }
   }
 }
 
-}  // namespace mocap::service
+}  // namespace mocap::api

@@ -1,0 +1,67 @@
+// The live hub's HTTP + WebSocket edge on civetweb (Debian's libcivetweb: a small embeddable C
+// server with WebSockets built in, already packaged for every target, no Boost): requests go
+// to the service's router (service/api_router.h), and two WebSockets carry every published
+// frame:
+//   /api/live    JSON text messages, one per frame:
+//     {"frame": N, "trigger_ns": T, "publish_ns": P, "cameras": C,
+//      "points": [[x, y, z, id, provisional, views, rms_px], ...]}
+//     (mm, world frame; id is the confirmed marker number or, when provisional is 1, the
+//     tentative track's serial, -1 for a point no track took)
+//   /api/stream  binary messages, one StreamFrame (proto/mocap_stream.proto) per frame, with the
+//     parts asked for in the query: /api/stream?parts=points,bodies (default points,bodies).
+// A client that cannot keep up loses frames, never the service: frames wait in a short queue
+// for the broadcaster thread, which drops the oldest.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <map>
+#include <string>
+#include <thread>
+
+#include "service/hub_service.h"
+#include "stream/frame_queue.h"
+
+struct mg_context;
+struct mg_connection;
+
+namespace mocap::api {
+
+class HttpServer {
+ public:
+  // listen: "HOST:PORT" (port 0: any free one). Starts serving at once; throws
+  // std::runtime_error when the address cannot be bound.
+  HttpServer(service::HubService& service, const std::string& listen);
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+
+  uint16_t port() const { return port_; }
+  // From the hub's loop (its one subscription fans out to every adapter).
+  void Publish(stream::SharedFrame frame) { queue_.Push(std::move(frame)); }
+
+  // civetweb callbacks (public for the C trampolines only).
+  int OnRequest(mg_connection* connection);
+  void OnWebSocketReady(mg_connection* connection);
+  void OnWebSocketClose(const mg_connection* connection);
+
+ private:
+  struct Client {
+    bool binary = false;   // /api/stream (protobuf) rather than /api/live (JSON)
+    uint32_t parts = 0;
+  };
+  void Broadcast();
+
+  service::HubService& service_;
+  mg_context* context_ = nullptr;
+  uint16_t port_ = 0;
+  stream::FrameQueue queue_;
+  std::atomic<bool> stopping_{false};
+  std::mutex clients_mutex_;  // clients_, held while writing to them
+  std::map<mg_connection*, Client> clients_;
+  std::thread broadcaster_;
+};
+
+}  // namespace mocap::api
