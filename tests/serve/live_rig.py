@@ -84,14 +84,17 @@ def read_png_grey(data):
 
 
 def websocket_messages(port, path, count, timeout=10.0):
-    """The first `count` text messages of a WebSocket (RFC 6455 client, no extensions)."""
+    """The first `count` data messages of a WebSocket (RFC 6455 client, no extensions): text
+    messages parsed as JSON, binary ones as bytes."""
     s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
     key = base64.b64encode(os.urandom(16)).decode()
     s.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
                f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
     buf = b""
     while b"\r\n\r\n" not in buf:
-        buf += s.recv(4096)
+        chunk = s.recv(4096)
+        assert chunk, f"{path}: closed before the upgrade"
+        buf += chunk
     head, buf = buf.split(b"\r\n\r\n", 1)
     assert b" 101 " in head.split(b"\r\n")[0], head
 
@@ -115,6 +118,8 @@ def websocket_messages(port, path, count, timeout=10.0):
         payload = take(n)
         if b0 & 15 == 1:
             messages.append(json.loads(payload))
+        elif b0 & 15 == 2:
+            messages.append(payload)
     s.close()
     return messages
 
