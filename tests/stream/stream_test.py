@@ -28,6 +28,7 @@ from pythonosc import osc_server  # noqa: E402
 BIN = WORK = PROTO = None
 CAMERAS = 4
 RATE = 100
+GROUP, GROUP_PORT = "239.255.42.1", 17803  # the test's own namespace: no one else hears it
 
 
 def percentiles(values):
@@ -53,7 +54,8 @@ class StreamTest(unittest.TestCase):
         dispatcher.set_default_handler(on_message)
         cls.osc = osc_server.ThreadingOSCUDPServer(("127.0.0.1", 0), dispatcher)
         threading.Thread(target=cls.osc.serve_forever, daemon=True).start()
-        cls.rig = Rig(BIN, WORK, RATE, serve_args=["--osc", f"127.0.0.1:{cls.osc.server_address[1]}"])
+        cls.rig = Rig(BIN, WORK, RATE, serve_args=["--osc", f"127.0.0.1:{cls.osc.server_address[1]}",
+                                                   "--stream-multicast", f"{GROUP}:{GROUP_PORT}"])
         cls.rig.start(CAMERAS)
         cls.stream_port = int(wait_for("the stream's port", lambda: re.search(r"stream: UDP port (\d+)",
                                                                                 cls.rig.log())).group(1))
@@ -190,6 +192,16 @@ class StreamTest(unittest.TestCase):
         self.assertGreater(published, 2.5 * RATE)
         self.assertGreater(received, 0.95 * 3.0 * RATE * 0.9)
         self.assertEqual(after["incomplete_frame_sets"], before["incomplete_frame_sets"])
+
+    def test_8_multicast_reaches_the_c_and_python_clients(self):
+        out = subprocess.run([os.path.join(BIN, "mocap_stream_print"), "--multicast", GROUP, str(GROUP_PORT), "50"],
+                             capture_output=True, text=True, timeout=30)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertEqual(len(re.findall(r"^frame \d+ cameras 4 ", out.stdout, re.M)), 50)
+        with mocap_stream.StreamClient.multicast(GROUP, GROUP_PORT) as client:
+            frames = [client.receive(2.0) for _ in range(20)]
+        self.assertTrue(all(f is not None and f.cameras == CAMERAS and f.parts == 3 for f in frames))
+        self.assertEqual(self.status()["stream"]["multicast"], f"{GROUP}:{GROUP_PORT}")
 
     def test_7_garbage_on_the_stream_port_is_counted(self):
         before = self.status()["stream"]["bad_requests"]
