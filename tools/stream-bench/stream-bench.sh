@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Latency per protocol, trigger edge -> received by a client: a synthetic subject of MARKERS
+# markers at RATE Hz, rendered for CAMERAS cameras and replayed through real mocap-node
+# processes (deploy/sim-session.sh: nodes in network namespaces when root, hub pinned to CPU 0,
+# nodes to the others) into `mocap-hub serve`, with probe clients on loopback:
+#   stream  the C client's example (clients/c), which also prints publish -> received: what the
+#           stream adds to the hub's own latency
+#   osc     python-osc from .venv (tests/requirements.txt), an independent OSC implementation
+# beside serve's own hub-internal figure (last datagram -> published). Milliseconds, p50 p99 max.
+# usage: tools/stream-bench/stream-bench.sh [--cameras 16] [--markers 60] [--rate 240]
+#                                           [--seconds 4] [--width 640 --height 400]
+#                                           [--bin build/bin] [--out stream-bench]
+set -euo pipefail
+cameras=16 markers=60 rate=240 seconds=4 bin=build/bin out=stream-bench width=640 height=400
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --cameras) cameras=${2:?}; shift 2 ;;
+        --markers) markers=${2:?}; shift 2 ;;
+        --rate) rate=${2:?}; shift 2 ;;
+        --seconds) seconds=${2:?}; shift 2 ;;
+        --width) width=${2:?}; shift 2 ;;
+        --height) height=${2:?}; shift 2 ;;
+        --bin) bin=${2:?}; shift 2 ;;
+        --out) out=${2:?}; shift 2 ;;
+        -h|--help) sed -n 2,13p "$0"; exit 0 ;;
+        *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
+    esac
+done
+here=$(cd "$(dirname "$0")/../.." && pwd)
+python=$here/.venv/bin/python
+[ -x "$python" ] || { echo "stream-bench: $python missing (tests/run.sh creates it)" >&2; exit 1; }
+mkdir -p "$out"
+frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
+probe_frames=$((frames - rate / 2))  # what arrives once every node is up
+"$bin/mocap-hub" sim motion -o "$out/motion.trc" --markers "$markers" --frames "$frames" --rate "$rate" --seed 7 \
+    > /dev/null
+"$bin/mocap-hub" sim rig --motion "$out/motion.trc" --cameras "$cameras" --width "$width" --height "$height" \
+    -o "$out/rig.json" > /dev/null
+rm -rf "$out/frames"
+"$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/rig.json" -o "$out/frames" \
+    --occlusion 0.02 --noise 1.5 > /dev/null
+
+stream_port=17802 osc_port=17810
+pids=()
+trap 'kill "${pids[@]}" 2> /dev/null || true' EXIT
+"$bin/mocap_stream_print" 127.0.0.1 "$stream_port" "$probe_frames" 30 > "$out/stream.txt" 2> "$out/stream.err" &
+pids+=($!)
+"$python" "$here/tools/stream-bench/osc_probe.py" "$osc_port" "$probe_frames" 30 > "$out/osc.txt" 2> "$out/osc.err" &
+pids+=($!)
+cpus=$(nproc)
+node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
+"$here/deploy/sim-session.sh" --frames-dir "$out/frames" --out "$out/session" --bin "$bin" \
+    --hub-cpus 0 --node-cpus "$node_cpus" --json \
+    --serve-args "--max-ray-distance-mm 3 --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port" \
+    > "$out/session.json" 2> "$out/session.log"
+for p in "${pids[@]}"; do wait "$p" || true; done
+trap - EXIT
+
+printf "%s cameras x %s markers at %s Hz, %s frames; ms from the trigger edge (hub: last datagram)\n" \
+    "$cameras" "$markers" "$rate" "$frames"
+printf "%-34s %8s %8s %8s\n" path p50 p99 max
+python3 - "$out/session.json" <<'PY'
+import json, sys
+lat = json.load(open(sys.argv[1]))["latency_ms"]
+print("%-34s %8.3f %8.3f %8.3f" % ("hub: last datagram -> published", lat["hub_p50"], lat["hub_p99"], lat["hub_max"]))
+PY
+line() {  # label file key
+    local v
+    v=$(sed -n "s/^$3 //p" "$2")
+    if [ -n "$v" ]; then
+        # shellcheck disable=SC2086
+        printf "%-34s %8s %8s %8s\n" "$1" $v
+    else
+        printf "%-34s %s\n" "$1" "no frames (see ${2%.txt}.err)"
+    fi
+}
+line "stream (C client): trigger -> recv" "$out/stream.txt" trigger_to_receive_ms
+line "stream: published -> received" "$out/stream.txt" publish_to_receive_ms
+line "OSC (python-osc): trigger -> recv" "$out/osc.txt" trigger_to_receive_ms
