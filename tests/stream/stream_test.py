@@ -204,6 +204,31 @@ class StreamTest(unittest.TestCase):
         self.assertTrue(all(f is not None and f.cameras == CAMERAS and f.parts == 3 for f in frames))
         self.assertEqual(self.status()["stream"]["multicast"], f"{GROUP}:{GROUP_PORT}")
 
+    def test_9_a_websocket_that_never_reads_stalls_only_itself(self):
+        stalled = []
+        for _ in range(3):
+            s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+            s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+            s.connect(("127.0.0.1", self.rig.api_port))
+            s.sendall(b"GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                      b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+            stalled.append(s)
+        try:
+            time.sleep(3.0)  # their buffers fill: ~1 kB per frame at 100 Hz
+            start = time.monotonic()
+            messages = websocket_messages(self.rig.api_port, "/api/stream?parts=points", 200)
+            elapsed = time.monotonic() - start
+        finally:
+            for s in stalled:
+                s.close()
+        numbers = [mocap_stream.decode_frame(m).frame_number for m in messages]
+        span = numbers[-1] - numbers[0] + 1
+        print(f"\n3 WebSockets that never read: another got {len(numbers)} frames of {span} in {elapsed:.2f} s",
+              file=sys.stderr)
+        self.assertGreaterEqual(len(numbers) / span, 0.95)
+        self.assertLess(elapsed, 200 / RATE * 1.5 + 1.0)
+        self.assertIsNone(self.rig.serve.poll())
+
     def test_7_garbage_on_the_stream_port_is_counted(self):
         before = self.status()["stream"]["bad_requests"]
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:

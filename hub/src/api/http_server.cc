@@ -46,8 +46,10 @@ bool IsStream(const mg_connection* connection) {
   return uri && std::strcmp(uri, "/api/stream") == 0;
 }
 
-// Refuses (non-zero) a /api/stream upgrade with an unknown part.
-int WebSocketConnect(const mg_connection* connection, void*) { return IsStream(connection) && !PartsOf(connection); }
+// Refuses (non-zero) a /api/stream upgrade with an unknown part, and any beyond the client limit.
+int WebSocketConnect(const mg_connection* connection, void*) {
+  return (IsStream(connection) && !PartsOf(connection)) || !ServerOf(connection)->AcceptWebSocket(connection);
+}
 void WebSocketReady(mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketReady(connection); }
 int WebSocketData(mg_connection*, int, char*, size_t, void*) { return 1; }  // keep open, ignore input
 void WebSocketClose(const mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketClose(connection); }
@@ -89,6 +91,14 @@ std::string FrameMessage(const LiveFrame& frame) {
 
 }  // namespace
 
+struct HttpServer::Client {
+  mg_connection* connection = nullptr;
+  bool binary = false;   // /api/stream (protobuf) rather than /api/live (JSON)
+  uint32_t parts = 0;
+  stream::FrameQueue queue{kMaxQueuedFrames};
+  std::thread writer;
+};
+
 HttpServer::HttpServer(service::HubService& service, const std::string& listen)
     : service_(service), queue_(kMaxQueuedFrames) {
   const HostPort address = ParseHostPort(listen);
@@ -114,6 +124,7 @@ HttpServer::~HttpServer() {
   stopping_ = true;
   queue_.Close();
   broadcaster_.join();
+  // Closing the connections ends their writers (OnWebSocketClose joins each).
   mg_stop(context_);
   mg_exit_library();
 }
@@ -149,45 +160,56 @@ int HttpServer::OnRequest(mg_connection* connection) {
   return response.status;
 }
 
-void HttpServer::OnWebSocketReady(mg_connection* connection) {
-  Client client;
-  client.binary = IsStream(connection);
-  client.parts = client.binary ? PartsOf(connection) : 0;
+bool HttpServer::AcceptWebSocket(const mg_connection*) {
   std::lock_guard<std::mutex> lock(clients_mutex_);
-  clients_[connection] = client;
+  return clients_.size() < kMaxWebSocketClients;
+}
+
+void HttpServer::OnWebSocketReady(mg_connection* connection) {
+  auto client = std::make_unique<Client>();
+  client->connection = connection;
+  client->binary = IsStream(connection);
+  client->parts = client->binary ? PartsOf(connection) : 0;
+  client->writer = std::thread(Write, client.get());
+  std::lock_guard<std::mutex> lock(clients_mutex_);
+  clients_[connection] = std::move(client);
 }
 
 void HttpServer::OnWebSocketClose(const mg_connection* connection) {
-  // Waits for a write to this client in progress: civetweb frees the connection after this.
-  std::lock_guard<std::mutex> lock(clients_mutex_);
-  clients_.erase(const_cast<mg_connection*>(connection));
+  std::unique_ptr<Client> client;
+  {
+    std::lock_guard<std::mutex> lock(clients_mutex_);
+    auto it = clients_.find(const_cast<mg_connection*>(connection));
+    if (it == clients_.end()) return;
+    client = std::move(it->second);
+    clients_.erase(it);
+  }
+  // civetweb frees the connection after this returns: its writer must be done with it.
+  client->queue.Close();
+  client->writer.join();
 }
 
 void HttpServer::Broadcast() {
   while (!stopping_) {
     const stream::SharedFrame frame = queue_.Pop(std::chrono::milliseconds(200));
     if (!frame) continue;
-    // Encoded here, not on the loop: once as JSON and once per distinct set of parts. Written
-    // without the queue's lock: a slow client delays only the broadcaster (frames then drop
-    // from the short queue), never the loop that publishes them.
-    std::string json;
-    std::map<uint32_t, std::string> binary;
     std::lock_guard<std::mutex> lock(clients_mutex_);
-    for (auto& [connection, client] : clients_) {
-      const std::string* message;
-      if (client.binary) {
-        auto it = binary.find(client.parts);
-        if (it == binary.end()) it = binary.emplace(client.parts, stream::EncodeStreamFrame(*frame, client.parts).bytes).first;
-        message = &it->second;
-      } else {
-        if (json.empty()) json = FrameMessage(*frame);
-        message = &json;
-      }
-      mg_lock_connection(connection);
-      mg_websocket_write(connection, client.binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT,
-                         message->data(), message->size());
-      mg_unlock_connection(connection);
-    }
+    for (auto& [connection, client] : clients_) client->queue.Push(frame);
+  }
+}
+
+void HttpServer::Write(Client* client) {
+  while (!client->queue.closed()) {
+    const stream::SharedFrame frame = client->queue.Pop(std::chrono::seconds(1));
+    if (!frame) continue;
+    const std::string message =
+        client->binary ? stream::EncodeStreamFrame(*frame, client->parts).bytes : FrameMessage(*frame);
+    mg_lock_connection(client->connection);
+    const int written = mg_websocket_write(client->connection,
+                                           client->binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT,
+                                           message.data(), message.size());
+    mg_unlock_connection(client->connection);
+    if (written <= 0) return;  // gone or timed out: civetweb closes it, and OnWebSocketClose joins
   }
 }
 

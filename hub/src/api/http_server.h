@@ -9,8 +9,10 @@
 //     tentative track's serial, -1 for a point no track took)
 //   /api/stream  binary messages, one StreamFrame (proto/mocap_stream.proto) per frame, with the
 //     parts asked for in the query: /api/stream?parts=points,bodies (default points,bodies).
-// A client that cannot keep up loses frames, never the service: frames wait in a short queue
-// for the broadcaster thread, which drops the oldest.
+// A client that cannot keep up loses frames, nobody else's and never the service's: the
+// broadcaster thread hands each frame to every client's short queue (dropping the oldest), and
+// each client has its own writer thread, so one that stops reading stalls only itself. At most
+// kMaxWebSocketClients at once.
 #pragma once
 
 #include <atomic>
@@ -42,25 +44,26 @@ class HttpServer {
   // From the hub's loop (its one subscription fans out to every adapter).
   void Publish(stream::SharedFrame frame) { queue_.Push(std::move(frame)); }
 
+  static constexpr size_t kMaxWebSocketClients = 64;
+
   // civetweb callbacks (public for the C trampolines only).
   int OnRequest(mg_connection* connection);
+  bool AcceptWebSocket(const mg_connection* connection);
   void OnWebSocketReady(mg_connection* connection);
   void OnWebSocketClose(const mg_connection* connection);
 
  private:
-  struct Client {
-    bool binary = false;   // /api/stream (protobuf) rather than /api/live (JSON)
-    uint32_t parts = 0;
-  };
+  struct Client;
   void Broadcast();
+  static void Write(Client* client);
 
   service::HubService& service_;
   mg_context* context_ = nullptr;
   uint16_t port_ = 0;
   stream::FrameQueue queue_;
   std::atomic<bool> stopping_{false};
-  std::mutex clients_mutex_;  // clients_, held while writing to them
-  std::map<mg_connection*, Client> clients_;
+  std::mutex clients_mutex_;  // clients_
+  std::map<mg_connection*, std::unique_ptr<Client>> clients_;
   std::thread broadcaster_;
 };
 

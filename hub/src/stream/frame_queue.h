@@ -46,6 +46,11 @@ class FrameQueue {
     ready_.notify_all();
   }
 
+  bool closed() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return closed_;
+  }
+
   uint64_t dropped() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return dropped_;
