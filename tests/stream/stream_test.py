@@ -236,6 +236,16 @@ class StreamTest(unittest.TestCase):
                 s.sendto(junk, ("127.0.0.1", self.stream_port))
         wait_for("bad requests counted", lambda: self.status()["stream"]["bad_requests"] >= before + 4)
         self.assertIsNone(self.rig.serve.poll())
+        # Bad stream options are usage errors (exit status 2) that say what is wrong.
+        calibration = os.path.join(WORK, "frames", "calibration.json")
+        for options, reason in ((["--osc", "nohost"], "HOST:PORT"),
+                                (["--stream-multicast", "10.1.1.1:5"], "multicast"),
+                                (["--osc", "127.0.0.1:9", "--osc-parts", "skeletons"], "skeletons")):
+            out = subprocess.run([os.path.join(BIN, "mocap-hub"), "serve", "--calibration", calibration,
+                                  "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "127.0.0.1:0",
+                                  *options], capture_output=True, text=True, timeout=30)
+            self.assertEqual(out.returncode, 2, out.stderr)
+            self.assertIn(reason, out.stderr)
 
 
 if __name__ == "__main__":

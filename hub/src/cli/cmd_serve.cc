@@ -49,22 +49,32 @@ std::vector<std::string> SplitList(const std::string& text) {
   return out;
 }
 
-// The streams serve asked for; each one's options are checked before anything starts.
+uint32_t PartsOption(const std::string& text) {
+  try {
+    return stream::ParseParts(text);
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
+  }
+}
+
+// The streams serve asked for; every option is checked (a usage error) before anything starts.
 struct Streams {
   std::unique_ptr<stream::UdpStreamServer> udp;
   std::unique_ptr<stream::OscSender> osc;
 
   explicit Streams(ServeArgs& args) {
+    stream::OscOptions osc_options;
     if (args.stream.listen != "off") {
-      args.stream.multicast_parts = stream::ParseParts(args.stream_multicast_parts);
-      udp = std::make_unique<stream::UdpStreamServer>(args.stream);
+      args.stream.multicast_parts = PartsOption(args.stream_multicast_parts);
+      CheckOptions(args.stream);
     }
     if (!args.osc_targets.empty()) {
-      stream::OscOptions osc_options;
       osc_options.targets = SplitList(args.osc_targets);
-      osc_options.parts = stream::ParseParts(args.osc_parts);
-      osc = std::make_unique<stream::OscSender>(osc_options);
+      osc_options.parts = PartsOption(args.osc_parts);
+      CheckOptions(osc_options);
     }
+    if (args.stream.listen != "off") udp = std::make_unique<stream::UdpStreamServer>(args.stream);
+    if (!args.osc_targets.empty()) osc = std::make_unique<stream::OscSender>(osc_options);
   }
 };
 
