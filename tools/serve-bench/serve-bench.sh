@@ -11,9 +11,11 @@
 # 1280x800 by default (--width/--height).
 # usage: tools/serve-bench/serve-bench.sh [--cameras "8 16 32"] [--markers 60] [--rate 240]
 #                                         [--seconds 4] [--width 1280 --height 800]
+#                                         [--serve-args "--busy-poll-ms 2"]
 #                                         [--bin build/bin] [--out serve-bench]
 set -euo pipefail
 cameras="8 16 32" markers=60 rate=240 seconds=4 bin=build/bin out=serve-bench width=1280 height=800
+serve_args=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --cameras) cameras=${2:?}; shift 2 ;;
@@ -22,9 +24,10 @@ while [ $# -gt 0 ]; do
         --seconds) seconds=${2:?}; shift 2 ;;
         --width) width=${2:?}; shift 2 ;;
         --height) height=${2:?}; shift 2 ;;
+        --serve-args) serve_args=${2?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
-        -h|--help) sed -n 2,14p "$0"; exit 0 ;;
+        -h|--help) sed -n 2,15p "$0"; exit 0 ;;
         *) echo "serve-bench: unknown argument '$1'" >&2; exit 1 ;;
     esac
 done
@@ -45,7 +48,8 @@ for n in $cameras; do
     "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/c$n/rig.json" -o "$out/c$n/frames" \
         --occlusion 0.02 --noise 1.5 > /dev/null
     "$here/deploy/sim-session.sh" --frames-dir "$out/c$n/frames" --out "$out/c$n" --bin "$bin" \
-        --hub-cpus 0 --node-cpus "$node_cpus" --json > "$out/c$n.json" 2> "$out/c$n.log"
+        --hub-cpus 0 --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 $serve_args" --json \
+        > "$out/c$n.json" 2> "$out/c$n.log"
     python3 - "$out/c$n.json" "$n" "$markers" "$rate" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))

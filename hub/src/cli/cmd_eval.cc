@@ -11,7 +11,7 @@
 #include "cli/commands.h"
 #include "eval/marker_accuracy.h"
 #include "io/live_points.h"
-#include "io/trc.h"
+#include "io/trajectory_file.h"
 #include "io/visibility.h"
 
 namespace mocap {
@@ -28,10 +28,10 @@ struct EvalArgs {
 
 void RunEval(const EvalArgs& args) {
   CheckOptions(args.options);
-  const MarkerTrajectories truth = ReadTrc(args.truth);
+  const MarkerTrajectories truth = ReadTrajectories(args.truth);
   // A capture's live_points.tsv judges what serve published live, frame by frame.
   const bool live = std::filesystem::path(args.result).extension() == ".tsv";
-  const MarkerTrajectories result = live ? ReadLivePoints(args.result) : ReadTrc(args.result);
+  const MarkerTrajectories result = live ? ReadLivePoints(args.result) : ReadTrajectories(args.result);
   std::string visibility_path = args.visibility;
   if (visibility_path.empty() && !args.session.empty()) {
     visibility_path = (std::filesystem::path(args.session) / "visibility.tsv").string();

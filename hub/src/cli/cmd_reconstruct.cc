@@ -16,6 +16,7 @@
 #include "recon/reconstructor.h"
 #include "track/gap_filler.h"
 #include "track/tracker.h"
+#include "io/trajectory_file.h"
 #include "track/trc_spill.h"
 #include "util/log.h"
 
@@ -48,6 +49,11 @@ void CheckCalibrationMatches(const SessionInfo& info, const Rig& rig, const Reco
 }
 
 void RunReconstruct(ReconstructArgs args) {
+  try {
+    TrajectoryFormatOf(args.output);
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
+  }
   args.recon.matcher = MatcherTypeFromString(args.matcher);
   args.recon.use_predictions = !args.no_predictions;
   args.tracker.assignment = AssignmentMethodFromString(args.assignment);
@@ -117,7 +123,7 @@ void AddReconstructCommand(CLI::App& app) {
   auto args = std::make_shared<ReconstructArgs>();
   command->add_option("session", args->session, "Session directory")->required()->check(CLI::ExistingDirectory);
   command->add_option("--calibration", args->calibration, "Calibration JSON")->required()->check(CLI::ExistingFile);
-  command->add_option("-o,--output", args->output, "Output TRC file")->required();
+  command->add_option("-o,--output", args->output, "Output marker file: .trc or .c3d")->required();
   command->add_option("--matcher", args->matcher, "Correspondences of untracked blobs")
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
       ->capture_default_str();

@@ -23,6 +23,7 @@ const AddCommand kCommands[] = {
     mocap::AddSimMotionCommand,
     mocap::AddEvalCommand,
     mocap::AddReconstructCommand,
+    mocap::AddConvertCommand,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "io/marker_trajectories.h"
-#include "io/trc.h"
+#include "io/trajectory_file.h"
 
 namespace mocap {
 namespace {
@@ -52,7 +52,7 @@ void TrcSpill::Finish(int num_markers) {
   std::vector<std::string> names;
   for (int m = 0; m < num_markers; ++m) names.push_back(DefaultMarkerName(m));
   if (names.empty()) throw std::runtime_error(trc_path_ + ": no marker was tracked; nothing to write");
-  TrcWriter writer;
+  TrajectoryWriter writer;  // TRC or C3D, by the output's extension
   writer.Open(trc_path_, names, rate_hz_);
   std::rewind(spill_);
   std::vector<Eigen::Vector3d> points(num_markers);

@@ -1,7 +1,7 @@
-// Streams tracked rows to a TRC file whose column count (the number of markers the tracker will
+// Streams tracked rows to a TRC or C3D file (by its extension) whose column count (the number of markers the tracker will
 // have confirmed) is only known at the end: rows go to a compact binary spill file beside the
-// output as they come, and Finish() converts it into the TRC with the io layer's streaming
-// writer. Memory stays constant; disk use is ~28 bytes per sample until Finish.
+// output as they come, and Finish() converts it with the io layer's streaming writer. Memory
+// stays constant; disk use is ~28 bytes per sample until Finish.
 // Errors: std::runtime_error naming the file (io layer policy).
 #pragma once
 
