@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 #include "simcore/test_scenes.h"
 #include "calib/wand_calibration.h"
 

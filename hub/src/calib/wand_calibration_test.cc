@@ -8,7 +8,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 #include "simcore/test_scenes.h"
 
 namespace mocap {

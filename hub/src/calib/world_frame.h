@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
 

@@ -1,4 +1,4 @@
-// Rigid alignment by Kabsch on camera centres (calib/rigid_fit.h), then per-camera differences.
+// Rigid alignment by Kabsch on camera centres (geometry/rigid_fit.h), then per-camera differences.
 // Centre errors are measured after the rigid (not the similarity) fit, so that a scale error
 // shows up in them as well as in scale_error.
 #include "eval/calibration_eval.h"
@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 #include "util/json_file.h"
 
 namespace mocap {

@@ -1,6 +1,6 @@
 // Least-squares rigid and similarity transforms between corresponding 3D point sets (Kabsch,
-// with Umeyama's scale). Used to place the world frame on an L-frame and to compare a
-// calibration with ground truth whose world frame differs by a rigid motion.
+// with Umeyama's scale). Used to place the world frame on an L-frame, to compare a calibration
+// with ground truth whose world frame differs by a rigid motion, and to fit rigid bodies.
 #pragma once
 
 #include <vector>

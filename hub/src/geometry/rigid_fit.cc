@@ -1,6 +1,6 @@
 // Kabsch / Umeyama through Eigen::umeyama (reflection guard and scale included), behind a check
 // that the correspondences determine a rotation at all, which umeyama does not make.
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 
 #include <algorithm>
 #include <cmath>

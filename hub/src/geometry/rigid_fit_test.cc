@@ -1,6 +1,6 @@
 // Kabsch / Umeyama fits recover known transforms, refuse degenerate input, and never return a
 // reflection.
-#include "calib/rigid_fit.h"
+#include "geometry/rigid_fit.h"
 
 #include <random>
 #include <stdexcept>
