@@ -77,6 +77,8 @@ static bool decode_body(pb_istream_t *stream, const pb_field_t *field, void **ar
     memcpy(out->name, b.name, sizeof out->name);
     out->name[sizeof out->name - 1] = '\0';
     out->tracked = b.tracked;
+    out->predicted = b.predicted;
+    out->markers = b.markers;
     out->x = b.x;
     out->y = b.y;
     out->z = b.z;

@@ -40,7 +40,9 @@ typedef struct {
 typedef struct {
     uint32_t id;
     char name[64];
-    int tracked;                /* 0: no pose this frame */
+    int tracked;                /* fitted to this frame's points */
+    int predicted;              /* not seen: pose predicted through a short occlusion */
+    uint32_t markers;           /* markers fitted */
     float x, y, z;              /* mm */
     float qx, qy, qz, qw;       /* body -> world */
     float mean_error_mm;

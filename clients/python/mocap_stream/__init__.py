@@ -47,6 +47,8 @@ class RigidBody:
     qz: float = 0.0
     qw: float = 0.0
     mean_error_mm: float = 0.0
+    predicted: bool = False   # not seen: the pose predicted through a short occlusion
+    markers: int = 0          # markers fitted
 
 
 @dataclasses.dataclass
@@ -143,6 +145,10 @@ def _body(data):
             b.name = value.decode("utf-8", "replace")
         elif number == 3 and kind == 0:
             b.tracked = bool(value)
+        elif number == 12 and kind == 0:
+            b.predicted = bool(value)
+        elif number == 13 and kind == 0:
+            b.markers = value
     return b
 
 

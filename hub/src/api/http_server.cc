@@ -71,7 +71,7 @@ const char* Reason(int status) {
 std::string FrameMessage(const LiveFrame& frame) {
   std::string out;
   out.reserve(64 + frame.points.size() * 64);
-  char buffer[160];
+  char buffer[256];
   std::snprintf(buffer, sizeof(buffer), "{\"frame\":%llu,\"trigger_ns\":%llu,\"publish_ns\":%llu,\"cameras\":%d,\"points\":[",
                 static_cast<unsigned long long>(frame.frame_number),
                 static_cast<unsigned long long>(frame.trigger_time_ns),
@@ -83,6 +83,15 @@ std::string FrameMessage(const LiveFrame& frame) {
                                          : static_cast<long long>(p.marker);
     std::snprintf(buffer, sizeof(buffer), "%s[%.3f,%.3f,%.3f,%lld,%d,%d,%.3f]", i ? "," : "", p.position.x(),
                   p.position.y(), p.position.z(), id, p.provisional() ? 1 : 0, p.views, p.rms_px);
+    out += buffer;
+  }
+  out += "],\"bodies\":[";
+  for (size_t i = 0; i < frame.bodies.size(); ++i) {
+    const service::LiveBody& b = frame.bodies[i];
+    const Eigen::Quaterniond& q = b.orientation;
+    std::snprintf(buffer, sizeof(buffer), "%s[%u,%d,%d,%.3f,%.3f,%.3f,%.6f,%.6f,%.6f,%.6f,%.3f,%d]", i ? "," : "", b.id,
+                  b.tracked ? 1 : 0, b.predicted ? 1 : 0, b.position.x(), b.position.y(), b.position.z(), q.x(), q.y(),
+                  q.z(), q.w(), b.mean_error_mm, b.markers);
     out += buffer;
   }
   out += "]}";

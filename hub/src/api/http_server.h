@@ -4,7 +4,8 @@
 // frame:
 //   /api/live    JSON text messages, one per frame:
 //     {"frame": N, "trigger_ns": T, "publish_ns": P, "cameras": C,
-//      "points": [[x, y, z, id, provisional, views, rms_px], ...]}
+//      "points": [[x, y, z, id, provisional, views, rms_px], ...],
+//      "bodies": [[id, tracked, predicted, x, y, z, qx, qy, qz, qw, mean_error_mm, markers], ...]}
 //     (mm, world frame; id is the confirmed marker number or, when provisional is 1, the
 //     tentative track's serial, -1 for a point no track took)
 //   /api/stream  binary messages, one StreamFrame (proto/mocap_stream.proto) per frame, with the

@@ -16,6 +16,7 @@
 #include "recon/reconstructor.h"
 #include "track/gap_filler.h"
 #include "track/tracker.h"
+#include "bodies/body_trajectories.h"
 #include "io/trajectory_file.h"
 #include "track/trc_spill.h"
 #include "util/log.h"
@@ -34,7 +35,25 @@ struct ReconstructArgs {
   ReconstructorOptions recon;
   TrackerOptions tracker;
   GapFillOptions gap_fill;
+  std::string bodies;  // rigid bodies file; empty: none
 };
+
+// Rigid bodies over the finished marker file: their poses beside it (OUT.bodies.tsv) and one
+// virtual marker per body (its pivot) added to it.
+void AddRigidBodies(const ReconstructArgs& args) {
+  const std::vector<RigidBodyDefinition> bodies = ReadBodiesFile(args.bodies);
+  MarkerTrajectories markers = ReadTrajectories(args.output);
+  const std::vector<BodyPoseRow> rows = TrackBodies(markers, bodies);
+  const std::string poses = args.output.substr(0, args.output.find_last_of('.')) + ".bodies.tsv";
+  WriteBodyPoses(poses, bodies, rows, markers.rate_hz);
+  AddVirtualMarkers(&markers, bodies, rows);
+  WriteTrajectories(markers, args.output);
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    size_t tracked = 0;
+    for (const BodyPoseRow& row : rows) tracked += row.poses[b].tracked;
+    std::printf("%s: body %s fitted in %zu of %zu frames\n", poses.c_str(), bodies[b].name.c_str(), tracked, rows.size());
+  }
+}
 
 // Every camera of the session must be in the calibration: reconstructing with a camera's blobs
 // silently ignored would give plausible-looking but thinner results.
@@ -102,6 +121,7 @@ void RunReconstruct(ReconstructArgs args) {
   filler.Add(last_frame, samples);
   filler.Finish();
   spill.Finish(tracker.NumMarkers());
+  if (!args.bodies.empty()) AddRigidBodies(args);
 
   for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
   const ReconstructionStats& rs = reconstructor.stats();
@@ -124,6 +144,10 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_option("session", args->session, "Session directory")->required()->check(CLI::ExistingDirectory);
   command->add_option("--calibration", args->calibration, "Calibration JSON")->required()->check(CLI::ExistingFile);
   command->add_option("-o,--output", args->output, "Output marker file: .trc or .c3d")->required();
+  command->add_option("--bodies", args->bodies,
+                      "Rigid bodies file: their poses to OUT.bodies.tsv and a virtual marker each (memory then "
+                      "grows with the session)")
+      ->check(CLI::ExistingFile);
   command->add_option("--matcher", args->matcher, "Correspondences of untracked blobs")
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
       ->capture_default_str();

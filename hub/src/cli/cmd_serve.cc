@@ -155,6 +155,8 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--sessions-dir", o.sessions_dir, "Where captures go (one directory per session)")
       ->capture_default_str();
   command->add_option("--masks-file", o.masks_file, "The installation's camera masks (JSON), kept and re-sent");
+  command->add_option("--bodies", o.bodies_file, "Rigid bodies file (JSON, `mocap-hub body define`)")
+      ->check(CLI::ExistingFile);
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
   command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
   command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");

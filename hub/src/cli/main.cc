@@ -24,6 +24,7 @@ const AddCommand kCommands[] = {
     mocap::AddEvalCommand,
     mocap::AddReconstructCommand,
     mocap::AddConvertCommand,
+    mocap::AddBodyCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,

@@ -14,8 +14,9 @@ TrackerOptions TrackerAt(double rate_hz) {
 
 }  // namespace
 
-LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon)
-    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)) {}
+LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon,
+                                       std::vector<RigidBodyDefinition> bodies)
+    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies)) {}
 
 void LiveReconstruction::Run(const FrameSet& set) {
   frame_.frame_number = set.frame_number;
@@ -39,6 +40,22 @@ void LiveReconstruction::Run(const FrameSet& set) {
     out.views = points_[i].num_views;
     out.marker = identities[i].marker;
     out.provisional_track = identities[i].provisional_track;
+  }
+  if (bodies_.bodies().empty()) return;
+  positions_.resize(points_.size());
+  for (size_t i = 0; i < points_.size(); ++i) positions_[i] = points_[i].point_in_world;
+  const std::vector<BodyPose> poses = bodies_.Update(positions_);
+  frame_.bodies.resize(poses.size());
+  for (size_t b = 0; b < poses.size(); ++b) {
+    LiveBody& out = frame_.bodies[b];
+    out.id = static_cast<uint32_t>(b + 1);
+    out.name = bodies_.bodies()[b].name;
+    out.tracked = poses[b].tracked;
+    out.predicted = poses[b].predicted;
+    out.position = poses[b].pivot;
+    out.orientation = poses[b].orientation;
+    out.mean_error_mm = poses[b].mean_error_mm;
+    out.markers = static_cast<int>(poses[b].markers);
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
+#include "bodies/body_tracker.h"
 #include "recon/reconstructor.h"
 #include "track/tracker.h"
 
@@ -33,10 +34,12 @@ struct LivePoint {
 struct LiveBody {
   uint32_t id = 0;                     // 1-based, in the bodies file's order
   std::string name;
-  bool tracked = false;                // false: pose unknown this frame (position/rotation unset)
+  bool tracked = false;                // fitted to this frame's points
+  bool predicted = false;              // not seen: the pose predicted through a short occlusion
   Eigen::Vector3d position = Eigen::Vector3d::Zero();               // world, mm
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // body -> world
   double mean_error_mm = 0.0;          // mean distance of its fitted markers
+  int markers = 0;                     // markers fitted
 };
 
 struct LiveFrame {
@@ -47,13 +50,14 @@ struct LiveFrame {
   int cameras = 0;                     // camera frames in the set
   std::vector<LivePoint> points;
   std::vector<TrackSample> samples;    // confirmed markers' samples (may reach back in time)
-  std::vector<LiveBody> bodies;        // empty until rigid bodies are defined
+  std::vector<LiveBody> bodies;        // one per defined rigid body, in the bodies file's order
 };
 
 class LiveReconstruction {
  public:
   // The rig must outlive this object. Throws std::invalid_argument on bad options.
-  LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon = {});
+  LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon = {},
+                     std::vector<RigidBodyDefinition> bodies = {});
 
   // One assembled frame set; frame numbers must increase. now_ns() is read when the result is
   // complete. The returned frame stays valid until the next call.
@@ -71,7 +75,9 @@ class LiveReconstruction {
 
   Reconstructor reconstructor_;
   Tracker tracker_;
+  BodyTracker bodies_;
   std::vector<ReconstructedPoint> points_;
+  std::vector<Eigen::Vector3d> positions_;
   LiveFrame frame_;
 };
 

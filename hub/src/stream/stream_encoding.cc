@@ -23,7 +23,9 @@ void FillBody(const service::LiveBody& in, v1::RigidBody* out) {
   out->set_id(in.id);
   out->set_name(in.name);
   out->set_tracked(in.tracked);
-  if (!in.tracked) return;
+  out->set_predicted(in.predicted);
+  out->set_markers(static_cast<uint32_t>(in.markers));
+  if (!in.tracked && !in.predicted) return;
   out->set_x(static_cast<float>(in.position.x()));
   out->set_y(static_cast<float>(in.position.y()));
   out->set_z(static_cast<float>(in.position.z()));
