@@ -1,0 +1,107 @@
+// GetParameters XML (see rt_parameters.h).
+#include "stream/qtm/rt_parameters.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "stream/qtm/rt_command.h"
+
+namespace mocap::stream::qtm {
+namespace {
+
+std::string Number(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+// A stable colour per label or body (RGBColor: red in bits 0-7, as hex like QTM's examples).
+std::string Colour(int index) {
+  static const char* kPalette[] = {"ff0000", "00ff00", "0000ff", "ffff00", "ff00ff", "00ffff", "ff8000", "8000ff"};
+  return kPalette[index % 8];
+}
+
+void General(std::ostringstream& x, const RtSystem& s) {
+  x << "<General>\n<Frequency>" << Number(s.rate_hz) << "</Frequency>\n"
+    << "<Capture_Time>0</Capture_Time>\n<Start_On_External_Trigger>False</Start_On_External_Trigger>\n"
+    << "<Camera_System><Type>Unknown</Type></Camera_System>\n";
+  for (const Camera& c : s.rig.cameras) {
+    const Eigen::Vector3d centre = c.CenterInWorld();
+    const Eigen::Matrix3d world_from_cam = c.rotation.transpose();
+    x << "<Camera>\n<ID>" << c.id << "</ID>\n<Model>mocap-node</Model>\n<Underwater>False</Underwater>\n"
+      << "<Supports_HW_Sync>True</Supports_HW_Sync>\n<Serial>" << c.id << "</Serial>\n<Mode>Marker</Mode>\n"
+      << "<Position>\n<X>" << Number(centre.x()) << "</X>\n<Y>" << Number(centre.y()) << "</Y>\n<Z>"
+      << Number(centre.z()) << "</Z>\n";
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row)
+        x << "<Rot_" << row + 1 << "_" << col + 1 << ">" << Number(world_from_cam(row, col)) << "</Rot_" << row + 1
+          << "_" << col + 1 << ">\n";
+    x << "</Position>\n<Orientation>0</Orientation>\n<Marker_Res>\n<Width>" << c.intrinsics.width * 64
+      << "</Width>\n<Height>" << c.intrinsics.height * 64 << "</Height>\n</Marker_Res>\n<Marker_FOV>\n"
+      << "<Left>0</Left>\n<Top>0</Top>\n<Right>" << std::max(0, c.intrinsics.width - 1) << "</Right>\n<Bottom>"
+      << std::max(0, c.intrinsics.height - 1) << "</Bottom>\n</Marker_FOV>\n</Camera>\n";
+  }
+  x << "</General>\n";
+}
+
+void ThreeD(std::ostringstream& x, const RtSystem& s, const RtNames& names) {
+  x << "<The_3D>\n<AxisUpwards>" << s.axis_upwards << "</AxisUpwards>\n<CalibrationTime></CalibrationTime>\n"
+    << "<Labels>" << names.label_columns().size() << "</Labels>\n";
+  int i = 0;
+  for (int column : names.label_columns())
+    x << "<Label>\n<Name>" << RtNames::LabelName(column) << "</Name>\n<RGBColor>" << Colour(i++)
+      << "</RGBColor>\n</Label>\n";
+  x << "<Bones></Bones>\n</The_3D>\n";
+}
+
+void SixD(std::ostringstream& x, const RtNames& names) {
+  x << "<The_6D>\n<Bodies>" << names.bodies().size() << "</Bodies>\n";
+  int i = 0;
+  for (const auto& [id, name] : names.bodies())
+    x << "<Body>\n<Name>" << XmlEscape(name) << "</Name>\n<RGBColor>" << Colour(i++) << "</RGBColor>\n</Body>\n";
+  x << "<Euler>\n<First>Roll</First>\n<Second>Pitch</Second>\n<Third>Yaw</Third>\n</Euler>\n</The_6D>\n";
+}
+
+}  // namespace
+
+std::string AxisUpwards(const Rig& rig) {
+  Eigen::Vector3d up = Eigen::Vector3d::Zero();
+  // Image y points down (OpenCV): a camera's up in world is -(row 2 of cam_from_world).
+  for (const Camera& c : rig.cameras) up -= c.rotation.row(1).transpose();
+  if (up.norm() < 1e-9) return "+Z";
+  int axis = 0;
+  up.cwiseAbs().maxCoeff(&axis);
+  return std::string(up[axis] < 0 ? "-" : "+") + "XYZ"[axis];
+}
+
+std::string XmlEscape(const std::string& text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // Control bytes have no place in XML 1.0 character data.
+        if (static_cast<unsigned char>(ch) >= 0x20 || ch == '\t' || ch == '\n') out += ch;
+    }
+  }
+  return out;
+}
+
+std::string ParametersXml(const RtSystem& system, const RtNames& names, uint32_t blocks, int version_minor) {
+  std::ostringstream x;
+  const std::string root = "QTM_Parameters_Ver_1." + std::to_string(version_minor);
+  x << "<" << root << ">\n";
+  if (blocks & kGeneral) General(x, system);
+  if (blocks & k3dParameters) ThreeD(x, system, names);
+  if (blocks & k6dParameters) SixD(x, names);
+  x << "</" << root << ">\n";
+  return x.str();
+}
+
+}  // namespace mocap::stream::qtm
