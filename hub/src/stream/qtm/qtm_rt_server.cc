@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ingest/udp_socket.h"
+#include "io/calibration_json.h"
 #include "util/log.h"
 
 namespace mocap::stream::qtm {
@@ -54,11 +55,20 @@ struct QtmRtServer::Client {
   bool dead = false;       // close now
 };
 
+RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz) {
+  RtSystem system;
+  system.rate_hz = rate_hz;
+  system.rig = LoadRigJson(calibration_path);
+  system.axis_upwards = AxisUpwards(system.rig);
+  return system;
+}
+
 void QtmRtOptions::Check() const {
   ParseHostPort(listen);
   if (max_clients == 0) throw std::invalid_argument("qtm-rt: max clients must be > 0");
   if (client_frame_bytes == 0 || client_reply_bytes < client_frame_bytes)
     throw std::invalid_argument("qtm-rt: client queue bounds must be > 0, answers' at least the frames'");
+  if (client_socket_bytes < 4096) throw std::invalid_argument("qtm-rt: client socket buffer must be >= 4096 bytes");
   if (queue_frames == 0) throw std::invalid_argument("qtm-rt: queue must hold at least one frame");
   if (!(silence_s > 0.0)) throw std::invalid_argument("qtm-rt: silence must be > 0 s");
 }
@@ -199,6 +209,7 @@ void QtmRtServer::Accept() {
     }
     const int one = 1;
     setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &options_.client_socket_bytes, sizeof options_.client_socket_bytes);
     auto client = std::make_unique<Client>();
     client->fd = fd;
     client->peer = peer;
@@ -242,7 +253,8 @@ void QtmRtServer::Read(Client& c) {
 void QtmRtServer::Deliver(Client& c, RtOutput& out) {
   uint64_t sent = 0, dropped = 0, udp_failed = 0;
   for (RtOutPacket& p : out.tcp) {
-    if (p.droppable && c.queued_bytes + p.bytes->size() > options_.client_frame_bytes) {
+    // An empty queue always takes the frame, so no frame is too large for everyone.
+    if (p.droppable && c.queued_bytes > 0 && c.queued_bytes + p.bytes->size() > options_.client_frame_bytes) {
       ++dropped;
       continue;
     }
