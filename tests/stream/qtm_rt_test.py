@@ -337,7 +337,23 @@ class QtmRtTest(unittest.TestCase):
         self.assertGreater(published, 0.8 * elapsed * RATE)
         self.assertEqual(after["incomplete_frame_sets"], before["incomplete_frame_sets"])
 
-    def test_7_a_hundred_clients_at_once(self):
+    def test_7_capture_events(self):
+        async def go():
+            events = []
+            conn = await qtm_rt.connect("127.0.0.1", self.port, on_event=events.append)
+            self.rig.hub("capture", "start", "qtm_rt_events")
+            started = await conn.await_event(QRTEvent.EventCaptureStarted, timeout=10)
+            state = await conn.get_state()
+            self.rig.hub("capture", "stop")
+            stopped = await conn.await_event(QRTEvent.EventCaptureStopped, timeout=10)
+            conn.disconnect()
+            return started, state, stopped
+
+        started, state, stopped = self.run_async(go())
+        self.assertEqual((started, state, stopped), (QRTEvent.EventCaptureStarted, QRTEvent.EventCaptureStarted,
+                                                     QRTEvent.EventCaptureStopped))
+
+    def test_8_a_hundred_clients_at_once(self):
         clients = []
         try:
             for _ in range(100):

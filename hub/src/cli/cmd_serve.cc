@@ -115,10 +115,13 @@ void RunServe(ServeArgs& args) {
   api::HttpServer http(hub, args.api);
   // Qualisys RT (--qtm-rt): clients of that protocol, on its own thread like the streams.
   std::unique_ptr<stream::qtm::QtmRtServer> qtm_rt;
-  if (!args.qtm_rt.empty())
+  if (!args.qtm_rt.empty()) {
+    stream::qtm::QtmRtOptions rt;
+    rt.listen = args.qtm_rt;
+    rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
     qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
-        stream::qtm::QtmRtOptions{args.qtm_rt},
-        stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz));
+        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz));
+  }
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
     http.Publish(shared);

@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     session.Receive(data + at, std::min(piece, size - at), state, &out);
     if (at % 64 == 1) {
       state.latest = frame;
-      state.state = q::RtEvent::kConnected;
+      state.flowing = true;
       state.names.Update(*frame);
       session.OnFrame(state, encode, &out);
     }

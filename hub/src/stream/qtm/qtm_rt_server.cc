@@ -71,6 +71,7 @@ void QtmRtOptions::Check() const {
   if (client_socket_bytes < 4096) throw std::invalid_argument("qtm-rt: client socket buffer must be >= 4096 bytes");
   if (queue_frames == 0) throw std::invalid_argument("qtm-rt: queue must hold at least one frame");
   if (!(silence_s > 0.0)) throw std::invalid_argument("qtm-rt: silence must be > 0 s");
+  if (!(capture_poll_s > 0.0)) throw std::invalid_argument("qtm-rt: capture poll interval must be > 0 s");
 }
 
 QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
@@ -106,10 +107,16 @@ QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
     throw error;
   }
   thread_ = std::thread([this] { Run(); });
+  if (options_.capturing) watcher_ = std::thread([this] { WatchCapture(); });
 }
 
 QtmRtServer::~QtmRtServer() {
-  stop_ = true;
+  {
+    std::lock_guard<std::mutex> lock(watch_mutex_);
+    stop_ = true;
+  }
+  watch_wake_.notify_all();
+  if (watcher_.joinable()) watcher_.join();
   const uint64_t one = 1;
   (void)!write(wake_fd_, &one, sizeof one);
   if (thread_.joinable()) thread_.join();
@@ -158,6 +165,7 @@ void QtmRtServer::Run() {
       (void)!read(wake_fd_, &count, sizeof count);
     }
     TakeFrames();
+    TakeCaptureState();
     // Clients accepted in this turn are not in fds yet: only the first fds.size() - 2 are polled.
     const size_t polled = fds.size() - 2;
     for (size_t i = 0; i < polled && i < clients_.size(); ++i) {
@@ -168,9 +176,8 @@ void QtmRtServer::Run() {
       if (!c.dead && (revents & POLLOUT)) Flush(c);
     }
     if (fds[0].revents & POLLIN) Accept();
-    if (state_.state == RtEvent::kConnected &&
-        SteadyNowNs() - last_frame_ns_ > static_cast<uint64_t>(options_.silence_s * 1e9)) {
-      state_.state = RtEvent::kConnectionClosed;
+    if (state_.flowing && SteadyNowNs() - last_frame_ns_ > static_cast<uint64_t>(options_.silence_s * 1e9)) {
+      state_.flowing = false;
       Broadcast(RtEvent::kConnectionClosed);
     }
     CloseDead();
@@ -308,8 +315,8 @@ void QtmRtServer::TakeFrames() {
     last_frame_ns_ = SteadyNowNs();
     state_.names.Update(*frame);
     state_.latest = frame;
-    if (state_.state != RtEvent::kConnected) {
-      state_.state = RtEvent::kConnected;
+    if (!state_.flowing) {
+      state_.flowing = true;
       Broadcast(RtEvent::kConnected);
     }
     std::map<uint32_t, PacketPtr> encoded;  // one encoding per component mask per frame
@@ -328,6 +335,32 @@ void QtmRtServer::TakeFrames() {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     ++stats_.frames;
   }
+}
+
+void QtmRtServer::WatchCapture() {
+  std::unique_lock<std::mutex> lock(watch_mutex_);
+  while (!stop_) {
+    lock.unlock();
+    int state = 0;
+    try {
+      state = options_.capturing() ? 2 : 1;
+    } catch (const std::exception& e) {
+      log::Debug("Qualisys RT: capture state unknown: {}", e.what());
+    }
+    if (state && capture_state_.exchange(state) != state) {
+      const uint64_t one = 1;
+      (void)!write(wake_fd_, &one, sizeof one);
+    }
+    lock.lock();
+    watch_wake_.wait_for(lock, std::chrono::duration<double>(options_.capture_poll_s), [this] { return stop_.load(); });
+  }
+}
+
+void QtmRtServer::TakeCaptureState() {
+  const int state = capture_state_.load();
+  if (state == 0 || (state == 2) == state_.capturing) return;
+  state_.capturing = state == 2;
+  Broadcast(state_.capturing ? RtEvent::kCaptureStarted : RtEvent::kCaptureStopped);
 }
 
 void QtmRtServer::Broadcast(RtEvent event) {

@@ -6,8 +6,9 @@
 // Threads: one thread of its own runs a poll() loop over the listening socket, every client and
 // a wake-up eventfd; Publish() (the hub's loop) only queues the shared frame and wakes it.
 // Events: Connected when frames start to flow, Connection Closed when none came for
-// `silence_s` (both: the hub's camera system as QTM reports its own), QTM Shutting Down when the
-// server stops.
+// `silence_s` (both: the hub's camera system as QTM reports its own), Capture Started / Stopped
+// when the hub's capture (mocap-hub capture start/stop) does, QTM Shutting Down when the server
+// stops.
 // Slow consumers: a client's queued bytes are bounded; a streamed frame that does not fit is
 // dropped for that client only (whole frames), a client that does not even read its answers is
 // closed. Errors: the constructor throws std::invalid_argument for bad options and
@@ -15,7 +16,9 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -42,6 +45,11 @@ struct QtmRtOptions {
   int client_socket_bytes = 64 * 1024;
   size_t queue_frames = 8;                  // frames between the hub's loop and this thread
   double silence_s = 1.0;                   // no frame this long: Connection Closed
+  // Whether the hub records a capture, asked every capture_poll_s on a thread of its own (it
+  // may wait for the hub's loop; it may throw, which counts as no answer). Unset: no capture
+  // events.
+  std::function<bool()> capturing;
+  double capture_poll_s = 0.5;
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
@@ -86,6 +94,8 @@ class QtmRtServer {
   void TakeFrames();
   void Broadcast(RtEvent event);
   void CloseDead();
+  void WatchCapture();
+  void TakeCaptureState();
 
   const QtmRtOptions options_;
   int listen_fd_ = -1;
@@ -99,6 +109,10 @@ class QtmRtServer {
   mutable std::mutex stats_mutex_;
   QtmRtStats stats_;
   std::atomic<bool> stop_{false};
+  std::atomic<int> capture_state_{0};  // from the watcher: 0 unknown, 1 idle, 2 capturing
+  std::mutex watch_mutex_;
+  std::condition_variable watch_wake_;
+  std::thread watcher_;
   std::thread thread_;
 };
 

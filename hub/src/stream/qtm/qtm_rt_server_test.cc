@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -211,6 +212,24 @@ TEST(QtmRtServer, ClientsVanishingMidStreamAndTheShutdownEvent) {
   EXPECT_EQ(p.body, std::string(1, 12));  // QTM Shutting Down
   EXPECT_EQ(last.Next(2000ms).type, 99u);
   EXPECT_TRUE(last.eof());
+}
+
+TEST(QtmRtServer, CaptureEventsFollowTheProbe) {
+  std::atomic<bool> capturing{false};
+  QtmRtOptions o = Loopback();
+  o.capturing = [&] { return capturing.load(); };
+  o.capture_poll_s = 0.02;
+  QtmRtServer server(o, TwoCameras());
+  TestClient c(server.port());
+  EXPECT_EQ(c.Next().type, 1u);
+  capturing = true;
+  EXPECT_EQ(c.Next().body, std::string(1, 3));  // Capture Started
+  c.Send("GetState");
+  EXPECT_EQ(c.Next().body, std::string(1, 3));
+  capturing = false;
+  EXPECT_EQ(c.Next().body, std::string(1, 4));  // Capture Stopped
+  c.Send("GetState");
+  EXPECT_EQ(c.Next().body, std::string(1, 2));  // and no frames: Connection Closed
 }
 
 TEST(QtmRtServer, BadOptionsAndBusyPorts) {

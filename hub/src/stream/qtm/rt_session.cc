@@ -73,7 +73,7 @@ void RtSession::HandleCommand(const Command& c, const RtServerState& state, RtOu
       Reply(out, PacketType::kCommand, "Byte order is little endian");
       return;
     case CommandKind::kGetState:
-      out->tcp.push_back({Share(MakeEventPacket(state.state)), false});
+      out->tcp.push_back({Share(MakeEventPacket(state.State())), false});
       return;
     case CommandKind::kGetParameters:
       Reply(out, PacketType::kXml, ParametersXml(state.system, state.names, c.parameters, version_minor_));
@@ -104,7 +104,7 @@ void RtSession::HandleCommand(const Command& c, const RtServerState& state, RtOu
       }
       // No frames flowing: the protocol's "no measurement" answer, so the client is not left
       // waiting; the stream starts when frames do.
-      if (state.state != RtEvent::kConnected) out->tcp.push_back({Share(MakePacket(PacketType::kNoMoreData, "")), false});
+      if (!state.flowing) out->tcp.push_back({Share(MakePacket(PacketType::kNoMoreData, "")), false});
       return;
     case CommandKind::kStreamFramesStop:
       streaming_ = false;

@@ -31,9 +31,16 @@ using PacketPtr = std::shared_ptr<const std::string>;
 struct RtServerState {
   RtSystem system;
   RtNames names;
-  SharedFrame latest;                         // the newest frame, null before the first
-  RtEvent state = RtEvent::kConnectionClosed;  // the last state event (GetState)
+  SharedFrame latest;     // the newest frame, null before the first
+  bool flowing = false;   // frames arrive (Connected) or stopped (Connection Closed)
+  bool capturing = false;  // the hub records a capture (Capture Started / Stopped)
   std::string server_version = "mocap-hub";
+
+  // What GetState reports: a running capture, else whether frames flow.
+  RtEvent State() const {
+    if (capturing) return RtEvent::kCaptureStarted;
+    return flowing ? RtEvent::kConnected : RtEvent::kConnectionClosed;
+  }
 };
 
 struct RtOutPacket {

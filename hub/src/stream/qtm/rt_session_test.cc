@@ -95,6 +95,14 @@ TEST(RtSession, GreetingVersionAndSimpleCommands) {
   ASSERT_EQ(got.size(), 1u);
   EXPECT_EQ(got[0].type, 6u);
   EXPECT_EQ(got[0].body, std::string(1, 2));  // no frames yet: Connection Closed
+  state.flowing = true;
+  c.Send("GetState");
+  state.capturing = true;
+  c.Send("GetState");
+  got = c.Take();
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0].body, std::string(1, 1));  // Connected
+  EXPECT_EQ(got[1].body, std::string(1, 3));  // Capture Started
 
   c.Send("GetParameters 3D");
   got = c.Take();
@@ -147,7 +155,7 @@ TEST(RtSession, QuitSaysGoodbyeAndCloses) {
 TEST(RtSession, StreamsAtTheRateAskedAndStops) {
   RtServerState state;
   state.system.rate_hz = 100;
-  state.state = RtEvent::kConnected;
+  state.flowing = true;
   Client c(&state);
   c.Take();
   c.Send("StreamFrames AllFrames 3D");
@@ -184,7 +192,7 @@ TEST(RtSession, StreamsAtTheRateAskedAndStops) {
 
 TEST(RtSession, UdpStreamsGoToTheClientOrTheAddressGiven) {
   RtServerState state;
-  state.state = RtEvent::kConnected;
+  state.flowing = true;
   Client c(&state);
   c.Take();
   c.Send("StreamFrames AllFrames UDP:40001 3DNoLabels");
