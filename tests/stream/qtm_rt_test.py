@@ -18,6 +18,7 @@ import re
 import shutil
 import socket
 import struct
+import subprocess
 import sys
 import threading
 import time
@@ -383,6 +384,16 @@ class QtmRtTest(unittest.TestCase):
                 s.close()  # all vanish at once
         wait_for("the clients gone", lambda: self.status()["qtm_rt"]["clients"] == 0)
         self.assertIsNone(self.rig.serve.poll())
+
+    def test_9_bad_options(self):
+        # A malformed address is a usage error (2); a port in use is a failure (1); both say why.
+        calibration = os.path.join(WORK, "frames", "calibration.json")
+        for address, status, reason in (("nohost", 2, "HOST:PORT"), (f"127.0.0.1:{self.port}", 1, "listen")):
+            out = subprocess.run([os.path.join(BIN, "mocap-hub"), "serve", "--calibration", calibration,
+                                  "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "off",
+                                  "--qtm-rt", address], capture_output=True, text=True, timeout=30)
+            self.assertEqual(out.returncode, status, out.stderr)
+            self.assertIn(reason, out.stderr)
 
 
 if __name__ == "__main__":

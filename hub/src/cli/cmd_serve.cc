@@ -119,6 +119,7 @@ void RunServe(ServeArgs& args) {
     stream::qtm::QtmRtOptions rt;
     rt.listen = args.qtm_rt;
     rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
+    CheckOptions(rt);
     qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
         rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz));
   }
