@@ -245,12 +245,14 @@ class QtmRtTest(unittest.TestCase):
             c = RawClient(self.port)
             self.assertEqual(c.next()[1], b"QTM RT Interface connected\0")
             c.send(f"StreamFrames Frequency:25 UDP:{udp.getsockname()[1]} 3DNoLabelsRes")
-            frames = []
-            while len(frames) < 10:
+            frames, latency = [], []
+            while len(frames) < 50:
                 data = udp.recv(65536)
+                received_ns = time.time_ns()
                 size, kind = struct.unpack_from("<II", data)
                 self.assertEqual((size, kind), (len(data), 3))
                 frames.append(QRTPacket(data[8:]))
+                latency.append((received_ns - frames[-1].timestamp * 1000) / 1e6)
             c.send("StreamFrames Stop")
             c.send("ByteOrder")
             self.assertEqual(c.next_not_event()[1], b"Byte order is little endian\0")
@@ -259,6 +261,8 @@ class QtmRtTest(unittest.TestCase):
         self.assertEqual(info.marker_count, len(points))
         steps = [b.framenumber - a.framenumber for a, b in zip(frames, frames[1:])]
         self.assertTrue(all(s == RATE // 25 for s in steps), steps)  # Frequency:25 of 100 Hz
+        print("\nQualisys RT (raw socket, UDP): trigger -> received ms p50 %.3f p99 %.3f max %.3f" %
+              percentiles(latency), file=sys.stderr)
 
     def test_5_bad_input_gets_errors_and_the_connection_stays(self):
         async def go():

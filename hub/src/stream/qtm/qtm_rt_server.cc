@@ -29,6 +29,8 @@ constexpr int kIdlePollMs = 100;        // silence is noticed within this
 constexpr size_t kReadChunk = 16 * 1024;
 constexpr size_t kMaxReadPerTurn = 64 * 1024;  // one chatty client cannot starve the others
 constexpr size_t kMaxDatagram = 65507;
+// A client being closed (Quit, unframeable bytes) gets this long to take its last answers.
+constexpr uint64_t kClosingGraceNs = 2'000'000'000;
 
 uint64_t SteadyNowNs() {
   return static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -51,7 +53,8 @@ struct QtmRtServer::Client {
   std::deque<PacketPtr> queue;
   size_t queued_bytes = 0;
   size_t front_sent = 0;   // bytes of queue.front() already written
-  bool closing = false;    // close once the queue is written
+  bool closing = false;    // close once the queue is written (nothing more is read)
+  uint64_t closing_since_ns = 0;
   bool dead = false;       // close now
 };
 
@@ -154,8 +157,9 @@ void QtmRtServer::Run() {
     fds.clear();
     fds.push_back({listen_fd_, POLLIN, 0});
     fds.push_back({wake_fd_, POLLIN, 0});
+    // A closing client is not read any more: its unread bytes must not wake the loop.
     for (const auto& c : clients_)
-      fds.push_back({c->fd, static_cast<short>(POLLIN | (c->queue.empty() ? 0 : POLLOUT)), 0});
+      fds.push_back({c->fd, static_cast<short>((c->closing ? 0 : POLLIN) | (c->queue.empty() ? 0 : POLLOUT)), 0});
     if (poll(fds.data(), fds.size(), kIdlePollMs) < 0 && errno != EINTR) {
       log::Error("Qualisys RT: poll failed: {}", std::strerror(errno));
       break;
@@ -171,12 +175,15 @@ void QtmRtServer::Run() {
     for (size_t i = 0; i < polled && i < clients_.size(); ++i) {
       Client& c = *clients_[i];
       const short revents = fds[i + 2].revents;
-      if (revents & (POLLERR | POLLNVAL)) c.dead = true;
+      if ((revents & (POLLERR | POLLNVAL)) || (c.closing && (revents & POLLHUP))) c.dead = true;
       if (!c.dead && (revents & (POLLIN | POLLHUP))) Read(c);
       if (!c.dead && (revents & POLLOUT)) Flush(c);
     }
     if (fds[0].revents & POLLIN) Accept();
-    if (state_.flowing && SteadyNowNs() - last_frame_ns_ > static_cast<uint64_t>(options_.silence_s * 1e9)) {
+    const uint64_t now = SteadyNowNs();
+    for (auto& c : clients_)
+      if (c->closing && now - c->closing_since_ns > kClosingGraceNs) c->dead = true;
+    if (state_.flowing && now - last_frame_ns_ > static_cast<uint64_t>(options_.silence_s * 1e9)) {
       state_.flowing = false;
       Broadcast(RtEvent::kConnectionClosed);
     }
@@ -278,7 +285,10 @@ void QtmRtServer::Deliver(Client& c, RtOutput& out) {
     else
       ++udp_failed;
   }
-  if (out.close) c.closing = true;
+  if (out.close && !c.closing) {
+    c.closing = true;
+    c.closing_since_ns = SteadyNowNs();
+  }
   if (c.queued_bytes > options_.client_reply_bytes) {
     log::Warn("Qualisys RT: client {} does not read its answers; closed", SockaddrToString(c.peer));
     c.dead = true;

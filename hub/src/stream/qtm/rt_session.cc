@@ -79,13 +79,13 @@ void RtSession::HandleCommand(const Command& c, const RtServerState& state, RtOu
       Reply(out, PacketType::kXml, ParametersXml(state.system, state.names, c.parameters, version_minor_));
       return;
     case CommandKind::kGetCurrentFrame:
-      if (state.latest) {
+      // No frames flowing: the protocol's "no measurement" answer.
+      if (state.flowing && state.latest)
         out->tcp.push_back({Share(EncodeDataPacket(*state.latest, c.components, state.names,
                                                    static_cast<int>(state.system.rig.cameras.size()))),
                             false});
-      } else {
-        pending_current_ = c.components;  // answered with the first frame, as QTM waits for one
-      }
+      else
+        out->tcp.push_back({Share(MakePacket(PacketType::kNoMoreData, "")), false});
       return;
     case CommandKind::kStreamFrames:
       streaming_ = true;
@@ -136,10 +136,6 @@ bool RtSession::RateTakes(double rate_hz) {
 }
 
 void RtSession::OnFrame(const RtServerState& state, const RtEncoder& encode, RtOutput* out) {
-  if (pending_current_) {
-    out->tcp.push_back({encode(pending_current_), false});
-    pending_current_ = 0;
-  }
   if (!streaming_ || !RateTakes(state.system.rate_hz)) return;
   PacketPtr packet = encode(stream_components_);
   if (udp_) out->udp.push_back(std::move(packet));

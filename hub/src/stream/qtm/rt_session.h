@@ -64,8 +64,7 @@ class RtSession {
 
   // Bytes from the client. Stop once out->close is set.
   void Receive(const uint8_t* data, size_t size, const RtServerState& state, RtOutput* out);
-  // A new frame (state.latest is it): a pending GetCurrentFrame is answered, a stream gets it
-  // when its rate says so.
+  // A new frame (state.latest is it): a stream gets it when its rate says so.
   void OnFrame(const RtServerState& state, const RtEncoder& encode, RtOutput* out);
   // A state event for every client; frames stopping also ends each stream's data with a No
   // More Data packet (the protocol's "measurement stopped").
@@ -97,8 +96,6 @@ class RtSession {
   uint64_t frequency_sent_ = 0;
   bool udp_ = false;
   sockaddr_in udp_target_{};
-
-  uint32_t pending_current_ = 0;  // GetCurrentFrame components waiting for the first frame
 };
 
 }  // namespace mocap::stream::qtm

@@ -209,15 +209,20 @@ TEST(RtSession, UdpStreamsGoToTheClientOrTheAddressGiven) {
   EXPECT_STREQ(text, "10.1.2.3");
 }
 
-TEST(RtSession, CurrentFrameNowOrWithTheFirstFrame) {
+TEST(RtSession, CurrentFrameOrNoMoreData) {
   RtServerState state;
   Client c(&state);
   c.Take();
   c.Send("GetCurrentFrame 3D 6D");
-  EXPECT_TRUE(c.Take().empty());
+  std::vector<testing::Packet> got = c.Take();
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].type, 4u);  // no frames flowing: No More Data
   c.Frame(FrameNumber(41));
+  EXPECT_TRUE(c.Take().empty());  // nothing unasked
+  state.flowing = true;
+  c.Send("GetCurrentFrame 3D 6D");
   std::vector<bool> droppable;
-  std::vector<testing::Packet> got = c.Take(&droppable);
+  got = c.Take(&droppable);
   ASSERT_EQ(got.size(), 1u);
   EXPECT_FALSE(droppable[0]);  // an answer, never shed
   testing::Frame f = testing::ReadFrame(got[0].body);
@@ -225,7 +230,7 @@ TEST(RtSession, CurrentFrameNowOrWithTheFirstFrame) {
   ASSERT_EQ(f.components.size(), 2u);
   EXPECT_EQ(f.components[1].type, 5u);
   c.Frame(FrameNumber(42));
-  EXPECT_TRUE(c.Take().empty());  // answered once
+  EXPECT_TRUE(c.Take().empty());  // polling: no frame unasked
   c.Send("GetCurrentFrame 3DRes");
   got = c.Take();
   ASSERT_EQ(got.size(), 1u);
