@@ -44,8 +44,10 @@ enum class CommandKind {
 
 enum class FrameRate { kAllFrames, kFrequency, kFrequencyDivisor };
 
-// Protocol versions accepted: 1.1 to 1.kMaxMinorVersion (qtm-rt 3.x asks for 1.25 by default).
-constexpr int kMaxMinorVersion = 26;
+// Protocol versions accepted: any 1.x (qtm-rt 3.x asks for 1.25 by default; newer clients ask
+// for newer minors). The version only names the XML root: every component served keeps the
+// layout protocol 1.25 documents whatever the client asked for.
+constexpr int kMaxMinorVersion = 99;
 
 struct Command {
   bool ok = false;

@@ -132,7 +132,7 @@ TEST(RtCommand, EveryCommandTheServerHonours) {
 }
 
 TEST(RtCommand, EveryWrongCommandGetsAReason) {
-  const char* bad[] = {"", "   ", "Bogus", "Version 2.0", "Version 1.0", "Version 1.99", "Version x", "Version 1.2 1.3",
+  const char* bad[] = {"", "   ", "Bogus", "Version 2.0", "Version 1.0", "Version 1.100", "Version x", "Version 1.2 1.3",
                        "ByteOrder now", "GetParameters", "GetParameters Analog", "GetParameters 7D",
                        "GetCurrentFrame", "GetCurrentFrame 2D", "GetCurrentFrame 3D Foo", "StreamFrames",
                        "StreamFrames AllFrames", "StreamFrames Sometimes 3D", "StreamFrames Frequency:0 3D",
