@@ -71,9 +71,7 @@ class RtSession {
   void OnEvent(RtEvent event, RtOutput* out);
 
   bool streaming() const { return streaming_; }
-  bool udp() const { return udp_; }
   const sockaddr_in& udp_target() const { return udp_target_; }
-  int version_minor() const { return version_minor_; }
   uint64_t errors() const { return errors_; }
 
  private:
