@@ -138,6 +138,14 @@ class QtmRtTest(unittest.TestCase):
         self.assertEqual(general.tag, "QTM_Parameters_Ver_1.25")
         self.assertEqual(float(general.findtext("General/Frequency")), RATE)
         self.assertEqual(sorted(int(c.findtext("ID")) for c in general.findall("General/Camera")), self.camera_ids)
+        # What strict readers (Qualisys' C++ SDK) insist on is there.
+        for path in ("External_Time_Base/Signal_Edge", "Processing_Actions/Tracking",
+                     "RealTime_Processing_Actions/AIM", "Reprocessing_Actions/ExportC3D", "Start_On_Trigger_NO"):
+            self.assertIsNotNone(general.find("General/" + path), path)
+        for camera in general.findall("General/Camera"):
+            for path in ("Serial", "Mode", "Video_Frequency", "Marker_Exposure/Max", "Marker_Threshold/Current",
+                         "Position/Rot_3_3", "Orientation", "Marker_Res/Width", "Video_Res/Height", "Marker_FOV/Bottom"):
+                self.assertIsNotNone(camera.find(path), path)
         # sim motion's subject walks with y up; the cameras around it say so.
         self.assertEqual(three_d.findtext("The_3D/AxisUpwards"), "+Y")
         labels = [l.findtext("Name") for l in three_d.findall("The_3D/Label")]

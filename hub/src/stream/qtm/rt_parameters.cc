@@ -2,7 +2,7 @@
 #include "stream/qtm/rt_parameters.h"
 
 #include <algorithm>
-#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 
@@ -17,29 +17,62 @@ std::string Number(double v) {
   return text;
 }
 
-// A stable colour per label or body (RGBColor: red in bits 0-7, as hex like QTM's examples).
-std::string Colour(int index) {
-  static const char* kPalette[] = {"ff0000", "00ff00", "0000ff", "ffff00", "ff00ff", "00ffff", "ff8000", "8000ff"};
+// A stable colour per label or body: RGBColor is a decimal integer with red in bits 0-7 (what
+// Qualisys' own C++ SDK parses).
+uint32_t Colour(int index) {
+  static const uint32_t kPalette[] = {0x0000ff, 0x00ff00, 0xff0000, 0x00ffff, 0xff00ff, 0xffff00, 0x0080ff, 0xff0080};
   return kPalette[index % 8];
+}
+
+// A {Current, Min, Max} block.
+void Range(std::ostringstream& x, const char* name, int current, int min, int max) {
+  x << "<" << name << "><Current>" << current << "</Current><Min>" << min << "</Min><Max>" << max << "</Max></"
+    << name << ">\n";
+}
+
+// Processing_Actions and its two siblings: the hub tracks in 3D, nothing else of QTM's list.
+void ProcessingActions(std::ostringstream& x, const char* name) {
+  x << "<" << name << ">\n<PreProcessing2D>False</PreProcessing2D>\n<Tracking>3D</Tracking>\n";
+  for (const char* action : {"TwinSystemMerge", "SplineFill", "AIM", "Track6DOF", "ForceData", "GazeVector",
+                             "ExportTSV", "ExportC3D", "ExportMatlabFile", "ExportAviFile"})
+    x << "<" << action << ">False</" << action << ">\n";
+  x << "</" << name << ">\n";
 }
 
 void General(std::ostringstream& x, const RtSystem& s) {
   x << "<General>\n<Frequency>" << Number(s.rate_hz) << "</Frequency>\n"
     << "<Capture_Time>0</Capture_Time>\n<Start_On_External_Trigger>False</Start_On_External_Trigger>\n"
-    << "<Camera_System><Type>Unknown</Type></Camera_System>\n";
+    << "<Start_On_Trigger_NO>False</Start_On_Trigger_NO>\n<Start_On_Trigger_NC>False</Start_On_Trigger_NC>\n"
+    << "<Start_On_Trigger_Software>False</Start_On_Trigger_Software>\n"
+    << "<External_Time_Base>\n<Enabled>False</Enabled>\n<Signal_Source>Control port</Signal_Source>\n"
+    << "<Signal_Mode>Periodic</Signal_Mode>\n<Frequency_Multiplier>1</Frequency_Multiplier>\n"
+    << "<Frequency_Divisor>1</Frequency_Divisor>\n<Frequency_Tolerance>0</Frequency_Tolerance>\n"
+    << "<Nominal_Frequency>None</Nominal_Frequency>\n<Signal_Edge>Positive</Signal_Edge>\n"
+    << "<Signal_Shutter_Delay>0</Signal_Shutter_Delay>\n<Non_Periodic_Timeout>0</Non_Periodic_Timeout>\n"
+    << "</External_Time_Base>\n";
+  ProcessingActions(x, "Processing_Actions");
+  ProcessingActions(x, "RealTime_Processing_Actions");
+  ProcessingActions(x, "Reprocessing_Actions");
+  x << "<Camera_System><Type>Unknown</Type></Camera_System>\n";
   for (const Camera& c : s.rig.cameras) {
     const Eigen::Vector3d centre = c.CenterInWorld();
     const Eigen::Matrix3d world_from_cam = c.rotation.transpose();
     x << "<Camera>\n<ID>" << c.id << "</ID>\n<Model>mocap-node</Model>\n<Underwater>False</Underwater>\n"
       << "<Supports_HW_Sync>True</Supports_HW_Sync>\n<Serial>" << c.id << "</Serial>\n<Mode>Marker</Mode>\n"
-      << "<Position>\n<X>" << Number(centre.x()) << "</X>\n<Y>" << Number(centre.y()) << "</Y>\n<Z>"
+      << "<Video_Frequency>0</Video_Frequency>\n";
+    // Exposure and threshold live on the nodes (mocap-hub nodes); 0 here means "not told".
+    Range(x, "Video_Exposure", 0, 0, 0);
+    Range(x, "Video_Flash_Time", 0, 0, 0);
+    Range(x, "Marker_Exposure", 0, 0, 0);
+    Range(x, "Marker_Threshold", 0, 0, 0);
+    x << "<Position>\n<X>" << Number(centre.x()) << "</X>\n<Y>" << Number(centre.y()) << "</Y>\n<Z>"
       << Number(centre.z()) << "</Z>\n";
     for (int col = 0; col < 3; ++col)
       for (int row = 0; row < 3; ++row)
         x << "<Rot_" << row + 1 << "_" << col + 1 << ">" << Number(world_from_cam(row, col)) << "</Rot_" << row + 1
           << "_" << col + 1 << ">\n";
     x << "</Position>\n<Orientation>0</Orientation>\n<Marker_Res>\n<Width>" << c.intrinsics.width * 64
-      << "</Width>\n<Height>" << c.intrinsics.height * 64 << "</Height>\n</Marker_Res>\n<Marker_FOV>\n"
+      << "</Width>\n<Height>" << c.intrinsics.height * 64 << "</Height>\n</Marker_Res>\n<Video_Res>\n<Width>0</Width>\n<Height>0</Height>\n</Video_Res>\n<Marker_FOV>\n"
       << "<Left>0</Left>\n<Top>0</Top>\n<Right>" << std::max(0, c.intrinsics.width - 1) << "</Right>\n<Bottom>"
       << std::max(0, c.intrinsics.height - 1) << "</Bottom>\n</Marker_FOV>\n</Camera>\n";
   }

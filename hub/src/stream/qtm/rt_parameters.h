@@ -3,6 +3,9 @@
 //  - General: Frequency = serve's --rate; one Camera block per calibrated camera (ID, Model
 //    "mocap-node", Serial = ID, Mode Marker, Position = camera centre in world mm and its
 //    camera -> world rotation as Rot_r_c, Marker_Res in 1/64 px as QTM's subpixels, Marker_FOV).
+//    Every element Qualisys' C++ SDK requires is present so strict parsers accept the block;
+//    what the hub has no value for says so plainly (False, 0, None: no external time base, no
+//    QTM processing actions but 3D tracking, exposures and thresholds not told).
 //  - 3D: AxisUpwards is read from the cameras: the world axis closest to the mean of their
 //    image-up directions (cameras are mounted upright), with its sign; then the labels.
 //  - 6D: the bodies seen so far and the Euler convention of rt_frame.h.

@@ -335,6 +335,10 @@ TEST(RtParameters, XmlBlocksAsAsked) {
   EXPECT_NE(all.find("<AxisUpwards>+Z</AxisUpwards>"), std::string::npos);
   EXPECT_NE(all.find("<Labels>1</Labels>"), std::string::npos);
   EXPECT_NE(all.find("<Name>M003</Name>"), std::string::npos);
+  EXPECT_NE(all.find("<RGBColor>255</RGBColor>"), std::string::npos);  // red, as a decimal integer
+  EXPECT_NE(all.find("<RealTime_Processing_Actions>"), std::string::npos);
+  EXPECT_NE(all.find("<Marker_Threshold><Current>0</Current>"), std::string::npos);
+  EXPECT_NE(all.find("<Signal_Edge>Positive</Signal_Edge>"), std::string::npos);
   EXPECT_NE(all.find("<Bodies>1</Bodies>"), std::string::npos);
   EXPECT_NE(all.find("<Name>a&lt;b&amp;c</Name>"), std::string::npos);
   // Camera 1 sits 3 m out along the ring; its centre is in the XML.
