@@ -97,11 +97,15 @@ class QtmRtTest(unittest.TestCase):
         os.makedirs(WORK)
         render_scene(BIN, WORK, CAMERAS, RATE)
         cls.rig = Rig(BIN, WORK, RATE, serve_args=["--qtm-rt", "127.0.0.1:0"])
-        cls.rig.start(CAMERAS)
-        cls.port = int(wait_for("the Qualisys RT port", lambda: re.search(r"Qualisys RT on [^:\s]+:(\d+)",
-                                                                             cls.rig.log())).group(1))
-        with open(os.path.join(WORK, "frames", "calibration.json")) as f:
-            cls.camera_ids = sorted(c["id"] for c in json.load(f)["cameras"])
+        try:
+            cls.rig.start(CAMERAS)
+            cls.port = int(wait_for("the Qualisys RT port", lambda: re.search(
+                r"Qualisys RT on [^:\s]+:(\d+)", cls.rig.log())).group(1))
+            with open(os.path.join(WORK, "frames", "calibration.json")) as f:
+                cls.camera_ids = sorted(c["id"] for c in json.load(f)["cameras"])
+        except BaseException:
+            cls.rig.stop()  # tearDownClass does not run when setUpClass fails
+            raise
 
     @classmethod
     def tearDownClass(cls):
