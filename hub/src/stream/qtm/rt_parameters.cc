@@ -89,11 +89,25 @@ void ThreeD(std::ostringstream& x, const RtSystem& s, const RtNames& names) {
   x << "<Bones></Bones>\n</The_3D>\n";
 }
 
+// A body in both layouts readers know: RGBColor (up to protocol 1.20) and, from 1.21 on, the
+// elements Qualisys' C++ SDK requires (colour attributes, limits, filter, points, and the data
+// origin and orientation: global, identity). Limits and points are not known from a frame: the
+// limits are neutral and the point list empty.
+void Body(std::ostringstream& x, const std::string& name, uint32_t colour) {
+  x << "<Body>\n<Name>" << XmlEscape(name) << "</Name>\n<Enabled>true</Enabled>\n<RGBColor>" << colour
+    << "</RGBColor>\n<Color R=\"" << (colour & 0xff) << "\" G=\"" << (colour >> 8 & 0xff) << "\" B=\""
+    << (colour >> 16 & 0xff) << "\"/>\n<MaximumResidual>0</MaximumResidual>\n"
+    << "<MinimumMarkersInBody>3</MinimumMarkersInBody>\n<BoneLengthTolerance>0</BoneLengthTolerance>\n"
+    << "<Filter Preset=\"No filter\"/>\n<Points></Points>\n"
+    << "<Data_origin X=\"0\" Y=\"0\" Z=\"0\" Relative_body=\"0\">0</Data_origin>\n"
+    << "<Data_orientation R11=\"1\" R12=\"0\" R13=\"0\" R21=\"0\" R22=\"1\" R23=\"0\" R31=\"0\" R32=\"0\" "
+       "R33=\"1\" Relative_body=\"0\">0</Data_orientation>\n</Body>\n";
+}
+
 void SixD(std::ostringstream& x, const RtNames& names) {
   x << "<The_6D>\n<Bodies>" << names.bodies().size() << "</Bodies>\n";
   int i = 0;
-  for (const auto& [id, name] : names.bodies())
-    x << "<Body>\n<Name>" << XmlEscape(name) << "</Name>\n<RGBColor>" << Colour(i++) << "</RGBColor>\n</Body>\n";
+  for (const auto& [id, name] : names.bodies()) Body(x, name, Colour(i++));
   x << "<Euler>\n<First>Roll</First>\n<Second>Pitch</Second>\n<Third>Yaw</Third>\n</Euler>\n</The_6D>\n";
 }
 

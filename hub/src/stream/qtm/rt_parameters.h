@@ -8,7 +8,8 @@
 //    QTM processing actions but 3D tracking, exposures and thresholds not told).
 //  - 3D: AxisUpwards is read from the cameras: the world axis closest to the mean of their
 //    image-up directions (cameras are mounted upright), with its sign; then the labels.
-//  - 6D: the bodies seen so far and the Euler convention of rt_frame.h.
+//  - 6D: the bodies seen so far (names; Body() in the .cc says what else) and the Euler
+//    convention of rt_frame.h.
 // Pure code.
 #pragma once
 

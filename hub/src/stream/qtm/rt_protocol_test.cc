@@ -341,6 +341,8 @@ TEST(RtParameters, XmlBlocksAsAsked) {
   EXPECT_NE(all.find("<Signal_Edge>Positive</Signal_Edge>"), std::string::npos);
   EXPECT_NE(all.find("<Bodies>1</Bodies>"), std::string::npos);
   EXPECT_NE(all.find("<Name>a&lt;b&amp;c</Name>"), std::string::npos);
+  EXPECT_NE(all.find("<Color R=\"255\" G=\"0\" B=\"0\"/>"), std::string::npos);
+  EXPECT_NE(all.find("<Data_origin X=\"0\" Y=\"0\" Z=\"0\" Relative_body=\"0\">0</Data_origin>"), std::string::npos);
   // Camera 1 sits 3 m out along the ring; its centre is in the XML.
   const Eigen::Vector3d centre = system.rig.cameras[0].CenterInWorld();
   char x[64];
