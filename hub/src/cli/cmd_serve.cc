@@ -18,6 +18,7 @@
 #include "api/http_server.h"
 #include "service/hub_service.h"
 #include "stream/osc_sender.h"
+#include "stream/qtm/qtm_rt_server.h"
 #include "stream/shared_frame.h"
 #include "stream/udp_stream_server.h"
 #include "util/log.h"
@@ -39,6 +40,7 @@ struct ServeArgs {
   std::string stream_multicast_parts = "points,bodies";
   std::string osc_targets;             // comma-separated HOST:PORT
   std::string osc_parts = "points,bodies";
+  std::string qtm_rt;                  // HOST:PORT of the Qualisys RT server; empty: off
 };
 
 std::vector<std::string> SplitList(const std::string& text) {
@@ -111,14 +113,26 @@ void RunServe(ServeArgs& args) {
   hub.Bind();
   Streams streams(args);
   api::HttpServer http(hub, args.api);
+  // Qualisys RT (--qtm-rt): clients of that protocol, on its own thread like the streams.
+  std::unique_ptr<stream::qtm::QtmRtServer> qtm_rt;
+  if (!args.qtm_rt.empty()) {
+    stream::qtm::QtmRtOptions rt;
+    rt.listen = args.qtm_rt;
+    rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
+    CheckOptions(rt);
+    qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
+        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz));
+  }
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
     http.Publish(shared);
     if (streams.udp) streams.udp->Publish(shared);
     if (streams.osc) streams.osc->Publish(shared);
+    if (qtm_rt) qtm_rt->Publish(shared);
   });
   if (streams.udp) hub.AddStatusSection("stream", [&] { return streams.udp->StatsJson(); });
   if (streams.osc) hub.AddStatusSection("osc", [&] { return streams.osc->StatsJson(); });
+  if (qtm_rt) hub.AddStatusSection("qtm_rt", [&] { return qtm_rt->StatsJson(); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
@@ -129,6 +143,10 @@ void RunServe(ServeArgs& args) {
     log::Info("stream: UDP port {}{}", streams.udp->port(),
               args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);
   if (streams.osc) log::Info("OSC: bundles to {}", args.osc_targets);
+  if (qtm_rt) {
+    const HostPort rt = ParseHostPort(args.qtm_rt);
+    log::Info("Qualisys RT on {}:{}", rt.host.empty() || rt.host == "*" ? "0.0.0.0" : rt.host, qtm_rt->port());
+  }
   Watchdog watchdog;
   watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
   hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });
@@ -184,6 +202,8 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--osc", args->osc_targets, "Send OSC bundles per frame to HOST:PORT[,HOST:PORT...]");
   command->add_option("--osc-parts", args->osc_parts, "Parts of the OSC bundles: points,bodies")
       ->capture_default_str();
+  command->add_option("--qtm-rt", args->qtm_rt,
+                      "HOST:PORT of a Qualisys-RT-compatible server (little-endian port; 0: any free); default off");
   command->callback([args, config, command] {
     if (!config->empty()) ApplyConfigFile(*command, *config);
     RunServe(*args);

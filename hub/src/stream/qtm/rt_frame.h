@@ -1,0 +1,66 @@
+// Data packets of the Qualisys RT protocol from the hub's LiveFrame: the 3D, 3D-no-labels, 6D
+// and 6D-Euler components and their residual variants, in the little-endian layout.
+//
+// How the hub's result maps onto them:
+//  - Labels are the confirmed markers (LiveFrame marker columns) in the order they were first
+//    seen, named M001, M002, ... after the column (column 0 is M001). The list only grows, so a
+//    client that read the labels earlier still indexes the labelled components correctly; a
+//    label not seen in a frame is NaN (all bits set, as the protocol says).
+//  - 3D no labels carries every point of the frame, confirmed or not (the hub's labels are
+//    tracks, not an identified marker set): ID = column + 1 for a confirmed marker (matching its
+//    label), 0x40000000 + serial for a provisional track, 0 for a point no track took.
+//  - Residuals are the hub's reprojection RMS in pixels for points, the body fit's mean error
+//    in mm for bodies.
+//  - 6D lists the bodies seen so far (by id); a body not tracked in the frame is NaN. Rotation
+//    matrices are body -> world, sent column by column (Rot_1_1, Rot_2_1, Rot_3_1, Rot_1_2, ...,
+//    the order of the protocol's own camera matrices). Euler angles (degrees) are roll about x,
+//    pitch about y, yaw about z with R = Rx(roll) * Ry(pitch) * Rz(yaw).
+//  - Timestamp: the frame's trigger time on the session clock in microseconds (CLOCK_REALTIME
+//    on a disciplined installation); the 2D drop rate is the frame set's missing camera frames
+//    per thousand.
+// Pure code: no I/O, no clock.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "service/live_reconstruction.h"
+
+namespace mocap::stream::qtm {
+
+// Labels and bodies seen so far: one per server, updated from every frame before encoding.
+class RtNames {
+ public:
+  // Bounds keep a broken tracker from growing the tables without end.
+  static constexpr size_t kMaxLabels = 4096;
+  static constexpr size_t kMaxBodies = 1024;
+
+  void Update(const service::LiveFrame& frame);
+  // Marker columns in label order.
+  const std::vector<int>& label_columns() const { return columns_; }
+  // Label index of a marker column, -1 if it has none.
+  int LabelOf(int column) const;
+  static std::string LabelName(int column);
+  // Bodies by id: id -> name.
+  const std::map<uint32_t, std::string>& bodies() const { return bodies_; }
+
+ private:
+  std::vector<int> columns_;
+  std::map<int, int> index_of_column_;
+  std::map<uint32_t, std::string> bodies_;
+};
+
+// Roll, pitch, yaw in degrees of a body -> world rotation (see above).
+Eigen::Vector3d EulerDegrees(const Eigen::Matrix3d& rotation);
+
+// One data packet (header included) with the components in `components` (rt_command.h bits),
+// in ascending protocol type order. expected_cameras: the rig's camera count (for the drop rate).
+std::string EncodeDataPacket(const service::LiveFrame& frame, uint32_t components, const RtNames& names,
+                             int expected_cameras);
+
+}  // namespace mocap::stream::qtm
