@@ -4,20 +4,27 @@ turning near each other) are projected into 8 simulated cameras; `body define` t
 from the truth's first frame, refuses an ambiguous twin naming the distances, and `reconstruct
 --bodies` writes the poses, which are compared with the truth (position of the pivot in mm,
 rotation in degrees), and the virtual markers. Live: the same scene rendered and replayed by
-real mocap-node processes into `serve --bodies`, whose /api/live frames and UDP stream carry
-the bodies' poses.
+real mocap-node processes into `serve --bodies`, whose /api/live frames, UDP stream (the
+project's Python client) and Qualisys RT 6D component (Qualisys' own qtm-rt client) carry the
+bodies' poses. Runs with the test virtual environment's Python (tests/requirements.txt).
 
 usage: bodies_e2e.py BIN_DIR WORK_DIR"""
 
+import asyncio
 import math
 import os
+import re
+import xml.etree.ElementTree as ET
 import shutil
 import subprocess
 import sys
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, websocket_messages  # noqa: E402
+from live_rig import Rig, wait_for, websocket_messages  # noqa: E402
+
+import mocap_stream  # noqa: E402
+import qtm_rt  # noqa: E402
 
 BIN = WORK = None
 RATE = 100
@@ -177,12 +184,29 @@ class BodiesE2e(unittest.TestCase):
     def test_live_bodies_in_serve(self):
         rig = os.path.join(WORK, "rig.json")
         hub("sim", "render", "--motion", self.scene, "--rig", rig, "-o", os.path.join(WORK, "frames"))
-        live = Rig(BIN, WORK, RATE, serve_args=["--bodies", self.bodies])
+        live = Rig(BIN, WORK, RATE, serve_args=["--bodies", self.bodies, "--qtm-rt", "127.0.0.1:0"])
         try:
             live.start(8)
             frames = websocket_messages(live.api_port, "/api/live", 100)
+            stream_port = int(re.search(r"stream: UDP port (\d+)", live.log()).group(1))
+            with mocap_stream.StreamClient("127.0.0.1", stream_port, parts=("bodies",)) as client:
+                streamed = [client.receive(2.0) for _ in range(30)]
+            rt_port = int(wait_for("the RT port", lambda: re.search(r"Qualisys RT on [^:\s]+:(\d+)", live.log())).group(1))
+            six_d, xml = asyncio.run(asyncio.wait_for(self.qtm_6d(rt_port), 60))
         finally:
             live.stop()
+        # The project's stream: both bodies by name, fitted.
+        self.assertTrue(all(f is not None and [b.name for b in f.bodies] == ["wand", "drone"] for f in streamed))
+        self.assertGreater(sum(b.tracked for f in streamed for b in f.bodies), 0.9 * 2 * len(streamed))
+        # Qualisys RT: the 6D parameters list both bodies with their markers, and 6D packets carry
+        # two bodies with finite positions and rotation matrices.
+        bodies = ET.fromstring(xml).findall("The_6D/Body")
+        self.assertEqual([b.findtext("Name") for b in bodies], ["wand", "drone"])
+        self.assertEqual([len(b.findall("Points/Point")) for b in bodies], [4, 5])
+        counts = [info.body_count for info, _ in six_d]
+        self.assertEqual(set(counts), {2})
+        finite = sum(1 for _, bs in six_d for position, rotation in bs if not math.isnan(position.x))
+        self.assertGreater(finite, 0.9 * 2 * len(six_d))
         names = {1: "wand", 2: "drone"}
         for body_id in names:
             poses = [b for f in frames for b in f["bodies"] if b[0] == body_id]
@@ -194,6 +218,23 @@ class BodiesE2e(unittest.TestCase):
             self.assertGreaterEqual(len(tracked), 0.9 * len(poses))
             self.assertLess(errors[len(errors) // 2], 1.0)
             self.assertTrue(all(b[11] >= 3 for b in tracked))
+
+    @staticmethod
+    async def qtm_6d(port):
+        conn = await qtm_rt.connect("127.0.0.1", port)
+        got, done = [], asyncio.get_running_loop().create_future()
+
+        def on_packet(packet):
+            got.append(packet.get_6d())
+            if len(got) == 30 and not done.done():
+                done.set_result(None)
+
+        await conn.stream_frames(components=["6d"], on_packet=on_packet)
+        await asyncio.wait_for(done, 10)
+        await conn.stream_frames_stop()
+        xml = await conn.get_parameters(["6d"])
+        conn.disconnect()
+        return got, xml
 
     def test_virtual_markers_in_the_trc(self):
         names, rows, _ = read_trc(self.out)

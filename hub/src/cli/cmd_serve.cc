@@ -121,7 +121,7 @@ void RunServe(ServeArgs& args) {
     rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
     CheckOptions(rt);
     qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
-        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz));
+        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz, args.options.bodies_file));
   }
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);

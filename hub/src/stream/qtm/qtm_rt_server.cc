@@ -58,11 +58,12 @@ struct QtmRtServer::Client {
   bool dead = false;       // close now
 };
 
-RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz) {
+RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file) {
   RtSystem system;
   system.rate_hz = rate_hz;
   system.rig = LoadRigJson(calibration_path);
   system.axis_upwards = AxisUpwards(system.rig);
+  if (!bodies_file.empty()) system.bodies = ReadBodiesFile(bodies_file);
   return system;
 }
 

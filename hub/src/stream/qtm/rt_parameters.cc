@@ -91,23 +91,37 @@ void ThreeD(std::ostringstream& x, const RtSystem& s, const RtNames& names) {
 
 // A body in both layouts readers know: RGBColor (up to protocol 1.20) and, from 1.21 on, the
 // elements Qualisys' C++ SDK requires (colour attributes, limits, filter, points, and the data
-// origin and orientation: global, identity). Limits and points are not known from a frame: the
-// limits are neutral and the point list empty.
-void Body(std::ostringstream& x, const std::string& name, uint32_t colour) {
+// origin and orientation: global, identity). The points are the definition's markers in the
+// body frame (none for a body serve has no definition of); the limits are neutral.
+void Body(std::ostringstream& x, const std::string& name, uint32_t colour, const RigidBodyDefinition* definition) {
   x << "<Body>\n<Name>" << XmlEscape(name) << "</Name>\n<Enabled>true</Enabled>\n<RGBColor>" << colour
     << "</RGBColor>\n<Color R=\"" << (colour & 0xff) << "\" G=\"" << (colour >> 8 & 0xff) << "\" B=\""
     << (colour >> 16 & 0xff) << "\"/>\n<MaximumResidual>0</MaximumResidual>\n"
     << "<MinimumMarkersInBody>3</MinimumMarkersInBody>\n<BoneLengthTolerance>0</BoneLengthTolerance>\n"
-    << "<Filter Preset=\"No filter\"/>\n<Points></Points>\n"
+    << "<Filter Preset=\"No filter\"/>\n<Points>";
+  if (definition) {
+    x << "\n";
+    for (size_t m = 0; m < definition->markers.size(); ++m) {
+      const Eigen::Vector3d& p = definition->markers[m];
+      x << "<Point X=\"" << p.x() << "\" Y=\"" << p.y() << "\" Z=\"" << p.z() << "\" Virtual=\"0\" PhysicalId=\"0\" Name=\""
+        << XmlEscape(definition->name) << "_" << (m + 1) << "\"/>\n";
+    }
+  }
+  x << "</Points>\n"
     << "<Data_origin X=\"0\" Y=\"0\" Z=\"0\" Relative_body=\"0\">0</Data_origin>\n"
     << "<Data_orientation R11=\"1\" R12=\"0\" R13=\"0\" R21=\"0\" R22=\"1\" R23=\"0\" R31=\"0\" R32=\"0\" "
        "R33=\"1\" Relative_body=\"0\">0</Data_orientation>\n</Body>\n";
 }
 
-void SixD(std::ostringstream& x, const RtNames& names) {
+void SixD(std::ostringstream& x, const RtSystem& system, const RtNames& names) {
   x << "<The_6D>\n<Bodies>" << names.bodies().size() << "</Bodies>\n";
   int i = 0;
-  for (const auto& [id, name] : names.bodies()) Body(x, name, Colour(i++));
+  for (const auto& [id, name] : names.bodies()) {
+    const RigidBodyDefinition* definition = nullptr;
+    for (const RigidBodyDefinition& d : system.bodies)
+      if (d.name == name) definition = &d;
+    Body(x, name, Colour(i++), definition);
+  }
   x << "<Euler>\n<First>Roll</First>\n<Second>Pitch</Second>\n<Third>Yaw</Third>\n</Euler>\n</The_6D>\n";
 }
 
@@ -146,7 +160,7 @@ std::string ParametersXml(const RtSystem& system, const RtNames& names, uint32_t
   x << "<" << root << ">\n";
   if (blocks & kGeneral) General(x, system);
   if (blocks & k3dParameters) ThreeD(x, system, names);
-  if (blocks & k6dParameters) SixD(x, names);
+  if (blocks & k6dParameters) SixD(x, system, names);
   x << "</" << root << ">\n";
   return x.str();
 }

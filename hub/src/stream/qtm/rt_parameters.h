@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bodies/body_definition.h"
 #include "geometry/camera.h"
 #include "stream/qtm/rt_frame.h"
 
@@ -26,6 +27,7 @@ struct RtSystem {
   double rate_hz = 0.0;
   Rig rig;
   std::string axis_upwards = "+Z";
+  std::vector<RigidBodyDefinition> bodies;  // serve --bodies: their markers go into the 6D XML
 };
 
 // "+X", "-Y", ... of a rig (see above); "+Z" for an empty rig.
