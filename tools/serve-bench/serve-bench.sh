@@ -11,7 +11,7 @@
 # 1280x800 by default (--width/--height).
 # usage: tools/serve-bench/serve-bench.sh [--cameras "8 16 32"] [--markers 60] [--rate 240]
 #                                         [--seconds 4] [--width 1280 --height 800]
-#                                         [--serve-args "--busy-poll-ms 2"]
+#                                         [--serve-args "EXTRA SERVE OPTIONS"]
 #                                         [--bin build/bin] [--out serve-bench]
 set -euo pipefail
 cameras="8 16 32" markers=60 rate=240 seconds=4 bin=build/bin out=serve-bench width=1280 height=800

@@ -188,9 +188,6 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
                       "Epipolar gate of live reconstruction (as reconstruct's)")
       ->capture_default_str();
-  command->add_option("--busy-poll-ms", o.busy_poll_ms,
-                      "While a frame set waits for cameras, poll without sleeping this long (a core of its own)")
-      ->capture_default_str();
   command->add_option("--stream", args->stream.listen,
                       "HOST:PORT of the live stream (subscriptions in, frames out); off: none")
       ->capture_default_str();

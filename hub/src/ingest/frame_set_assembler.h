@@ -42,7 +42,6 @@ class FrameSetAssembler {
   uint64_t late_frames() const { return late_; }
   uint64_t duplicate_frames() const { return duplicates_; }
   uint64_t incomplete_sets() const { return incomplete_; }
-  size_t open_sets() const { return open_.size(); }
 
  private:
   struct Open {

@@ -92,7 +92,6 @@ void ServeOptions::Check() const {
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
   if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
-  if (!(busy_poll_ms >= 0.0 && busy_poll_ms <= 20.0)) throw std::invalid_argument("busy poll must be within [0, 20] ms");
 }
 
 struct HubService::PreviewWait {
@@ -156,15 +155,9 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
   Datagram d;
   while (!stop.load()) {
     RunTasks();
-    // Wait briefly for the first datagram (or not at all while busy-polling for a set's last
-    // cameras), then drain what is queued (bounded, so that tasks and ticks are served under a
-    // flood too).
-    const bool busy = options_.busy_poll_ms > 0.0 && ingest_.assembler().open_sets() > 0 &&
-                      RealtimeNowNs() < last_datagram_ns_ + static_cast<uint64_t>(options_.busy_poll_ms * 1e6);
-    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 && !busy ? 1 : 0); ++n) {
-      HandleDatagram(d);
-      last_datagram_ns_ = d.receive_time_ns;
-    }
+    // Wait briefly for the first datagram, then drain what is queued (bounded, so that tasks
+    // and ticks are served under a flood too).
+    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? 1 : 0); ++n) HandleDatagram(d);
     const uint64_t now = RealtimeNowNs();
     for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
     Tick(now);

@@ -58,11 +58,6 @@ struct ServeOptions {
   double node_lost_after_s = 3.0;
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
   int auto_mask_max_frames = 1000;
-  // While a frame set waits for cameras, the loop polls its socket without sleeping for up to
-  // this long after the last datagram: the set's last datagram is picked up at once instead of
-  // after the kernel wakes the loop (tens to hundreds of microseconds on virtual machines),
-  // at the price of a busy core. 0: always sleep in poll.
-  double busy_poll_ms = 0.0;
   ReconstructorOptions recon;             // as `reconstruct` takes them
 
   // Throws std::invalid_argument naming the bad option.
@@ -140,7 +135,6 @@ class HubService : public ServiceApi {
   std::optional<HostPort> announce_to_;
   uint64_t next_announce_ns_ = 0;
   uint64_t start_ns_ = 0;
-  uint64_t last_datagram_ns_ = 0;
   FrameIngest ingest_;
   NodeRegistry registry_;
   ControlRequests controls_;
