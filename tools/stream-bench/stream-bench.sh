@@ -6,6 +6,7 @@
 #   stream  the C client's example (clients/c), which also prints publish -> received: what the
 #           stream adds to the hub's own latency
 #   osc     python-osc from .venv (tests/requirements.txt), an independent OSC implementation
+#   qtm-rt  Qualisys' own Python client (qtm-rt, .venv) on the RT server's TCP stream
 # beside serve's own hub-internal figure (last datagram -> published). Milliseconds, p50 p99 max.
 # usage: tools/stream-bench/stream-bench.sh [--cameras 16] [--markers 60] [--rate 240]
 #                                           [--seconds 4] [--width 640 --height 400]
@@ -22,7 +23,7 @@ while [ $# -gt 0 ]; do
         --height) height=${2:?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
-        -h|--help) sed -n 2,13p "$0"; exit 0 ;;
+        -h|--help) sed -n 2,14p "$0"; exit 0 ;;
         *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
     esac
 done
@@ -40,18 +41,20 @@ rm -rf "$out/frames"
 "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/rig.json" -o "$out/frames" \
     --occlusion 0.02 --noise 1.5 > /dev/null
 
-stream_port=17802 osc_port=17810
+stream_port=17802 osc_port=17810 qtm_port=17822
 pids=()
 trap 'kill "${pids[@]}" 2> /dev/null || true' EXIT
 "$bin/mocap_stream_print" 127.0.0.1 "$stream_port" "$probe_frames" 30 > "$out/stream.txt" 2> "$out/stream.err" &
 pids+=($!)
 "$python" "$here/tools/stream-bench/osc_probe.py" "$osc_port" "$probe_frames" 30 > "$out/osc.txt" 2> "$out/osc.err" &
 pids+=($!)
+"$python" "$here/tools/stream-bench/qtm_probe.py" "$qtm_port" "$probe_frames" 30 > "$out/qtm.txt" 2> "$out/qtm.err" &
+pids+=($!)
 cpus=$(nproc)
 node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 "$here/deploy/sim-session.sh" --frames-dir "$out/frames" --out "$out/session" --bin "$bin" \
     --hub-cpus 0 --node-cpus "$node_cpus" --json \
-    --serve-args "--max-ray-distance-mm 3 --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port" \
+    --serve-args "--max-ray-distance-mm 3 --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
     > "$out/session.json" 2> "$out/session.log"
 for p in "${pids[@]}"; do wait "$p" || true; done
 trap - EXIT
@@ -77,3 +80,4 @@ line() {  # label file key
 line "stream (C client): trigger -> recv" "$out/stream.txt" trigger_to_receive_ms
 line "stream: published -> received" "$out/stream.txt" publish_to_receive_ms
 line "OSC (python-osc): trigger -> recv" "$out/osc.txt" trigger_to_receive_ms
+line "Qualisys RT (qtm-rt): trigger -> recv" "$out/qtm.txt" trigger_to_receive_ms
