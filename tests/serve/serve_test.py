@@ -96,7 +96,10 @@ class ServeTest(unittest.TestCase):
         self.assertEqual([int(n) for n in re.findall(r"camera \d+: (\d+) static blobs found", again)], [0] * CAMERAS,
                          again)
         # ... and the masks of the first run are kept (they add up), on the nodes and in the file.
-        self.assertEqual(read_json(os.path.join(WORK, "masks.json")), masks)
+        # (The frame count may differ: a camera can miss a frame set of the second run under load.)
+        def kept(mask_file):
+            return {c["camera_id"]: (c["regions"], c["blobs"]) for c in mask_file["cameras"]}
+        self.assertEqual(kept(read_json(os.path.join(WORK, "masks.json"))), kept(masks))
         self.assertTrue(all(n["masked"] for n in self.rig.nodes_json().values()))
         self.assertGreater(json.loads(self.rig.hub("status", "--json").stdout)["frame_sets"], first["frame_sets"])
 

@@ -76,9 +76,21 @@ nlohmann::json UdpStreamServer::StatsJson() const {
           {"points_dropped", s.points_dropped}};
 }
 
+void UdpStreamServer::Publish(SharedFrame frame) {
+  // Never waits: while the sending thread holds the table (serving requests) the frame queues.
+  std::unique_lock<std::mutex> lock(table_mutex_, std::try_to_lock);
+  if (lock.owns_lock() && table_.subscribers().size() + (has_multicast_ ? 1 : 0) <= options_.inline_subscribers) {
+    Send(*frame);
+    return;
+  }
+  if (lock.owns_lock()) lock.unlock();
+  queue_.Push(std::move(frame));
+}
+
 void UdpStreamServer::Run() {
   while (!stop_) {
     const SharedFrame frame = queue_.Pop(kIdleWait);
+    std::lock_guard<std::mutex> lock(table_mutex_);
     ServeRequests(RealtimeNowNs());
     if (frame) Send(*frame);
   }

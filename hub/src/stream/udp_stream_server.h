@@ -1,8 +1,10 @@
 // The project's own stream over UDP: clients subscribe by sending a StreamRequest to the
 // stream port (and renew it every second); every published frame goes to each subscriber as
 // one StreamFrame datagram with the parts it asked for, and to the multicast group when one is
-// configured. Its own thread encodes and sends, so the hub's loop only queues a shared frame;
-// a send that would block is dropped for that subscriber (a slow client loses its own frames).
+// configured. With few subscribers (`inline_subscribers`) the hub's loop encodes and sends at
+// once (a few tens of microseconds, one thread hand-over less on the way to the client); with
+// more, its own thread does, and the loop only queues the shared frame. A send that would block
+// is dropped for that subscriber (a slow client loses its own frames).
 //
 // Threads: Publish() from the hub's loop; stats() from any thread. Errors: the constructor
 // throws std::invalid_argument for bad options and std::runtime_error when it cannot bind;
@@ -31,7 +33,8 @@ struct UdpStreamOptions {
   int multicast_ttl = 1;
   size_t max_subscribers = 256;
   double subscription_s = 5.0;
-  size_t queue_frames = 4;
+  size_t queue_frames = 16;             // frames waiting for the sending thread (oldest dropped)
+  size_t inline_subscribers = 8;         // up to this many (multicast counts as one): sent inline
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
@@ -55,7 +58,7 @@ class UdpStreamServer {
   UdpStreamServer& operator=(const UdpStreamServer&) = delete;
 
   uint16_t port() const { return socket_.port(); }
-  void Publish(SharedFrame frame) { queue_.Push(std::move(frame)); }
+  void Publish(SharedFrame frame);
   UdpStreamStats stats() const;
   nlohmann::json StatsJson() const;
 
@@ -69,7 +72,8 @@ class UdpStreamServer {
   bool has_multicast_ = false;
   sockaddr_in multicast_{};
   FrameQueue queue_;
-  SubscriberTable table_;  // the thread's own
+  std::mutex table_mutex_;  // table_, and one sender at a time
+  SubscriberTable table_;
   mutable std::mutex stats_mutex_;
   UdpStreamStats stats_;
   std::atomic<bool> stop_{false};

@@ -58,8 +58,15 @@ UdpStreamOptions Loopback() {
   return o;
 }
 
-TEST(UdpStreamServer, SubscribersGetTheirPartsOfEveryFrame) {
-  UdpStreamServer server(Loopback());
+class UdpStreamServerPaths : public ::testing::TestWithParam<size_t> {};
+
+// Sent inline by the publisher (few subscribers) and by the sending thread (inline_subscribers 0).
+INSTANTIATE_TEST_SUITE_P(InlineAndThread, UdpStreamServerPaths, ::testing::Values(size_t{8}, size_t{0}));
+
+TEST_P(UdpStreamServerPaths, SubscribersGetTheirPartsOfEveryFrame) {
+  UdpStreamOptions options = Loopback();
+  options.inline_subscribers = GetParam();
+  UdpStreamServer server(options);
   Client points, bodies, stranger;
   points.Send(server.port(), EncodeSubscribe(kPartPoints));
   bodies.Send(server.port(), EncodeSubscribe(kPartBodies));
