@@ -218,7 +218,9 @@ n, h, p = s["node_latency_ms"], s["hub_latency_ms"], s["processing_ms"]
 print(json.dumps({"trigger_to_send_p50": n["p50"], "trigger_to_send_p99": n["p99"],
                   "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"],
                   "processing_p50": p["p50"], "processing_p99": p["p99"], "processing_max": p["max"],
-                  "incomplete_frame_sets": s["incomplete_frame_sets"]}))' "$status")
+                  "incomplete_frame_sets": s["incomplete_frame_sets"],
+                  **({"stream_p50": t["p50"], "stream_p99": t["p99"], "stream_max": t["max"]}
+                     if (t := s.get("stream", {}).get("publish_to_sent_ms", {})).get("frames") else {})}))' "$status")
 
 if [ "$json" = 1 ]; then
     printf '{"trc": "%s", "live_points": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \

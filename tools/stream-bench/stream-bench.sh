@@ -7,7 +7,8 @@
 #           stream adds to the hub's own latency
 #   osc     python-osc from .venv (tests/requirements.txt), an independent OSC implementation
 #   qtm-rt  Qualisys' own Python client (qtm-rt, .venv) on the RT server's TCP stream
-# beside serve's own hub-internal figure (last datagram -> published). Milliseconds, p50 p99 max.
+# beside serve's own hub-internal figures: last datagram -> published, and the stream's own cost
+# on the hub (published -> its last datagram handed to the kernel). Milliseconds, p50 p99 max.
 # usage: tools/stream-bench/stream-bench.sh [--cameras 16] [--markers 60] [--rate 240]
 #                                           [--seconds 4] [--width 640 --height 400]
 #                                           [--bin build/bin] [--out stream-bench]
@@ -23,7 +24,7 @@ while [ $# -gt 0 ]; do
         --height) height=${2:?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
-        -h|--help) sed -n 2,14p "$0"; exit 0 ;;
+        -h|--help) sed -n 2,15p "$0"; exit 0 ;;
         *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
     esac
 done
@@ -66,6 +67,8 @@ python3 - "$out/session.json" <<'PY'
 import json, sys
 lat = json.load(open(sys.argv[1]))["latency_ms"]
 print("%-34s %8.3f %8.3f %8.3f" % ("hub: last datagram -> published", lat["hub_p50"], lat["hub_p99"], lat["hub_max"]))
+if "stream_p50" in lat:
+    print("%-34s %8.3f %8.3f %8.3f" % ("stream: published -> sent (hub)", lat["stream_p50"], lat["stream_p99"], lat["stream_max"]))
 PY
 line() {  # label file key
     local v

@@ -33,7 +33,7 @@ struct OscOptions {
   std::vector<std::string> targets;   // HOST:PORT each (unicast, broadcast or multicast)
   uint32_t parts = kDefaultParts;     // points and/or bodies
   int ttl = 1;                        // for multicast targets
-  size_t queue_frames = 4;
+  size_t queue_frames = 64;           // frames between the hub's loop and the sending thread
 
   void Check() const;  // throws std::invalid_argument
 };

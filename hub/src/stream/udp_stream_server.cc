@@ -73,7 +73,17 @@ nlohmann::json UdpStreamServer::StatsJson() const {
           {"send_failures", s.send_failures},
           {"frames_dropped", s.frames_dropped},
           {"bad_requests", s.bad_requests},
-          {"points_dropped", s.points_dropped}};
+          {"points_dropped", s.points_dropped},
+          {"publish_to_sent_ms", PublishToSentJson()}};
+}
+
+nlohmann::json UdpStreamServer::PublishToSentJson() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return {{"p50", publish_to_sent_ms_.Percentile(50)},
+          {"p99", publish_to_sent_ms_.Percentile(99)},
+          {"max", publish_to_sent_ms_.max()},
+          {"frames", publish_to_sent_ms_.count()},
+          {"definition", "3D result published -> its last datagram handed to the kernel"}};
 }
 
 void UdpStreamServer::Publish(SharedFrame frame) {
@@ -138,7 +148,9 @@ void UdpStreamServer::Send(const service::LiveFrame& frame) {
   if (has_multicast_) send(multicast_, message(options_.multicast_parts));
   uint32_t points_dropped = 0;
   for (const auto& [parts, m] : encoded) points_dropped = std::max(points_dropped, m.points_dropped);
+  const uint64_t done_ns = RealtimeNowNs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
+  if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
   if (sent) ++stats_.frames;
   stats_.datagrams += sent;
   stats_.send_failures += failed;

@@ -23,6 +23,7 @@
 #include "stream/frame_queue.h"
 #include "stream/stream_encoding.h"
 #include "stream/subscriber_table.h"
+#include "util/latency_sample.h"
 
 namespace mocap::stream {
 
@@ -33,7 +34,7 @@ struct UdpStreamOptions {
   int multicast_ttl = 1;
   size_t max_subscribers = 256;
   double subscription_s = 5.0;
-  size_t queue_frames = 16;             // frames waiting for the sending thread (oldest dropped)
+  size_t queue_frames = 64;             // frames waiting for the sending thread (oldest dropped)
   size_t inline_subscribers = 8;         // up to this many (multicast counts as one): sent inline
 
   // Throws std::invalid_argument naming the bad option.
@@ -66,6 +67,7 @@ class UdpStreamServer {
   void Run();
   void ServeRequests(uint64_t now_ns);
   void Send(const service::LiveFrame& frame);
+  nlohmann::json PublishToSentJson() const;
 
   const UdpStreamOptions options_;
   UdpSocket socket_;
@@ -76,6 +78,7 @@ class UdpStreamServer {
   SubscriberTable table_;
   mutable std::mutex stats_mutex_;
   UdpStreamStats stats_;
+  LatencySample publish_to_sent_ms_{20000};  // the stream's own cost: published -> last datagram sent
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "mocap_stream.pb.h"
 
@@ -16,6 +17,7 @@ SharedFrame Frame(uint64_t number, size_t points) {
   service::LiveFrame f;
   f.frame_number = number;
   f.cameras = 4;
+  f.publish_ns = RealtimeNowNs();
   for (size_t i = 0; i < points; ++i) {
     service::LivePoint p;
     p.position = {static_cast<double>(i), 0.0, 0.0};
@@ -94,6 +96,8 @@ TEST_P(UdpStreamServerPaths, SubscribersGetTheirPartsOfEveryFrame) {
   ASSERT_TRUE(bodies.Receive(&b, 2000));
   EXPECT_EQ(b.frame_number(), 4u);
   EXPECT_FALSE(points.Receive(&none, 50));
+  // Every frame that went out is in the stream's own latency figure.
+  EXPECT_EQ(server.StatsJson()["publish_to_sent_ms"]["frames"], 4u);
 }
 
 TEST(UdpStreamServer, BadRequestsAreCountedAndChangeNothing) {

@@ -43,7 +43,7 @@ struct QtmRtOptions {
   // autotuned up to megabytes, so a client that does not read holds little memory and little
   // stale data.
   int client_socket_bytes = 64 * 1024;
-  size_t queue_frames = 8;                  // frames between the hub's loop and this thread
+  size_t queue_frames = 64;                 // frames between the hub's loop and this thread
   double silence_s = 1.0;                   // no frame this long: Connection Closed
   // Whether the hub records a capture, asked every capture_poll_s on a thread of its own (it
   // may wait for the hub's loop; it may throw, which counts as no answer). Unset: no capture
