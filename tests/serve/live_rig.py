@@ -198,11 +198,14 @@ class Rig:
         time.sleep(seconds)
         return "\n".join(self.received[first:])
 
-    def start_node(self, node_id):
-        with open(os.path.join(self.work, f"node{node_id}.log"), "w") as log:
+    def start_node(self, node_id, with_epoch=True):
+        """Without the epoch the node numbers frames on a grid of its own until serve sends it the
+        session's."""
+        epoch = ["--epoch-ns", str(self.epoch)] if with_epoch else []
+        with open(os.path.join(self.work, f"node{node_id}.log"), "a") as log:
             self.nodes[node_id] = subprocess.Popen(
                 [os.path.join(self.bin, "mocap-node"), "--source", f"replay:{self.frames}/cam{node_id}",
-                 "--sync", f"sim:{self.rate}", "--epoch-ns", str(self.epoch),
+                 "--sync", f"sim:{self.rate}", *epoch,
                  "--hub", f"127.0.0.1:{self.udp_port}", "--id", str(node_id), "--threshold", "32",
                  "--replay-loop", "--log-level", "warning"],
                 stdout=log, stderr=log)

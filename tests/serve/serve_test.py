@@ -14,6 +14,7 @@ import re
 import shutil
 import signal
 import socket
+import subprocess
 import sys
 import time
 import unittest
@@ -53,13 +54,13 @@ class ServeTest(unittest.TestCase):
     def tearDownClass(cls):
         cls.rig.stop()
 
-    def test_1_systemd_ready_and_watchdog_from_the_loop(self):
+    def test_01_systemd_ready_and_watchdog_from_the_loop(self):
         self.assertIn("READY=1", self.rig.received[0])
         # Watchdog pings keep coming from the loop at half the 400 ms interval.
         text = self.rig.notifications(1.0)
         self.assertGreaterEqual(text.count("WATCHDOG=1"), 3, text)
 
-    def test_2_threshold_set_through_the_cli_reaches_the_node(self):
+    def test_02_threshold_set_through_the_cli_reaches_the_node(self):
         out = self.rig.hub("node", "2", "set", "threshold=57").stdout
         self.assertIn("applied", out)
         wait_for("node 2's status to say threshold 57", lambda: self.rig.nodes_json()[2]["threshold"] == 57)
@@ -67,7 +68,7 @@ class ServeTest(unittest.TestCase):
         self.rig.hub("node", "2", "set", "threshold=32")
         wait_for("threshold back", lambda: self.rig.nodes_json()[2]["threshold"] == 32)
 
-    def test_3_preview_png_shows_the_camera_image(self):
+    def test_03_preview_png_shows_the_camera_image(self):
         path = os.path.join(WORK, "preview.png")
         self.rig.hub("node", "1", "preview", "-o", path, "--mode", "raw", "--downscale", "2")
         width, height, rows = read_png_grey(read_bytes(path))
@@ -82,7 +83,7 @@ class ServeTest(unittest.TestCase):
         self.assertEqual((width, height), (160, 100))
         self.assertLessEqual({v for row in rows for v in row}, set(range(256)))
 
-    def test_4_auto_mask_removes_the_static_reflections(self):
+    def test_04_auto_mask_removes_the_static_reflections(self):
         first = json.loads(self.rig.hub("status", "--json").stdout)
         answer = self.rig.hub("mask", "auto", "--frames", "60").stdout
         found = [int(n) for n in re.findall(r"camera \d+: (\d+) static blobs found", answer)]
@@ -103,7 +104,7 @@ class ServeTest(unittest.TestCase):
         self.assertTrue(all(n["masked"] for n in self.rig.nodes_json().values()))
         self.assertGreater(json.loads(self.rig.hub("status", "--json").stdout)["frame_sets"], first["frame_sets"])
 
-    def test_5_capture_reconstruct_and_a_node_restart_mid_capture(self):
+    def test_05_capture_reconstruct_and_a_node_restart_mid_capture(self):
         self.rig.hub("capture", "start", "take1")
         self.assertNotEqual(self.rig.hub("capture", "start", "take2", check=False).returncode, 0)
         time.sleep(1.0)
@@ -130,7 +131,7 @@ class ServeTest(unittest.TestCase):
         listed = json.loads(self.rig.hub("sessions", "--json").stdout)
         self.assertEqual([s["name"] for s in listed], ["take1"])
 
-    def test_6_live_websocket_frames_carry_every_point(self):
+    def test_06_live_websocket_frames_carry_every_point(self):
         frames = websocket_messages(self.rig.api_port, "/api/live", 20)
         numbers = [f["frame"] for f in frames]
         self.assertEqual(numbers, sorted(numbers))
@@ -139,7 +140,7 @@ class ServeTest(unittest.TestCase):
         self.assertGreater(len(points), 0)
         self.assertTrue(all(len(p) == 7 and p[5] >= 2 for p in points))
 
-    def test_7_bad_requests_get_reasons_not_crashes(self):
+    def test_07_bad_requests_get_reasons_not_crashes(self):
         port = self.rig.api_port
         cases = [("POST", "/api/nodes/1/settings", b"{not json", 400),
                  ("POST", "/api/nodes/1/settings", b'{"threshold": 999}', 400),
@@ -157,7 +158,7 @@ class ServeTest(unittest.TestCase):
             self.assertIn("error", json.loads(payload))
         self.assertEqual(self.rig.serve.poll(), None)
 
-    def test_8_garbage_flood_costs_no_frames_of_the_real_nodes(self):
+    def test_08_garbage_flood_costs_no_frames_of_the_real_nodes(self):
         status = lambda: json.loads(self.rig.hub("status", "--json").stdout)
         before = status()
         rng = random.Random(5)
@@ -179,7 +180,75 @@ class ServeTest(unittest.TestCase):
         self.assertGreater(sets, 0)
         self.assertTrue(all(n["state"] == "running" for n in self.rig.nodes_json().values()))
 
-    def test_9_kill_during_capture_leaves_a_readable_interrupted_session(self):
+    def test_09_frames_off_the_session_clock_cost_only_their_node(self):
+        # Forged marker frames for node 2 (any frame number: long past, far ahead, 2^62, and a
+        # node clock 1 s ahead or behind) during a capture: refused and counted for node 2, the
+        # other nodes' frame sets and the recording untouched.
+        wait_for("all nodes streaming", lambda: sorted(
+            id for id, n in self.rig.nodes_json().items() if n["state"] == "running") == list(range(1, CAMERAS + 1)))
+        width, height = self.rig.nodes_json()[2]["width"], self.rig.nodes_json()[2]["height"]
+        proto = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto")
+
+        def forged(number):
+            text = (f"version: 1 marker_frame {{ node_id: 2 frame_number: {number} width: {width} "
+                    f"height: {height} chunk_count: 1 marker_total: 1 markers {{ x_q8: 25600 y_q8: 25600 area: 20 }} }}")
+            out = subprocess.run(["protoc", f"--proto_path={proto}", "--encode=mocap.v1.Packet", "mocap.proto"],
+                                 input=text.encode(), capture_output=True, check=True, timeout=30)
+            return out.stdout
+
+        def now_frame():
+            return (time.time_ns() - self.rig.epoch) * RATE // 1_000_000_000
+
+        before = json.loads(self.rig.hub("status", "--json").stdout)
+        node2 = self.rig.nodes_json()[2]["off_clock_frames"]
+        self.rig.hub("capture", "start", "forged")
+        sender = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        sent = 0
+        start = time.monotonic()
+        for _ in range(10):
+            for number in (200, 1_000_000, 2 ** 62, now_frame() + RATE, now_frame() - RATE):
+                sender.sendto(forged(number), ("127.0.0.1", self.rig.udp_port))
+                sent += 1
+            time.sleep(0.1)
+        sender.close()
+        time.sleep(max(0.0, 1.5 - (time.monotonic() - start)))
+        self.rig.hub("capture", "stop")
+        after = json.loads(self.rig.hub("status", "--json").stdout)
+        published = after["frame_sets"] - before["frame_sets"]
+        refused = self.rig.nodes_json()[2]["off_clock_frames"] - node2
+        self.assertLessEqual(refused, sent)
+        self.assertGreaterEqual(refused, 0.9 * sent)  # (loopback drops one when the machine is busy)
+        self.assertLess(self.rig.nodes_json()[2]["last_frame"], now_frame() + RATE)
+        self.assertLessEqual(after["late_frames"] - before["late_frames"], published // 100 + 1)
+        self.assertLessEqual(after["incomplete_frame_sets"] - before["incomplete_frame_sets"], published // 100 + 1)
+        session = os.path.join(WORK, "sessions", "forged")
+        trc = os.path.join(session, "out.trc")
+        run(BIN, "reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", trc)
+        rows = len(read_text(trc).splitlines()) - 5
+        print(f"\nforged frames: {refused} of {sent} refused for node 2; {published} frame sets published meanwhile; "
+              f"the capture reconstructs {rows} frames", file=sys.stderr)
+        self.assertGreater(rows, 1.2 * RATE)
+        self.assertLess(rows, 3 * RATE)
+
+    def test_10_a_node_restarted_without_the_epoch_is_given_it(self):
+        self.rig.nodes[3].kill()
+        self.rig.nodes[3].wait()
+        start = time.monotonic()
+        self.rig.start_node(3, with_epoch=False)
+
+        def in_step():
+            nodes = self.rig.nodes_json()
+            return (3 in nodes and 1 in nodes and nodes[3]["state"] == "running"
+                    and abs(nodes[3]["last_frame"] - nodes[1]["last_frame"]) <= 2)
+
+        wait_for("node 3 back on the session clock", in_step, timeout=10)
+        print(f"\nnode 3 restarted without the epoch: back in the frame sets {time.monotonic() - start:.2f} s "
+              f"after its start, {self.rig.nodes_json()[3]['off_clock_frames']} frames refused meanwhile",
+              file=sys.stderr)
+        self.assertGreater(self.rig.nodes_json()[3]["off_clock_frames"], 0)
+
+
+    def test_11_kill_during_capture_leaves_a_readable_interrupted_session(self):
         self.rig.hub("capture", "start", "crash")
         time.sleep(1.0)
         self.rig.serve.send_signal(signal.SIGKILL)
@@ -193,7 +262,6 @@ class ServeTest(unittest.TestCase):
         trc = os.path.join(session, "out.trc")
         run(BIN, "reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", trc)
         self.assertGreater(len(read_text(trc).splitlines()), 5 + RATE // 2)
-
 
 if __name__ == "__main__":
     BIN, WORK = sys.argv[1], sys.argv[2]

@@ -73,7 +73,7 @@ void RunImportMcd(const ImportMcdArgs& args) {
   info.source = "import-mcd";
   info.extra["import"] = {{"mcd", args.input}, {"tsai_fits", fits}};
   SessionWriter writer;
-  writer.Create(args.output, info);
+  writer.Create(args.output, info, SessionWriter::Existing::kReplace);  // a conversion: its source stays
   uint64_t blobs = 0;
   for (const FrameSet& set : recording.frames) {
     for (CameraFrame frame : set.cameras) {

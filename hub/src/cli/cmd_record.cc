@@ -114,7 +114,10 @@ void RunRecord(const RecordArgs& args) {
 
   SessionInfo& out = session.info();
   const IngestStats& stats = recorder.stats();
-  for (const auto& [id, ns] : stats.nodes) out.dropped_camera_frames += ns.dropped_frames;
+  const IngestTotals totals = stats.Totals();
+  out.camera_frames = totals.frames;
+  out.dropped_camera_frames = totals.dropped_frames;
+  out.extra["off_clock_frames"] = totals.off_clock_frames;
   out.extra["latency_ms"] = {{"trigger_to_send_p50", trigger_to_send.Percentile(50)},
                              {"trigger_to_send_p99", trigger_to_send.Percentile(99)},
                              {"send_to_result_p50", send_to_result.Percentile(50)},
@@ -145,15 +148,22 @@ void AddRecordCommand(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("-o,--output", args->output, "Session directory to write")->required();
-  auto* duration = command->add_option("--duration", args->duration_s, "Stop after S seconds");
-  command->add_option("--frames", args->frames, "Stop after N frame sets")->excludes(duration);
-  command->add_option("--rate", args->rate_hz, "Trigger rate, Hz")->capture_default_str();
-  command->add_option("--epoch-ns", args->epoch_ns, "Session epoch (time of frame 0), ns; default now");
+  // Numbers are checked here: a zero, negative or NaN duration or frame count would run forever.
+  auto* duration = command->add_option("--duration", args->duration_s, "Stop after S seconds")
+                       ->check(FiniteRange(1e-3, 1e7));
+  command->add_option("--frames", args->frames, "Stop after N frame sets")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 40))
+      ->excludes(duration);
+  command->add_option("--rate", args->rate_hz, "Trigger rate, Hz")->check(FiniteRange(0.1, 10000.0))->capture_default_str();
+  command->add_option("--epoch-ns", args->epoch_ns, "Session epoch (time of frame 0), ns; default now")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 62));
   command->add_option("--announce", args->announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
   command->add_option("--deadline-ms", args->deadline_ms, "How long a frame set waits for late cameras")
+      ->check(FiniteRange(0.1, 10000.0))
       ->capture_default_str();
   command->add_flag("--free-run", args->free_run, "No trigger wire: group frames by capture time");
-  command->add_option("--idle-timeout", args->idle_timeout_s, "Stop after S seconds without datagrams");
+  command->add_option("--idle-timeout", args->idle_timeout_s, "Stop after S seconds without datagrams")
+      ->check(FiniteRange(0.0, 1e7));
   command->add_option("--max-markers", args->max_markers, "Columns of the live TRC")->capture_default_str();
   command->add_flag("--no-trc", args->no_trc, "Only record; no live reconstruction");
   command->callback([args] { RunRecord(*args); });

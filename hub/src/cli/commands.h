@@ -36,6 +36,8 @@ void CheckOptions(const Options& options) {
 CLI::Option* AddUpAxisOption(CLI::App& command, int* axis, bool allow_auto, const std::string& help);
 // "x", "y", "z" or "auto", as the option is written.
 std::string UpAxisName(int axis);
+// A finite number within [lo, hi] (CLI::Range alone accepts NaN).
+CLI::Validator FiniteRange(double lo, double hi);
 
 // The sub-command `name` of `app` (created on first use, requiring one sub-command of its own),
 // so that several files can add commands to one group ("sim rig", "sim wand", "calibrate wand").

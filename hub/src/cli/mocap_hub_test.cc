@@ -122,6 +122,23 @@ TEST_F(MocapHubTest, ExitStatusSaysWhoseMistakeItWas) {
   EXPECT_EQ(Hub("--log-level debug sim rig" + motion + " --cameras 4 -o " + dir + "/r.json").status, 0);
 }
 
+// record: numbers that would make it run forever or wait without end are usage errors, and an
+// existing recording is never overwritten.
+TEST_F(MocapHubTest, RecordRefusesEndlessNumbersAndExistingSessions) {
+  ASSERT_EQ(Hub("sim rig --motion " + dir + "/motion.trc --cameras 4 -o " + dir + "/rec_rig.json").status, 0);
+  const std::string record = "record --listen 127.0.0.1:0 --calibration " + dir + "/rec_rig.json -o " + dir + "/rec";
+  for (const char* bad : {"--frames -1", "--frames 0", "--duration 0", "--duration nan", "--duration -1",
+                          "--deadline-ms nan", "--deadline-ms -1", "--epoch-ns -1", "--rate 0", "--rate inf"})
+    EXPECT_EQ(Hub(record + " " + bad).status, 2) << bad;
+  ASSERT_EQ(Hub(record + " --duration 0.2").status, 0);
+  const std::string log = dir + "/rec/raw.mlog";
+  const auto size = std::filesystem::file_size(log);
+  const HubRun again = Hub(record + " --duration 0.2");
+  EXPECT_EQ(again.status, 1);
+  ExpectOneLineError(again, "holds a recorded session already");
+  EXPECT_EQ(std::filesystem::file_size(log), size);
+}
+
 TEST_F(MocapHubTest, SimMotionWritesASyntheticTrc) {
   const HubRun run = Hub("sim motion --markers 7 --frames 30 --rate 240 --up x -o " + dir + "/synthetic.trc");
   ASSERT_EQ(run.status, 0) << run.err;

@@ -19,6 +19,7 @@ FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAss
 }
 
 const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* session) {
+  last_off_clock_ = false;
   decoded_ = wire::Decode(d.bytes.data(), d.bytes.size());
   if (!decoded_.ok) {
     if (stats_.malformed++ == 0) {
@@ -35,6 +36,17 @@ const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* ses
   }
   NodeStats& ns = known->second;
   ++ns.datagrams;
+  if (decoded_.packet.has_marker_frame()) {
+    // Refused before the log, the chunk reassembly and the frame sets: what a forged or
+    // mis-clocked frame number would disturb.
+    const uint64_t number = decoded_.packet.marker_frame().frame_number();
+    if (!assembler_.OnSessionClock(number, d.receive_time_ns)) {
+      ++ns.off_clock_frames;
+      ns.off_clock_s = assembler_.ClockOffsetS(number, d.receive_time_ns);
+      last_off_clock_ = true;
+      return decoded_;
+    }
+  }
   if (session) session->AppendDatagram(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
   if (decoded_.packet.has_node_status()) {
     ++ns.status_packets;

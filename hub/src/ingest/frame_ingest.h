@@ -1,7 +1,8 @@
 // What a live hub does with every datagram from the nodes, shared by `record` and `serve`:
 // decode it by the wire rules (malformed input counted with its first reason), attribute it to a
-// camera of the calibration (others counted per node id), append it to the session's raw log as
-// received when a capture is running, reassemble marker-frame chunks and assemble the camera
+// camera of the calibration (others counted per node id), refuse marker frames numbered off the
+// session clock (counted per node), append it to the session's raw log as received when a
+// capture is running, reassemble marker-frame chunks and assemble the camera
 // frames into frame sets under the deadline. Bad input is counted, never fatal.
 #pragma once
 
@@ -35,6 +36,8 @@ class FrameIngest {
   std::vector<FrameSet> Flush();
 
   bool IsCamera(uint32_t node_id) const { return stats_.nodes.count(node_id) != 0; }
+  // Whether the last datagram given to Add() was a marker frame refused as off the session clock.
+  bool last_off_clock() const { return last_off_clock_; }
   const IngestStats& stats() const { return stats_; }
   const FrameSetAssembler& assembler() const { return assembler_; }
 
@@ -42,6 +45,7 @@ class FrameIngest {
   void AddMarkerFrame(const v1::MarkerFrame& chunk, uint64_t receive_time_ns, NodeStats* node);
 
   wire::DecodeResult decoded_;
+  bool last_off_clock_ = false;
   wire::ChunkAssembler chunks_;
   FrameSetAssembler assembler_;
   IngestStats stats_;

@@ -10,6 +10,7 @@ void FrameSetAssemblerOptions::Check() const {
   if (deadline_ns == 0) throw std::invalid_argument("assembly deadline must be positive");
   if (free_run && !(rate_hz > 0.0)) throw std::invalid_argument("free-run grouping needs the frame rate");
   if (max_open_sets == 0) throw std::invalid_argument("max_open_sets must be positive");
+  if (!(rate_hz >= 0.0) || !std::isfinite(rate_hz)) throw std::invalid_argument("frame rate must be a finite number >= 0");
 }
 
 FrameSetAssembler::FrameSetAssembler(FrameSetAssemblerOptions options, std::vector<uint32_t> expected)
@@ -17,6 +18,22 @@ FrameSetAssembler::FrameSetAssembler(FrameSetAssemblerOptions options, std::vect
   options_.Check();
   if (options_.free_run && options_.free_run_tolerance_ns == 0)
     options_.free_run_tolerance_ns = static_cast<uint64_t>(1e9 / options_.rate_hz / 3.0);
+  clock_known_ = !options_.free_run && options_.rate_hz > 0.0 && options_.epoch_ns > 0 && options_.clock_window_ns > 0;
+}
+
+double FrameSetAssembler::ClockOffsetS(uint64_t frame_number, uint64_t now_ns) const {
+  if (!clock_known_) return 0.0;
+  // Doubles hold any frame number's time to far better than the window for sessions of years.
+  const double since_epoch_s = now_ns >= options_.epoch_ns ? double(now_ns - options_.epoch_ns) * 1e-9
+                                                            : -double(options_.epoch_ns - now_ns) * 1e-9;
+  return double(frame_number) / options_.rate_hz - since_epoch_s;
+}
+
+bool FrameSetAssembler::OnSessionClock(uint64_t frame_number, uint64_t now_ns) const {
+  if (!clock_known_) return true;
+  const double ahead_s = ClockOffsetS(frame_number, now_ns);
+  const double window_s = double(options_.clock_window_ns) * 1e-9;
+  return ahead_s <= window_s && -ahead_s <= window_s + double(options_.deadline_ns) * 1e-9;
 }
 
 uint64_t FrameSetAssembler::KeyFor(const CameraFrame& frame) const {
@@ -31,6 +48,10 @@ uint64_t FrameSetAssembler::KeyFor(const CameraFrame& frame) const {
 }
 
 bool FrameSetAssembler::Add(CameraFrame frame, uint64_t now_ns) {
+  if (!OnSessionClock(frame.frame_number, now_ns)) {
+    ++off_clock_;
+    return false;
+  }
   const uint64_t key = KeyFor(frame);
   if (emitted_any_ && key <= last_emitted_) {
     ++late_;

@@ -90,5 +90,49 @@ TEST(FrameSetAssembler, OptionsAreChecked) {
   EXPECT_NO_THROW(o.Check());
 }
 
+TEST(FrameSetAssembler, FramesOffTheSessionClockNeverMoveTheWindow) {
+  FrameSetAssemblerOptions o;
+  o.deadline_ns = 10 * kMs;
+  o.rate_hz = 100.0;
+  o.epoch_ns = 1000 * kMs;
+  o.clock_window_ns = 250 * kMs;
+  FrameSetAssembler a(o, {1, 2});
+  const uint64_t now = o.epoch_ns + 505 * kMs;  // frame 50's trigger was 5 ms ago
+  // Forged or mis-clocked numbers: far ahead, 2^62, 1 s ahead, 1 s behind, long past.
+  for (uint64_t number : {uint64_t{1'000'000}, uint64_t{1} << 62, uint64_t{150}, uint64_t{0}, uint64_t{200'000'000}})
+    EXPECT_FALSE(a.Add(Frame(2, number), now)) << number;
+  EXPECT_EQ(a.off_clock_frames(), 5u);
+  EXPECT_GT(a.ClockOffsetS(150, now), 0.99);
+  EXPECT_LT(a.ClockOffsetS(0, now), -0.5);
+  EXPECT_TRUE(a.Collect(now + 100 * kMs).empty());  // nothing was opened by them
+  // The real frames around now assemble as if nothing happened.
+  EXPECT_TRUE(a.Add(Frame(1, 50), now));
+  EXPECT_TRUE(a.Add(Frame(2, 50), now + kMs));
+  EXPECT_TRUE(a.Add(Frame(1, 51), now + 10 * kMs));
+  EXPECT_TRUE(a.Add(Frame(2, 51), now + 11 * kMs));
+  const auto sets = a.Collect(now + 11 * kMs);
+  ASSERT_EQ(sets.size(), 2u);
+  EXPECT_EQ(sets[0].frame_number, 50u);
+  EXPECT_EQ(sets[1].frame_number, 51u);
+  EXPECT_EQ(a.late_frames(), 0u);
+  EXPECT_EQ(a.incomplete_sets(), 0u);
+  // Within the window on either side: a node a little ahead, a frame delayed past its deadline.
+  EXPECT_TRUE(a.OnSessionClock(70, now));
+  EXPECT_TRUE(a.OnSessionClock(30, now));
+  EXPECT_FALSE(a.OnSessionClock(80, now));
+  EXPECT_FALSE(a.OnSessionClock(20, now));
+}
+
+TEST(FrameSetAssembler, NoSessionClockNoWindow) {
+  FrameSetAssemblerOptions o;  // no epoch: nothing to judge a frame number by
+  o.rate_hz = 100.0;
+  FrameSetAssembler a(o, {1});
+  EXPECT_TRUE(a.OnSessionClock(uint64_t{1} << 62, 5 * kMs));
+  o.epoch_ns = kMs;
+  o.clock_window_ns = 0;  // switched off
+  FrameSetAssembler b(o, {1});
+  EXPECT_TRUE(b.OnSessionClock(uint64_t{1} << 62, 5 * kMs));
+}
+
 }  // namespace
 }  // namespace mocap

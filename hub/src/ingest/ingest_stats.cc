@@ -14,12 +14,23 @@ void IngestStats::CountFrame(uint32_t node, uint64_t frame_number) {
   ++s.frames;
 }
 
+IngestTotals IngestStats::Totals() const {
+  IngestTotals t;
+  for (const auto& [id, s] : nodes) {
+    t.frames += s.frames;
+    t.dropped_frames += s.dropped_frames;
+    t.late_frames += s.late_frames;
+    t.off_clock_frames += s.off_clock_frames;
+  }
+  return t;
+}
+
 std::string IngestStats::Report() const {
   std::ostringstream out;
-  out << "node  datagrams    frames  dropped  late  dup-chunks  status\n";
+  out << "node  datagrams    frames  dropped  late  off-clock  dup-chunks  status\n";
   for (const auto& [id, s] : nodes) {
     out << "  " << id << "  " << s.datagrams << "  " << s.frames << "  " << s.dropped_frames << "  "
-        << s.late_frames << "  " << s.duplicate_chunks + s.inconsistent_chunks << "  ";
+        << s.late_frames << "  " << s.off_clock_frames << "  " << s.duplicate_chunks + s.inconsistent_chunks << "  ";
     if (s.has_status)
       out << "fps " << s.last_status.fps_milli() / 1000.0 << ", detect " << s.last_status.detect_time_us_mean()
           << " us, sync jitter " << s.last_status.sync().edge_jitter_ns() << " ns, missed edges "

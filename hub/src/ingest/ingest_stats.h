@@ -14,6 +14,8 @@ struct NodeStats {
   uint64_t frames = 0;           // complete camera frames
   uint64_t dropped_frames = 0;   // gaps in the node's frame numbers
   uint64_t late_frames = 0;      // arrived after their frame set was handed out
+  uint64_t off_clock_frames = 0; // marker-frame datagrams numbered off the session clock: refused
+  double off_clock_s = 0.0;      // the last refused one: its trigger time minus its arrival, s
   uint64_t duplicate_chunks = 0;
   uint64_t inconsistent_chunks = 0;
   uint64_t status_packets = 0;
@@ -21,6 +23,10 @@ struct NodeStats {
   uint64_t last_frame_number = 0;
   bool has_status = false;
   v1::NodeStatus last_status;
+};
+
+struct IngestTotals {
+  uint64_t frames = 0, dropped_frames = 0, late_frames = 0, off_clock_frames = 0;
 };
 
 struct IngestStats {
@@ -32,6 +38,8 @@ struct IngestStats {
 
   // Records a complete frame from a known node, counting gaps in its numbering.
   void CountFrame(uint32_t node, uint64_t frame_number);
+  // Summed over the calibration's nodes.
+  IngestTotals Totals() const;
   // A human-readable table, one line per node, plus unknown nodes and malformed input.
   std::string Report() const;
 };

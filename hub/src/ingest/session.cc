@@ -76,13 +76,17 @@ void SaveSessionInfo(const SessionInfo& info, const std::string& dir) {
   WriteJsonFile(info.ToJson(), (fs::path(dir) / "session.json").string());
 }
 
-void SessionWriter::Create(const std::string& dir, const SessionInfo& info) {
+void SessionWriter::Create(const std::string& dir, const SessionInfo& info, Existing existing) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error(dir + ": cannot create session directory: " + ec.message());
+  const std::string log = (fs::path(dir) / info.log).string();
+  if (existing == Existing::kRefuse && fs::exists(log, ec))
+    throw std::runtime_error(dir + ": holds a recorded session already (" + info.log +
+                             "); not overwriting it: choose another directory or remove it");
   dir_ = dir;
   info_ = info;
-  log_.Open((fs::path(dir) / info_.log).string());
+  log_.Open(log, existing == Existing::kRefuse);
   // session.json exists from the start so that a crashed recording is still a readable session.
   SaveSessionInfo(info_, dir_);
 }

@@ -40,8 +40,12 @@ void SaveSessionInfo(const SessionInfo& info, const std::string& dir);
 
 class SessionWriter {
  public:
-  // Creates dir (if needed) and an empty raw log in it.
-  void Create(const std::string& dir, const SessionInfo& info);
+  // What Create does when dir already holds a raw log: a recording is never overwritten (and a
+  // second recorder into the same directory fails, the log being created exclusively); generated
+  // sessions (the simulator's) are replaced.
+  enum class Existing { kRefuse, kReplace };
+  // Creates dir (if needed) and an empty raw log in it. Throws std::runtime_error.
+  void Create(const std::string& dir, const SessionInfo& info, Existing existing = Existing::kRefuse);
   // Encodes the frame into its datagrams and appends them; flushes whenever the frame number
   // moves on, so a crash loses at most the frame in progress.
   void Write(const CameraFrame& frame);

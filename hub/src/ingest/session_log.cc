@@ -49,9 +49,9 @@ SessionLogWriter::~SessionLogWriter() {
   if (file_) std::fclose(file_);
 }
 
-void SessionLogWriter::Open(const std::string& path) {
+void SessionLogWriter::Open(const std::string& path, bool exclusive) {
   path_ = path;
-  file_ = std::fopen(path.c_str(), "wb");
+  file_ = std::fopen(path.c_str(), exclusive ? "wbx" : "wb");
   if (!file_) throw IoError("cannot create session log", path);
   uint8_t header[16];
   std::memcpy(header, kFileMagic, 8);

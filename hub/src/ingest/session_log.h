@@ -21,7 +21,8 @@ class SessionLogWriter {
   SessionLogWriter& operator=(const SessionLogWriter&) = delete;
 
   // Creates (truncates) the log. Throws std::runtime_error naming the file on failure.
-  void Open(const std::string& path);
+  // exclusive: fail if the file exists (two writers never share a log).
+  void Open(const std::string& path, bool exclusive = false);
   void Append(const uint8_t* data, size_t size, uint64_t receive_time_ns);
   // Pushes buffered records to the kernel so they survive a crash of this process.
   void Flush();

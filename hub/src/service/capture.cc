@@ -15,18 +15,6 @@ namespace {
 
 constexpr uint64_t kFlushEveryNs = 50'000'000;
 
-uint64_t DroppedFrames(const IngestStats& stats) {
-  uint64_t dropped = 0;
-  for (const auto& [id, node] : stats.nodes) dropped += node.dropped_frames;
-  return dropped;
-}
-
-uint64_t CameraFrames(const IngestStats& stats) {
-  uint64_t frames = 0;
-  for (const auto& [id, node] : stats.nodes) frames += node.frames;
-  return frames;
-}
-
 }  // namespace
 
 bool ValidSessionName(const std::string& name) {
@@ -94,8 +82,10 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   if (!writer_) throw ApiError(409, "no capture is running");
   SessionInfo& info = writer_->info();
   info.frame_sets = frame_sets_;
-  info.camera_frames = CameraFrames(stats) - CameraFrames(at_start_);
-  info.dropped_camera_frames = DroppedFrames(stats) - DroppedFrames(at_start_);
+  const IngestTotals now = stats.Totals(), then = at_start_.Totals();
+  info.camera_frames = now.frames - then.frames;
+  info.dropped_camera_frames = now.dropped_frames - then.dropped_frames;
+  info.extra["off_clock_frames"] = now.off_clock_frames - then.off_clock_frames;
   info.extra["capture_state"] = "complete";
   info.extra["stopped_ns"] = now_ns;
   info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;

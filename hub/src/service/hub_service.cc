@@ -67,6 +67,13 @@ SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns
   return info;
 }
 
+// The node's reception figures, or zeros for a node outside the calibration.
+const NodeStats& OffClock(const IngestStats& stats, uint32_t node) {
+  static const NodeStats kNone;
+  auto it = stats.nodes.find(node);
+  return it == stats.nodes.end() ? kNone : it->second;
+}
+
 uint64_t EpochOf(const ServeOptions& o) { return o.epoch_ns ? o.epoch_ns : RealtimeNowNs(); }
 
 nlohmann::json RequestJson(const RequestResult& r) {
@@ -194,6 +201,10 @@ void HubService::HandleDatagram(const Datagram& d) {
     return;
   }
   const v1::Packet& packet = decoded.packet;
+  if (ingest_.last_off_clock()) {
+    OnOffClockFrame(packet.marker_frame(), d);
+    return;
+  }
   OnRegistryEvents(registry_.OnPacket(packet, source, d.receive_time_ns));
   if (packet.has_control_ack() && ingest_.IsCamera(packet.control_ack().node_id())) {
     if (auto finished = controls_.OnAck(packet.control_ack(), d.receive_time_ns)) OnRequestFinished(*finished);
@@ -205,6 +216,33 @@ void HubService::HandleDatagram(const Datagram& d) {
     // A frame set completes with its last camera's datagram: publish it now, not at the next
     // loop turn.
     for (const FrameSet& set : ingest_.Collect(RealtimeNowNs())) Publish(set);
+  }
+}
+
+void HubService::OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d) {
+  // A node that numbers its frames on another clock (restarted without the session's epoch, or
+  // given another one) is sent the session's grid in a Start, which it acknowledges; at most
+  // every 2 s per node, so a forger cannot make the hub send much. A node whose own clock is off
+  // stays refused: only its clock can fix that, and the warning says so.
+  uint64_t& next = next_grid_ns_[frame.node_id()];
+  if (d.receive_time_ns < next) return;
+  next = d.receive_time_ns + 2 * kSecondNs;
+  const NodeStats& stats = ingest_.stats().nodes.at(frame.node_id());
+  log::Warn("node {} ({}): frame {} is {:+.3f} s off the session clock ({} refused so far): its epoch or its "
+            "clock is wrong; sending it the session's epoch and rate",
+            frame.node_id(), d.FromString(), frame.frame_number(), stats.off_clock_s, stats.off_clock_frames);
+  v1::Control start;
+  start.mutable_start()->set_epoch_ns(options_.epoch_ns);
+  start.mutable_start()->set_rate_millihz(static_cast<uint32_t>(std::llround(options_.rate_hz * 1000.0)));
+  const SubmitResult submitted = controls_.Submit(frame.node_id(), {start}, RealtimeNowNs());
+  if (!submitted.ok) {
+    log::Warn("node {}: session grid not sent: {}", frame.node_id(), submitted.error);
+    return;
+  }
+  // To where the frames came from: a node sends and receives on its one control socket.
+  for (const v1::Packet& packet : submitted.send) {
+    const std::vector<uint8_t> bytes = wire::Encode(packet);
+    socket_.SendTo(d.from, bytes.data(), bytes.size());
   }
 }
 
@@ -498,6 +536,8 @@ nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
       {"frames_sent", n.frames_sent},
       {"frames_dropped", n.frames_dropped},
       {"last_frame", n.last_frame_number},
+      {"off_clock_frames", OffClock(ingest_.stats(), n.id).off_clock_frames},
+      {"off_clock_s", OffClock(ingest_.stats(), n.id).off_clock_s},
       {"last_seen_s", n.last_seen_ns && now > n.last_seen_ns ? static_cast<double>(now - n.last_seen_ns) * 1e-9 : 0.0},
       {"times_lost", n.times_lost},
       {"restarts", n.restarts},

@@ -113,6 +113,7 @@ class HubService : public ServiceApi {
   void RunTasks();
 
   void HandleDatagram(const Datagram& datagram);
+  void OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d);
   void Publish(const FrameSet& set);
   void Tick(uint64_t now_ns);
   void Announce(uint64_t now_ns);
@@ -134,6 +135,7 @@ class HubService : public ServiceApi {
   UdpSocket socket_;
   std::optional<HostPort> announce_to_;
   uint64_t next_announce_ns_ = 0;
+  std::map<uint32_t, uint64_t> next_grid_ns_;  // per node: earliest next grid announce (off clock)
   uint64_t start_ns_ = 0;
   FrameIngest ingest_;
   NodeRegistry registry_;

@@ -39,7 +39,7 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
                        {"visibility", "visibility.tsv"}};
 
   SessionWriter writer;
-  writer.Create(dir, info);
+  writer.Create(dir, info, SessionWriter::Existing::kReplace);
   const std::filesystem::path root(dir);
   SaveRigJson(rig, (root / info.calibration).string());
   WriteTrc(motion, (root / "truth.trc").string());
