@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "ingest/frame_codec.h"
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
 
 namespace mocap {

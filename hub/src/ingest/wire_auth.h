@@ -25,7 +25,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
 #include "wire/replay_window.h"
 

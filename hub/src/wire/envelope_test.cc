@@ -7,7 +7,7 @@
 #include <numeric>
 #include <vector>
 
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 #include "wire/limits.h"
 #include "wire/replay_window.h"
 

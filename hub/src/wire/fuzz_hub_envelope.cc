@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 #include "wire/replay_window.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

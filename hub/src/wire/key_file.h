@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 
 namespace mocap::wire {
 

@@ -1,7 +1,7 @@
 // Replay window (see replay_window.h).
 #include "wire/replay_window.h"
 
-#include "wire/envelope.h"
+#include "wire/datagram_envelope.h"
 
 namespace mocap::wire {
 

@@ -1,5 +1,5 @@
-// Authenticated envelope, hub side (see envelope.h).
-#include "wire/envelope.h"
+// Authenticated envelope, hub side (see datagram_envelope.h).
+#include "wire/datagram_envelope.h"
 
 #include <cstring>
 #include <stdexcept>
