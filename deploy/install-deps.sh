@@ -22,6 +22,8 @@ HOST_PACKAGES=(
     libcivetweb-dev
     # node hardware backends
     libgpiod-dev libcamera-dev libsystemd-dev
+    # the authenticated wire between hub and nodes (HMAC-SHA-512/256, keys from its CSPRNG)
+    libsodium-dev
     # fuzzing and sanitizers
     clang libclang-rt-14-dev
     # aarch64 cross-build and emulation
@@ -42,6 +44,8 @@ HOST_PACKAGES=(
 # arm64 multiarch libraries that the cross-built firmware and its tests link against.
 CROSS_PACKAGES=(
     libnanopb-dev:arm64 libcmocka-dev:arm64 libgpiod-dev:arm64 libsystemd-dev:arm64 zlib1g-dev:arm64
+    # the node's authenticated wire
+    libsodium-dev:arm64
     # the node's libcamera source, built and linked for the boards it runs on
     libcamera-dev:arm64
 )

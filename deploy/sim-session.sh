@@ -87,6 +87,11 @@ for d in "$frames_dir"/cam*/; do
 done
 [ "${#ids[@]}" -ge 2 ] || die "$frames_dir: fewer than two cam<ID>/frames.mcf"
 
+# ---- the simulated rig's wire keys: one per node, new for every session (never committed) ----
+keys="$out/keys"
+rm -rf "$keys"
+"$hub" keys new "${ids[@]}" --out "$keys" > /dev/null || die "cannot generate the wire keys"
+
 # ---- network: one namespace per node with its own address, or loopback ----
 session_tag=$$
 netns_ok=0
@@ -125,7 +130,8 @@ hub_pin=() node_pin=()
 [ -z "$hub_cpus" ] || hub_pin=(taskset -c "$hub_cpus")
 [ -z "$node_cpus" ] || node_pin=(taskset -c "$node_cpus")
 "${hub_pin[@]}" "$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
-    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" $serve_args > /dev/null 2> "$out/serve.log" &
+    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" --keys "$keys" $serve_args \
+    > /dev/null 2> "$out/serve.log" &
 hub_pid=$!
 pids+=("$hub_pid")
 port="" api_port=""
@@ -166,7 +172,7 @@ for id in "${ids[@]}"; do
         run=(ip netns exec "$ns")
     fi
     "${run[@]}" "${node_pin[@]}" "$node" --source "replay:$frames_dir/cam$id" --sync "sim:$rate" --epoch-ns "$epoch" \
-        --hub "$hub_addr:$port" --id "$id" --threshold "$threshold" --log-level warning \
+        --hub "$hub_addr:$port" --id "$id" --key-file "$keys/node-$id.key" --threshold "$threshold" --log-level warning \
         > "$out/node$id.log" 2>&1 &
     pids+=("$!")
 done

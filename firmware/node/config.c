@@ -38,6 +38,10 @@ static const struct setting settings[] = {
     {"hub", T_CUSTOM, 0, 0, 0, set_hub, "HOST:PORT of the hub; unset: wait for HubAnnounce"},
     {"control_port", T_U16, OFF(control_port), 0, 65535, NULL, "local UDP port (0 = any)"},
     {"announce_port", T_U16, OFF(announce_port), 1, 65535, NULL, "HubAnnounce broadcast port"},
+    {"key_file", T_STRING, OFF(key_file), 0, 0, NULL,
+     "this node's wire key, mode 0600 (mocap-hub keys new ID --out DIR)"},
+    {"insecure_dev_wire", T_BOOL, OFF(insecure_dev_wire), 0, 1, NULL,
+     "DEVELOPMENT ONLY: no key, unauthenticated datagrams (the hub needs --insecure-dev-wire)"},
     {"width", T_U32, OFF(width), 0, 8192, NULL, "capture width (0 = source default)"},
     {"height", T_U32, OFF(height), 0, 8192, NULL, "capture height (0 = source default)"},
     {"buffers", T_U32, OFF(buffers), 2, 32, NULL, "V4L2 mmap buffers"},
@@ -403,6 +407,19 @@ int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char
     return rc;
 }
 
+int mn_config_load_keys(struct mn_config *cfg, char *err, size_t errlen)
+{
+    memset(&cfg->keys, 0, sizeof(cfg->keys));
+    if (cfg->insecure_dev_wire)
+        return 0;
+    if (mn_keyfile_load(cfg->key_file, &cfg->keys, err, errlen) < 0)
+        return -1;
+    if (cfg->keys.node_id != cfg->node_id)
+        return fail(err, errlen, "key file %s is for node %u, this node is %u", cfg->key_file,
+                    cfg->keys.node_id, cfg->node_id);
+    return 0;
+}
+
 int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen)
 {
     if (cfg->min_area > cfg->max_area)
@@ -423,6 +440,12 @@ int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen)
         llabs((long long)cfg->trigger_delay_us) * cfg->rate_hz > 10.0 * 1e6)
         return fail(err, errlen, "trigger_delay_us %d is more than 10 trigger periods",
                     cfg->trigger_delay_us);
+    if (cfg->key_file[0] == '\0' && !cfg->insecure_dev_wire)
+        return fail(err, errlen,
+                    "no wire key: set key_file (made by `mocap-hub keys new ID --out DIR`), or "
+                    "insecure_dev_wire = yes for development only");
+    if (cfg->key_file[0] != '\0' && cfg->insecure_dev_wire)
+        return fail(err, errlen, "key_file and insecure_dev_wire exclude each other");
     return 0;
 }
 
@@ -515,7 +538,7 @@ enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, 
         if (mn_config_set(cfg, key, value, origin, err, errlen) < 0)
             return MN_CONFIG_ARGS_ERROR;
     }
-    if (mn_config_check(cfg, err, errlen) < 0)
+    if (mn_config_check(cfg, err, errlen) < 0 || mn_config_load_keys(cfg, err, errlen) < 0)
         return MN_CONFIG_ARGS_ERROR;
     return MN_CONFIG_ARGS_RUN;
 }

@@ -12,6 +12,7 @@
 #include <stdio.h>
 
 #include "common/log.h"
+#include "node/keyfile.h"
 
 #define MN_CONFIG_STR 256
 #define MN_CONFIG_ERR 512
@@ -42,6 +43,9 @@ struct mn_config {
     uint16_t hub_port;
     uint16_t control_port;         /* 0: ephemeral (the hub answers to our source port) */
     uint16_t announce_port;        /* where HubAnnounce broadcasts arrive */
+    char key_file[MN_CONFIG_STR];  /* this node's wire key (node/keyfile.h) */
+    bool insecure_dev_wire;        /* no key: plain datagrams, development only */
+    struct mn_keyfile keys;        /* loaded from key_file by mn_config_from_args */
 
     uint32_t width, height;        /* requested capture size; 0 = the source's default */
     uint32_t buffers;              /* V4L2 mmap buffers */
@@ -102,7 +106,12 @@ enum mn_config_args_result {
 enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, char **argv,
                                                char *err, size_t errlen);
 
-/* Cross-setting checks (a gpio sync needs a rate, sizes fit the source ...). */
+/* Loads cfg->key_file into cfg->keys (nothing with insecure_dev_wire) and checks it belongs to
+ * cfg->node_id. mn_config_from_args calls it; tests that build a config directly may too. */
+int mn_config_load_keys(struct mn_config *cfg, char *err, size_t errlen);
+
+/* Cross-setting checks (a gpio sync needs a rate, sizes fit the source, a key or the explicit
+ * development setting ...). */
 int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen);
 
 /* Writes the flag/key reference (name, range, meaning) to f. */

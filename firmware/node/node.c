@@ -17,6 +17,7 @@
 #include "common/ratelimit.h"
 #include "detect/detect.h"
 #include "capture/capture.h"
+#include "node/auth.h"
 #include "node/control.h"
 #include "node/net.h"
 #include "node/notify.h"
@@ -52,6 +53,7 @@ struct mn_node {
     bool finished;
 
     struct mn_net *net;
+    struct mn_auth auth;
     struct mn_control *control;
     struct mn_sync *sync;        /* NULL while a failed trigger source is being reopened */
     bool free_run;               /* the configured sync source has no edges */
@@ -72,7 +74,7 @@ struct mn_node {
     struct mn_wire_marker markers[MAX_BLOBS];
     int64_t edges[EDGE_BATCH];
     mocap_v1_Packet packet;
-    uint8_t datagram[MN_WIRE_MAX_DATAGRAM];
+    uint8_t datagram[MN_ENVELOPE_MAX_DATAGRAM];
     uint8_t rx[MN_WIRE_MAX_DATAGRAM + 1];
     struct preview_state preview;
     char apply_error[MN_WIRE_MAX_ACK_REASON + 1]; /* why the last command failed, for its ack */
@@ -196,6 +198,14 @@ struct mn_node *mn_node_new(const struct mn_config *cfg, char *err, size_t errle
     n->reopen_delay_ms = cfg->reopen_min_ms;
     node_grid_init(n);
 
+    if (mn_auth_init(&n->auth, cfg->node_id, cfg->insecure_dev_wire ? NULL : &cfg->keys, err,
+                     errlen) < 0) {
+        errno = EINVAL;
+        goto fail;
+    }
+    if (cfg->insecure_dev_wire)
+        mn_log_warn("INSECURE WIRE: insecure_dev_wire is set, datagrams are not authenticated; "
+                    "anyone on the network can steer this node (development only)");
     n->net = mn_net_new(cfg->hub_host, cfg->hub_port, cfg->control_port, cfg->announce_port,
                         cfg->send_buffer_kb, err, errlen);
     if (n->net == NULL)
@@ -306,9 +316,13 @@ void mn_node_get_stats(const struct mn_node *n, struct mn_node_stats *out)
 
 static int send_packet(struct mn_node *n)
 {
-    size_t size;
+    size_t payload, size;
     const char *why;
-    if (mn_wire_encode(&n->packet, n->datagram, sizeof(n->datagram), &size, &why) < 0) {
+    size_t offset = mn_auth_payload_offset(&n->auth);
+    if (mn_wire_encode(&n->packet, n->datagram + offset, mn_auth_max_payload(&n->auth), &payload,
+                       &why) < 0 ||
+        mn_auth_seal(&n->auth, n->datagram, sizeof(n->datagram), payload, mn_clock_real_ns(), &size,
+                     &why) < 0) {
         mn_log_err("encode: %s", why); /* our own bug: say so, never send it */
         errno = EPROTO;
         return -1;
@@ -346,6 +360,7 @@ static void send_status(struct mn_node *n, int64_t now)
     c.exposure_us = n->exposure_us;
     c.gain_milli = n->gain_milli;
     c.control_rejected = n->stats.control_rejected;
+    c.auth_rejected = n->stats.auth_rejected;
     c.camera_reopens = n->stats.camera_reopens;
     c.width = n->max_w;
     c.height = n->max_h;
@@ -531,7 +546,26 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
             r = MN_CONTROL_REJECTED;
             why = "datagram larger than 1400 bytes";
         } else {
-            r = mn_control_handle(n->control, n->rx, (size_t)len, announce_socket, &cmd, &why);
+            const uint8_t *payload = NULL;
+            size_t payload_len = 0;
+            enum mn_auth_result a = mn_auth_open(&n->auth, n->rx, (size_t)len, mn_clock_real_ns(),
+                                                 &payload, &payload_len, &why);
+            if (a == MN_AUTH_OTHER_NODE) {
+                n->stats.auth_other_node++; /* a neighbour's announce on a shared port */
+                continue;
+            }
+            if (a == MN_AUTH_REJECTED) {
+                /* Forged, replayed, stale or plain: never parsed, never answered. */
+                n->stats.auth_rejected++;
+                uint64_t earlier;
+                if (mn_ratelimit_allow(&n->reject_log, mn_clock_mono_ns(), &earlier)) {
+                    report_suppressed_rejections(earlier);
+                    mn_log_warn("rejected unauthentic %s datagram (%zd bytes): %s",
+                                announce_socket ? "announce" : "control", len, why);
+                }
+                continue;
+            }
+            r = mn_control_handle(n->control, payload, payload_len, announce_socket, &cmd, &why);
         }
         if (r == MN_CONTROL_REJECTED) {
             n->stats.control_rejected++;

@@ -22,6 +22,9 @@ struct mn_node_stats {
     uint64_t markers_sent;
     uint64_t datagrams_sent, datagrams_dropped;
     uint32_t control_accepted, control_rejected, control_ignored;
+    uint32_t auth_rejected;     /* datagrams refused by the envelope: forged, replayed, stale,
+                                   unauthenticated, a node's own direction */
+    uint32_t auth_other_node;   /* authentic layout but sealed for another node (broadcast) */
     uint32_t camera_errors, camera_reopens;
     bool running;               /* capturing for the hub (Start received or not awaited) */
     bool camera_ok;

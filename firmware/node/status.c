@@ -77,6 +77,7 @@ void mn_status_build(const struct mn_status_counters *c, const char *temperature
     s->exposure_us = c->exposure_us;
     s->gain_milli = c->gain_milli;
     s->control_rejected = c->control_rejected;
+    s->auth_rejected = c->auth_rejected;
     s->camera_reopens = c->camera_reopens;
     s->width = c->width;
     s->height = c->height;

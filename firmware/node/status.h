@@ -20,7 +20,7 @@ struct mn_status_counters {
     uint64_t detect_ns_sum, detect_ns_max, detect_count;
     struct mn_sync_health sync;
     uint32_t threshold, exposure_us, gain_milli;
-    uint32_t control_rejected, camera_reopens;
+    uint32_t control_rejected, camera_reopens, auth_rejected;
     uint32_t width, height;
 };
 

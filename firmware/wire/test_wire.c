@@ -96,7 +96,7 @@ static void test_rejects_truncated_and_garbage(void **state)
 	assert_non_null(reason);
 	memset(big, 0, sizeof big);
 	assert_int_equal(mn_wire_decode(big, sizeof big, &back, &reason), -1);
-	assert_string_equal(reason, "datagram larger than 1400 bytes");
+	assert_string_equal(reason, "packet larger than 1352 bytes (1400 with its envelope)");
 	assert_int_equal(mn_wire_decode(big, 0, &back, &reason), -1);
 }
 

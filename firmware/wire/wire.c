@@ -220,8 +220,8 @@ int mn_wire_parse(const uint8_t *data, size_t size, mocap_v1_Packet *packet, con
 
 	if (size == 0)
 		return fail(reason, "empty datagram");
-	if (size > MN_WIRE_MAX_DATAGRAM)
-		return fail(reason, "datagram larger than 1400 bytes");
+	if (size > MN_WIRE_MAX_PACKET)
+		return fail(reason, "packet larger than 1352 bytes (1400 with its envelope)");
 	stream = pb_istream_from_buffer(data, size);
 	if (!pb_decode(&stream, mocap_v1_Packet_fields, packet))
 		return fail(reason, "not a protocol buffer packet");
@@ -248,9 +248,9 @@ int mn_wire_encode(const mocap_v1_Packet *packet, uint8_t *out, size_t cap, size
 
 	if (problem)
 		return fail(reason, problem);
-	stream = pb_ostream_from_buffer(out, cap < MN_WIRE_MAX_DATAGRAM ? cap : MN_WIRE_MAX_DATAGRAM);
+	stream = pb_ostream_from_buffer(out, cap < MN_WIRE_MAX_PACKET ? cap : MN_WIRE_MAX_PACKET);
 	if (!pb_encode(&stream, mocap_v1_Packet_fields, packet))
-		return fail(reason, "datagram does not fit the buffer or 1400 bytes");
+		return fail(reason, "packet does not fit the buffer or 1352 bytes");
 	*size = stream.bytes_written;
 	return 0;
 }

@@ -21,6 +21,9 @@ extern "C" {
 
 #define MN_WIRE_VERSION 1u
 #define MN_WIRE_MAX_DATAGRAM 1400u
+/* One Packet: the datagram less the authenticated envelope (wire/envelope.h), also when a
+ * development rig sends it plain. */
+#define MN_WIRE_MAX_PACKET 1352u
 #define MN_WIRE_MARKERS_PER_CHUNK 48u
 #define MN_WIRE_MAX_MARKERS 1024u
 #define MN_WIRE_MAX_IMAGE_SIDE 8191u

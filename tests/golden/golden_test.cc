@@ -17,6 +17,7 @@
 
 #include "mocap.pb.h"
 #include "vectors.h"
+#include "wire/datagram_envelope.h"
 #include "wire/packet.h"
 #include "wire/wire.h"
 
@@ -83,6 +84,46 @@ TEST(GoldenReject, HubRefusesEveryRejectVector) {
     EXPECT_FALSE(r.ok) << name;
     EXPECT_FALSE(r.reason.empty()) << name;
   }
+}
+
+// The hub seals every golden envelope byte for byte as the firmware does (the C side checks the
+// same bytes), opens the committed bytes under the golden key and decodes the packet inside.
+TEST(GoldenEnvelope, HubSealsAndOpensTheFirmwaresBytes) {
+  mocap::wire::InitSodium();
+  mocap::wire::WireKey key;
+  golden_envelope_key(key.data());
+  for (int i = 0; i < GOLDEN_ENVELOPE_COUNT; ++i) {
+    const golden_envelope* g = golden_envelope_at(i);
+    const std::string bytes = ReadFile(kDir + "/" + g->name + ".bin");
+    const std::string plain = ReadFile(kDir + "/" + golden_vector_name(g->packet_vector) + ".bin");
+    const mocap::wire::EnvelopeHeader h{static_cast<mocap::wire::Direction>(g->direction), g->key_id, g->node_id,
+                                        g->counter};
+    const auto sealed = mocap::wire::SealEnvelope(h, key, reinterpret_cast<const uint8_t*>(plain.data()), plain.size());
+    EXPECT_EQ(std::string(sealed.begin(), sealed.end()), bytes) << g->name;
+    const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+    const mocap::wire::ParsedEnvelope p = mocap::wire::ParseEnvelope(data, bytes.size());
+    ASSERT_TRUE(p.ok) << g->name << ": " << p.reason;
+    EXPECT_TRUE(mocap::wire::VerifyEnvelopeTag(data, bytes.size(), key)) << g->name;
+    EXPECT_EQ(p.header.counter, g->counter);
+    EXPECT_EQ(p.header.node_id, g->node_id);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(p.payload), p.payload_size), plain);
+    EXPECT_TRUE(mocap::wire::Decode(p.payload, p.payload_size).ok) << g->name;
+  }
+}
+
+TEST(GoldenEnvelope, HubRefusesEveryRejectVector) {
+  mocap::wire::WireKey key;
+  golden_envelope_key(key.data());
+  size_t count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kDir + "/reject_envelope")) {
+    if (entry.path().extension() != ".bin") continue;
+    const std::string bytes = ReadFile(entry.path().string());
+    const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+    const mocap::wire::ParsedEnvelope p = mocap::wire::ParseEnvelope(data, bytes.size());
+    EXPECT_FALSE(p.ok && mocap::wire::VerifyEnvelopeTag(data, bytes.size(), key)) << entry.path();
+    ++count;
+  }
+  EXPECT_GT(count, 0u);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "mocap.pb.h"
 #include "vectors.h"
+#include "wire/envelope.h"
 #include "wire/packet.h"
 #include "wire/wire.h"
 
@@ -93,6 +94,42 @@ int main(int argc, char** argv) {
   p.mutable_control_ack()->set_node_id(5);
   p.mutable_control_ack()->set_result(mocap::v1::CONTROL_RESULT_REJECTED);
   WriteFile(dir + "/reject/ack_rejected_without_reason.bin", Serialize(p));
+
+  // Envelopes, sealed by the firmware's code under the golden key, and ones that must not open.
+  uint8_t key[32];
+  golden_envelope_key(key);
+  if (mn_envelope_init() != 0) return 1;
+  std::string sealed_first;
+  for (int i = 0; i < GOLDEN_ENVELOPE_COUNT; ++i) {
+    const golden_envelope* g = golden_envelope_at(i);
+    golden_vector_build(g->packet_vector, &packet);
+    size_t n = 0;
+    uint8_t out[MN_ENVELOPE_MAX_DATAGRAM];
+    mn_wire_encode(&packet, buf, sizeof buf, &n, nullptr);
+    mn_envelope env{g->direction, g->key_id, g->node_id, g->counter, buf, n};
+    size_t sealed = 0;
+    if (mn_envelope_seal(&env, key, out, sizeof out, &sealed, nullptr) != 0) return 1;
+    const std::string bytes(reinterpret_cast<char*>(out), sealed);
+    if (i == 0) sealed_first = bytes;
+    WriteFile(dir + "/" + g->name + ".bin", bytes);
+  }
+  const std::string e = sealed_first;
+  auto with = [&](size_t at, char value) {
+    std::string b = e;
+    b[at] = value;
+    return b;
+  };
+  WriteFile(dir + "/reject_envelope/tag_flipped.bin", with(e.size() - 1, static_cast<char>(e.back() ^ 1)));
+  WriteFile(dir + "/reject_envelope/payload_flipped.bin", with(20, static_cast<char>(e[20] ^ 0x40)));
+  WriteFile(dir + "/reject_envelope/counter_changed.bin", with(8, static_cast<char>(e[8] + 1)));
+  WriteFile(dir + "/reject_envelope/node_changed.bin", with(4, 8));
+  WriteFile(dir + "/reject_envelope/key_id_changed.bin", with(2, 2));
+  WriteFile(dir + "/reject_envelope/direction_changed.bin", with(1, 1));
+  WriteFile(dir + "/reject_envelope/key_id_zero.bin", with(2, 0));
+  WriteFile(dir + "/reject_envelope/not_an_envelope.bin", with(0, 0x08));
+  WriteFile(dir + "/reject_envelope/truncated.bin", e.substr(0, e.size() - 5));
+  WriteFile(dir + "/reject_envelope/header_only.bin", e.substr(0, 16));
+  WriteFile(dir + "/reject_envelope/oversized.bin", e + std::string(1401 - e.size(), '\0'));
   std::cout << "golden vectors written to " << dir << "\n";
   return 0;
 }

@@ -177,3 +177,20 @@ void golden_vector_build(int i, mocap_v1_Packet *p)
 		break;
 	}
 }
+
+static const struct golden_envelope envelopes[GOLDEN_ENVELOPE_COUNT] = {
+	{"envelope_marker_frame_small", 0, 0, 1, 7, 1700000000123456789ull},
+	{"envelope_control_start", 4, 1, 1, 3, 1700000000987654321ull},
+	{"envelope_hub_announce", 13, 1, 2, 4095, 0x0102030405060708ull},
+};
+
+const struct golden_envelope *golden_envelope_at(int i)
+{
+	return &envelopes[i];
+}
+
+void golden_envelope_key(uint8_t key[32])
+{
+	for (int i = 0; i < 32; i++)
+		key[i] = (uint8_t)(3 * i);
+}

@@ -150,6 +150,7 @@ class Rig:
         self.serve = None
         self.nodes = {}
         self.epoch = time.time_ns() + 1_000_000_000
+        self.keys = os.path.join(work, "keys")
 
     def start_serve(self):
         if os.path.exists(self.notify_path):
@@ -163,6 +164,7 @@ class Rig:
         env = dict(os.environ, NOTIFY_SOCKET=self.notify_path, WATCHDOG_USEC="400000")
         env.pop("WATCHDOG_PID", None)
         env.pop("MOCAP_HUB_API", None)
+        self.make_keys()
         self.log_path = os.path.join(self.work, "serve.log")
         with open(self.log_path, "w") as log:
             self.serve = subprocess.Popen(
@@ -171,6 +173,7 @@ class Rig:
                  "--sessions-dir", os.path.join(self.work, "sessions"),
                  "--masks-file", os.path.join(self.work, "masks.json"),
                  "--rate", str(self.rate), "--epoch-ns", str(self.epoch), "--request-timeout", "1",
+                 "--keys", self.keys,
                  "--stream", "127.0.0.1:0", *self.serve_args],
                 stdout=subprocess.DEVNULL, stderr=log, env=env)
         line = wait_for("serve to report its ports", lambda: re.search(
@@ -178,6 +181,17 @@ class Rig:
         self.udp_port, self.api_port = int(line.group(1)), int(line.group(2))
         self.api = f"127.0.0.1:{self.api_port}"
         self.env = dict(os.environ, MOCAP_HUB_API=self.api)
+
+    def make_keys(self):
+        """One wire key per camera of the calibration in work/keys (kept across serve restarts)."""
+        if os.path.isdir(self.keys):
+            return
+        with open(os.path.join(self.frames, "calibration.json")) as f:
+            ids = [str(c["id"]) for c in json.load(f)["cameras"]]
+        run(self.bin, "keys", "new", *ids, "--out", self.keys)
+
+    def key_file(self, node_id):
+        return os.path.join(self.keys, f"node-{node_id}.key")
 
     def log(self):
         with open(self.log_path) as f:
@@ -206,7 +220,8 @@ class Rig:
             self.nodes[node_id] = subprocess.Popen(
                 [os.path.join(self.bin, "mocap-node"), "--source", f"replay:{self.frames}/cam{node_id}",
                  "--sync", f"sim:{self.rate}", *epoch,
-                 "--hub", f"127.0.0.1:{self.udp_port}", "--id", str(node_id), "--threshold", "32",
+                 "--hub", f"127.0.0.1:{self.udp_port}", "--id", str(node_id), "--key-file", self.key_file(node_id),
+                 "--threshold", "32",
                  "--replay-loop", "--log-level", "warning"],
                 stdout=log, stderr=log)
 

@@ -7,6 +7,8 @@ usage: serve_test.py BIN_DIR WORK_DIR
 
 Every wait is bounded; every process the test starts is killed at the end."""
 
+import hashlib
+import hmac
 import json
 import os
 import random
@@ -39,6 +41,77 @@ def read_text(path):
 
 def read_json(path):
     return json.loads(read_text(path))
+
+
+# ---- the wire as an attacker (or a test) writes it: protobuf by hand, the envelope of
+# hub/src/wire/envelope.h, HMAC-SHA-512/256 = HMAC-SHA-512 cut to 32 bytes ----
+
+def varint(v):
+    out = bytearray()
+    while True:
+        b, v = v & 0x7F, v >> 7
+        out.append(b | (0x80 if v else 0))
+        if not v:
+            return bytes(out)
+
+
+def field(number, value):
+    """A varint field (int) or a length-delimited one (bytes)."""
+    if isinstance(value, int):
+        return varint(number << 3) + varint(value)
+    return varint(number << 3 | 2) + varint(len(value)) + value
+
+
+def marker_frame_packet(node, frame, markers):
+    marker = b"".join(field(14, field(1, x * 256) + field(2, y * 256) + field(3, 9) + field(4, 200) + field(5, 100))
+                      for x, y in markers)
+    frame_msg = (field(1, node) + field(2, frame) + field(6, 424242) + field(7, 640) + field(8, 400) +
+                 field(10, 1) + field(11, len(markers)) + marker)
+    return field(1, 1) + field(10, frame_msg)
+
+
+def control_packet(node, sequence, command_field, command):
+    return field(1, 1) + field(12, field(1, node) + field(2, sequence) + field(command_field, command))
+
+
+def seal(key, direction, node, payload, counter=None):
+    counter = counter or time.time_ns()
+    header = bytes([0xA1, direction, 1, 0]) + node.to_bytes(4, "little") + counter.to_bytes(8, "little")
+    body = header + payload
+    return body + hmac.new(key, body, hashlib.sha512).digest()[:32]
+
+
+def sniff_udp_to(port, seconds):
+    """Payloads of the UDP datagrams sent to 127.0.0.1:port during `seconds` (a raw socket on
+    loopback: root only)."""
+    s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW, socket.htons(0x0003))
+    s.bind(("lo", 0))
+    s.settimeout(0.05)
+    out, end = [], time.monotonic() + seconds
+    while time.monotonic() < end:
+        try:
+            frame, meta = s.recvfrom(65535)
+        except socket.timeout:
+            continue
+        if meta[2] == socket.PACKET_OUTGOING or frame[12:14] != b"\x08\x00" or frame[23] != 17:
+            continue
+        ip = frame[14:]
+        udp = ip[(ip[0] & 15) * 4:]
+        if int.from_bytes(udp[2:4], "big") == port:
+            out.append(bytes(udp[8:int.from_bytes(udp[4:6], "big")]))
+    s.close()
+    return out
+
+
+def raw_log_payloads(path):
+    """Every record's payload of a session's raw.mlog (hub/src/ingest/session_log.h)."""
+    data = read_bytes(path)
+    pos, out = 16, []
+    while pos + 20 <= len(data):
+        size = int.from_bytes(data[pos + 4:pos + 8], "little")
+        out.append(data[pos + 20:pos + 20 + size])
+        pos += 20 + size
+    return out
 
 
 class ServeTest(unittest.TestCase):
@@ -173,28 +246,101 @@ class ServeTest(unittest.TestCase):
         after = status()
         sets = after["frame_sets"] - before["frame_sets"]
         incomplete = after["incomplete_frame_sets"] - before["incomplete_frame_sets"]
+        refused = after["unauthentic_datagrams"] - before["unauthentic_datagrams"]
         print(f"\nflood: {sent} garbage datagrams in {elapsed:.2f} s ({sent / elapsed:.0f}/s); "
-              f"{sets} frame sets meanwhile, {incomplete} incomplete; "
+              f"{sets} frame sets meanwhile, {incomplete} incomplete; {refused} refused as unauthentic, "
               f"{after['malformed_datagrams'] - before['malformed_datagrams']} counted malformed", file=sys.stderr)
-        self.assertGreater(after["malformed_datagrams"], before["malformed_datagrams"])
+        # Garbage never gets past the envelope: it is refused (and counted) before any decoding.
+        self.assertGreater(refused, 0)
         self.assertGreater(sets, 0)
         self.assertTrue(all(n["state"] == "running" for n in self.rig.nodes_json().values()))
 
+    def test_08b_spoofed_and_replayed_datagrams_are_refused_and_steer_nothing(self):
+        """The probe's attacks on the wire: forged frames for a camera, forged Control and
+        HubAnnounce for the nodes, and the nodes' own datagrams replayed. All refused and counted,
+        none in the captured session, no node steered, no frame set lost."""
+        rig = self.rig
+        status = lambda: json.loads(rig.hub("status", "--json").stdout)
+        wrong_key = os.urandom(32)
+        rig.hub("capture", "start", "attack")
+        time.sleep(0.3)
+        captured = sniff_udp_to(rig.udp_port, 0.5) if os.geteuid() == 0 else []
+        before, nodes = status(), rig.nodes_json()
+        node_rejected = lambda: sum(n["auth_rejected_by_node"] for n in rig.nodes_json().values())
+        rejected_by_nodes = node_rejected()
+
+        # Frames for camera 2, ahead of its real ones, under a made-up key and plain.
+        next_frame = nodes[2]["last_frame"] + 5
+        forged = [marker_frame_packet(2, next_frame + k, [(100 + k % 7, 50), (300, 200)]) for k in range(100)]
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            for payload in forged:
+                sock.sendto(seal(wrong_key, 0, 2, payload), ("127.0.0.1", rig.udp_port))
+                sock.sendto(payload, ("127.0.0.1", rig.udp_port))
+            # The nodes' own datagrams, sent again.
+            for datagram in captured:
+                sock.sendto(datagram, ("127.0.0.1", rig.udp_port))
+            # Every node: threshold 255 and stop under a made-up key, and a plain stop; then a
+            # HubAnnounce at 1 Hz to the nodes' announce port.
+            for node_id, node in nodes.items():
+                port = int(node["address"].rsplit(":", 1)[1])
+                threshold = control_packet(node_id, 900, 12, field(1, 255))
+                stop = control_packet(node_id, 901, 11, b"")
+                sock.sendto(seal(wrong_key, 1, node_id, threshold), ("127.0.0.1", port))
+                sock.sendto(seal(wrong_key, 1, node_id, stop), ("127.0.0.1", port))
+                sock.sendto(stop, ("127.0.0.1", port))
+            announce = field(1, 1) + field(14, field(1, 9) + field(2, time.time_ns()) + field(3, 1000))
+            sock.sendto(seal(wrong_key, 1, 1, announce), ("127.0.0.1", 7700))
+        expected_at_nodes = 3 * len(nodes)
+        wait_for("the nodes' status to count the forged datagrams",
+                 lambda: node_rejected() - rejected_by_nodes >= expected_at_nodes, timeout=5)
+        time.sleep(0.5)
+        after = status()
+        rig.hub("capture", "stop")
+
+        wire_before, wire_after = before["wire"], after["wire"]
+        kind = lambda w, k: w["rejected_by_kind"].get(k, 0)
+        node2 = lambda w: w["nodes"]["2"]["rejected_by_kind"].get("bad_tag", 0)
+        replays = sum(kind(wire_after, k) - kind(wire_before, k) for k in ("replayed", "stale"))
+        sets = after["frame_sets"] - before["frame_sets"]
+        incomplete = after["incomplete_frame_sets"] - before["incomplete_frame_sets"]
+        print(f"\nspoof: {len(forged)} forged + {len(forged)} plain frames for camera 2, "
+              f"{len(captured)} node datagrams replayed, {expected_at_nodes} forged/plain controls and 1 announce; "
+              f"hub refused {node2(wire_after) - node2(wire_before)} bad tags, "
+              f"{kind(wire_after, 'unauthenticated') - kind(wire_before, 'unauthenticated')} plain, {replays} replays; "
+              f"nodes refused {node_rejected() - rejected_by_nodes}; {sets} frame sets meanwhile, "
+              f"{incomplete} incomplete", file=sys.stderr)
+        self.assertEqual(node2(wire_after) - node2(wire_before), len(forged))
+        self.assertEqual(kind(wire_after, "unauthenticated") - kind(wire_before, "unauthenticated"), len(forged))
+        self.assertEqual(replays, len(captured))
+        if os.geteuid() == 0:
+            self.assertGreater(len(captured), 10)
+        self.assertGreaterEqual(node_rejected() - rejected_by_nodes, expected_at_nodes)
+        self.assertGreater(sets, 0)
+        self.assertEqual(incomplete, 0)
+        # No node was steered: all still running at threshold 32, on the same grid.
+        now = rig.nodes_json()
+        self.assertTrue(all(n["state"] == "running" and n["threshold"] == 32 for n in now.values()), now)
+        # Nothing forged is in the session; every replayed datagram's packet is there once (the
+        # original), never twice.
+        logged = raw_log_payloads(os.path.join(WORK, "sessions", "attack", "raw.mlog"))
+        self.assertFalse(set(forged) & set(logged))
+        counts = {}
+        for payload in logged:
+            counts[payload] = counts.get(payload, 0) + 1
+        for datagram in captured:
+            self.assertEqual(counts.get(datagram[16:-32], 0), 1)
+
     def test_09_frames_off_the_session_clock_cost_only_their_node(self):
-        # Forged marker frames for node 2 (any frame number: long past, far ahead, 2^62, and a
-        # node clock 1 s ahead or behind) during a capture: refused and counted for node 2, the
-        # other nodes' frame sets and the recording untouched.
+        # Frames under node 2's own key (a node whose clock or epoch is wrong: authentic, but any
+        # frame number -- long past, far ahead, 2^62, 1 s ahead or behind) during a capture:
+        # refused and counted for node 2, the other nodes' frame sets and the recording untouched.
         wait_for("all nodes streaming", lambda: sorted(
             id for id, n in self.rig.nodes_json().items() if n["state"] == "running") == list(range(1, CAMERAS + 1)))
-        width, height = self.rig.nodes_json()[2]["width"], self.rig.nodes_json()[2]["height"]
-        proto = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto")
+        with open(self.rig.key_file(2)) as f:
+            key = bytes.fromhex(re.search(r"^key = \d+ ([0-9a-f]{64})$", f.read(), re.M).group(1))
 
         def forged(number):
-            text = (f"version: 1 marker_frame {{ node_id: 2 frame_number: {number} width: {width} "
-                    f"height: {height} chunk_count: 1 marker_total: 1 markers {{ x_q8: 25600 y_q8: 25600 area: 20 }} }}")
-            out = subprocess.run(["protoc", f"--proto_path={proto}", "--encode=mocap.v1.Packet", "mocap.proto"],
-                                 input=text.encode(), capture_output=True, check=True, timeout=30)
-            return out.stdout
+            return seal(key, 0, 2, marker_frame_packet(2, number, [(100, 100)]))
 
         def now_frame():
             return (time.time_ns() - self.rig.epoch) * RATE // 1_000_000_000
@@ -246,7 +392,6 @@ class ServeTest(unittest.TestCase):
               f"after its start, {self.rig.nodes_json()[3]['off_clock_frames']} frames refused meanwhile",
               file=sys.stderr)
         self.assertGreater(self.rig.nodes_json()[3]["off_clock_frames"], 0)
-
 
     def test_11_kill_during_capture_leaves_a_readable_interrupted_session(self):
         self.rig.hub("capture", "start", "crash")

@@ -246,7 +246,7 @@ class StreamTest(unittest.TestCase):
                                 (["--osc", "127.0.0.1:9", "--osc-parts", "skeletons"], "skeletons")):
             out = subprocess.run([os.path.join(BIN, "mocap-hub"), "serve", "--calibration", calibration,
                                   "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "127.0.0.1:0",
-                                  *options], capture_output=True, text=True, timeout=30)
+                                  "--keys", self.rig.keys, *options], capture_output=True, text=True, timeout=30)
             self.assertEqual(out.returncode, 2, out.stderr)
             self.assertIn(reason, out.stderr)
 

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -41,7 +42,8 @@ static void good_file(void **state)
                             "trigger_delay_us = -250\n"
                             "rate = 120\n"
                             "sim_missed = 0.25\n"
-                            "log_level = debug\n");
+                            "log_level = debug\n"
+                            "key_file = /etc/mocap/node.key\n");
     struct mn_config cfg;
     char err[MN_CONFIG_ERR] = "";
     mn_config_defaults(&cfg);
@@ -63,6 +65,8 @@ static void good_file(void **state)
     assert_true(cfg.rate_hz == 120.0);
     assert_true(cfg.sim_missed == 0.25);
     assert_int_equal(cfg.log_level, MN_LOG_DEBUG);
+    assert_string_equal(cfg.key_file, "/etc/mocap/node.key");
+    assert_false(cfg.insecure_dev_wire);
     assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
 }
 
@@ -156,7 +160,7 @@ static void flags_override_file(void **state)
     assert_int_equal(run_args(&cfg, err, sizeof(err), "--threshold", "60", "--config", file,
                               "--sync", "sim:250", "--as-fast-as-possible", "--source",
                               "replay:/tmp/x", "--trigger-delay-us", "-40", "--frames", "10",
-                              NULL),
+                              "--insecure-dev-wire", NULL),
                      MN_CONFIG_ARGS_RUN);
     unlink(file);
     assert_int_equal(cfg.node_id, 3);
@@ -197,12 +201,54 @@ static void bad_flags(void **state)
     assert_non_null(strstr(err, "width and height must be given together"));
 }
 
+/* A node needs its wire key (or the explicit development setting); the key file must be its own
+ * and private. */
+static void wire_key_settings(void **state)
+{
+    (void)state;
+    struct mn_config cfg;
+    char err[MN_CONFIG_ERR] = "";
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--id", "5", NULL), MN_CONFIG_ARGS_ERROR);
+    assert_non_null(strstr(err, "no wire key: set key_file"));
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--key-file", "/x.key", "--insecure-dev-wire",
+                              NULL),
+                     MN_CONFIG_ARGS_ERROR);
+    assert_non_null(strstr(err, "exclude each other"));
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--key-file", "/nonexistent/n.key", NULL),
+                     MN_CONFIG_ARGS_ERROR);
+    assert_non_null(strstr(err, "key file /nonexistent/n.key: No such file"));
+
+    char *path = write_temp("node = 5\nkey = 1 "
+                            "00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff\n");
+    char file[64];
+    snprintf(file, sizeof(file), "%s", path);
+    assert_int_equal(chmod(file, 0644), 0);
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--id", "5", "--key-file", file, NULL),
+                     MN_CONFIG_ARGS_ERROR);
+    assert_non_null(strstr(err, "mode 644 lets others read it"));
+    assert_int_equal(chmod(file, 0600), 0);
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--id", "6", "--key-file", file, NULL),
+                     MN_CONFIG_ARGS_ERROR);
+    assert_non_null(strstr(err, "is for node 5, this node is 6"));
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--id", "5", "--key-file", file, NULL),
+                     MN_CONFIG_ARGS_RUN);
+    unlink(file);
+    assert_int_equal(cfg.keys.node_id, 5);
+    assert_int_equal(cfg.keys.n_keys, 1);
+    assert_int_equal(cfg.keys.keys[0].id, 1);
+    assert_int_equal(cfg.keys.keys[0].bytes[31], 0xff);
+    assert_int_equal(run_args(&cfg, err, sizeof(err), "--insecure-dev-wire", NULL),
+                     MN_CONFIG_ARGS_RUN);
+    assert_true(cfg.insecure_dev_wire);
+    assert_int_equal(cfg.keys.n_keys, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(good_file),         cmocka_unit_test(bad_files),
         cmocka_unit_test(missing_file),      cmocka_unit_test(flags_override_file),
-        cmocka_unit_test(bad_flags),
+        cmocka_unit_test(bad_flags),         cmocka_unit_test(wire_key_settings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

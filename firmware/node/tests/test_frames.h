@@ -23,8 +23,20 @@ void test_remove_tree(const char *dir);
 /* UDP socket on 127.0.0.1, any port; its port in *port. */
 int test_hub_socket(uint16_t *port);
 
-/* Node config for a replay of dir sending to 127.0.0.1:hub_port. */
+/* Node config for a replay of dir sending to 127.0.0.1:hub_port, with a wire key for node 7
+ * written to dir/node.key (mode 0600) and loaded. */
 void test_node_config(struct mn_config *cfg, const char *dir, uint16_t hub_port);
+
+/* The test node's wire key (key id 1), as the test "hub" holds it. */
+const uint8_t *test_node_key(void);
+/* Writes a key file for node_id with key (id key_id) at path, mode 0600. */
+void test_write_key_file(const char *path, uint32_t node_id, uint8_t key_id, const uint8_t *key);
+/* Seals a packet as the hub does (to node 7 under test_node_key(), the given counter); returns
+ * the datagram length in out. */
+size_t test_seal_to_node(const uint8_t *payload, size_t len, uint64_t counter, uint8_t *out,
+                         size_t cap);
+/* The hub's next counter (realtime ns, strictly increasing), for test senders. */
+uint64_t test_hub_counter(void);
 
 struct mn_node;
 /* mn_node_new that fails the test, with the node's reason, when the node cannot start. */
@@ -55,12 +67,15 @@ struct test_rx {
     uint32_t marker_datagrams, status_datagrams, preview_datagrams, bad_datagrams;
     uint32_t last_state;
     uint64_t last_frames_sent;
-    uint32_t last_control_rejected, last_camera_reopens;
+    uint32_t last_control_rejected, last_camera_reopens, last_auth_rejected;
     bool saw_camera_error;
     uint32_t preview_w, preview_h, preview_chunks;
     uint8_t preview[160 * 200];
     uint32_t ack_datagrams;
     struct test_ack acks[TEST_MAX_ACKS];
+    uint32_t unauthentic_datagrams; /* envelope missing, bad tag, wrong node or direction */
+    uint32_t counter_regressions;   /* a node counter not above the previous one */
+    uint64_t last_counter;
 };
 
 /* Reads every queued datagram from fd into rx. */

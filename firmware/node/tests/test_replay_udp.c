@@ -20,6 +20,7 @@
 #include "common/clock.h"
 #include "node/node.h"
 #include "test_frames.h"
+#include "wire/envelope.h"
 #include "wire/wire.h"
 
 static struct test_rx rx; /* large: keep it off the stack */
@@ -116,18 +117,36 @@ static void send_to_node(int hub, uint16_t node_port, const uint8_t *data, size_
     assert_int_equal(sendto(hub, data, len, 0, (struct sockaddr *)&a, sizeof(a)), (ssize_t)len);
 }
 
-static void send_control(int hub, uint16_t node_port, mocap_v1_Control *c)
+/* The Packet of one Control, encoded into buf; returns its length. */
+static size_t encode_control(const mocap_v1_Control *c, uint8_t *buf, size_t cap)
 {
     static mocap_v1_Packet p;
     p = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
     p.version = 1;
     p.which_body = mocap_v1_Packet_control_tag;
     p.body.control = *c;
-    uint8_t buf[MN_WIRE_MAX_DATAGRAM];
     size_t len;
     const char *why;
-    assert_int_equal(mn_wire_encode(&p, buf, sizeof(buf), &len, &why), 0);
+    assert_int_equal(mn_wire_encode(&p, buf, cap, &len, &why), 0);
+    return len;
+}
+
+/* A Control as the hub sends it: sealed under the node's key with the hub's next counter. The
+ * datagram stays in *sent (when not NULL) for a replay. */
+static size_t send_control_kept(int hub, uint16_t node_port, mocap_v1_Control *c, uint8_t *sent)
+{
+    uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
+    size_t n = encode_control(c, payload, sizeof(payload));
+    size_t len = test_seal_to_node(payload, n, test_hub_counter(), buf, sizeof(buf));
     send_to_node(hub, node_port, buf, len);
+    if (sent != NULL)
+        memcpy(sent, buf, len);
+    return len;
+}
+
+static void send_control(int hub, uint16_t node_port, mocap_v1_Control *c)
+{
+    send_control_kept(hub, node_port, c, NULL);
 }
 
 /* Steps the node for ms milliseconds, draining the hub socket as it goes. */
@@ -164,15 +183,16 @@ static void paced_replay_with_control(void **state)
     assert_true(rx.status_datagrams >= 1);
     assert_int_equal(rx.last_state, mocap_v1_NodeState_NODE_STATE_IDLE);
 
-    /* Malformed datagrams are rejected and counted, and reported in status. */
+    /* Malformed datagrams are rejected by the envelope and counted, and reported in status. */
     const uint8_t garbage[] = {0x08, 0x01, 0x62, 0xff, 0xff};
     send_to_node(hub, node_port, garbage, sizeof(garbage));
     send_to_node(hub, node_port, (const uint8_t *)"hello", 5);
     run_for(node, hub, 150);
     struct mn_node_stats st;
     mn_node_get_stats(node, &st);
-    assert_int_equal(st.control_rejected, 2);
-    assert_int_equal(rx.last_control_rejected, 2);
+    assert_int_equal(st.auth_rejected, 2);
+    assert_int_equal(rx.last_auth_rejected, 2);
+    assert_int_equal(st.control_rejected, 0);
 
     /* Garbage is not answered. */
     assert_int_equal(rx.ack_datagrams, 0);
@@ -279,11 +299,15 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.marker_datagrams, after_stop);
     mn_node_get_stats(node, &st);
     assert_false(st.running);
-    assert_int_equal(st.control_rejected, 4); /* two garbage datagrams, threshold, exposure */
+    assert_int_equal(st.control_rejected, 2); /* threshold, exposure */
+    assert_int_equal(st.auth_rejected, 2);    /* the two garbage datagrams */
     assert_int_equal(rx.acks[6].count, 1);
     assert_int_equal(rx.acks[6].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
     assert_int_equal(rx.ack_datagrams, 5);
     assert_int_equal(rx.bad_datagrams, 0);
+    /* Everything the node sent was sealed under its key, counters strictly increasing. */
+    assert_int_equal(rx.unauthentic_datagrams, 0);
+    assert_int_equal(rx.counter_regressions, 0);
 
     mn_node_free(node);
     close(hub);
@@ -411,6 +435,112 @@ static void control_reaches_detector(void **state)
     test_remove_tree(dir);
 }
 
+/* Forged, plain, reflected, stale, future, unknown-key and replayed Controls: every one refused
+ * and counted before it is parsed, none answered, and the node keeps doing what the real hub
+ * told it (no stop, no threshold change). */
+static void forged_and_replayed_control_steers_nothing(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    enum { SPOTS = 5 };
+    test_write_recording(dir, 320, 200, 20, SPOTS);
+    uint16_t port;
+    int hub = test_hub_socket(&port);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, port);
+    cfg.rate_hz = 200.0;
+    cfg.replay_loop = true;
+    struct mn_node *node = test_node_new(&cfg);
+    uint16_t node_port = mn_node_local_port(node);
+    memset(&rx, 0, sizeof(rx));
+    run_for(node, hub, 150);
+
+    uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
+    uint8_t wrong_key[MN_ENVELOPE_KEY_BYTES];
+    memset(wrong_key, 0x42, sizeof(wrong_key));
+    const char *why;
+    size_t len;
+    mocap_v1_Control stop = mocap_v1_Control_init_zero, blind = mocap_v1_Control_init_zero;
+    stop.node_id = 7;
+    stop.sequence = 9;
+    stop.which_command = mocap_v1_Control_stop_tag;
+    blind.node_id = 7;
+    blind.sequence = 10;
+    blind.which_command = mocap_v1_Control_set_threshold_tag;
+    blind.command.set_threshold.value = 255;
+    int64_t now = mn_clock_real_ns();
+    struct {
+        const mocap_v1_Control *c;
+        uint8_t direction, key_id;
+        const uint8_t *key;
+        uint64_t counter;
+    } attacks[] = {
+        {&blind, MN_ENVELOPE_TO_NODE, 1, wrong_key, 0},           /* forged tag */
+        {&stop, MN_ENVELOPE_TO_NODE, 1, wrong_key, 0},            /* forged tag */
+        {&stop, MN_ENVELOPE_TO_HUB, 1, test_node_key(), 0},       /* a node's direction */
+        {&stop, MN_ENVELOPE_TO_NODE, 2, test_node_key(), 0},      /* key id the node lacks */
+        {&stop, MN_ENVELOPE_TO_NODE, 1, test_node_key(),
+         (uint64_t)(now - 3 * MN_ENVELOPE_MAX_SKEW_NS / 2)},      /* stale */
+        {&blind, MN_ENVELOPE_TO_NODE, 1, test_node_key(),
+         (uint64_t)(now + 3 * MN_ENVELOPE_MAX_SKEW_NS / 2)},      /* from the future */
+    };
+    enum { ATTACKS = sizeof(attacks) / sizeof(attacks[0]) };
+    for (size_t i = 0; i < ATTACKS; i++) {
+        size_t n = encode_control(attacks[i].c, payload, sizeof(payload));
+        struct mn_envelope env = {.direction = attacks[i].direction, .key_id = attacks[i].key_id,
+                                  .node_id = 7, .payload = payload, .payload_len = n,
+                                  .counter = attacks[i].counter ? attacks[i].counter
+                                                                : test_hub_counter()};
+        assert_int_equal(mn_envelope_seal(&env, attacks[i].key, buf, sizeof(buf), &len, &why), 0);
+        send_to_node(hub, node_port, buf, len);
+    }
+    /* And the plain, unauthenticated Stop the probe used to stop a node with. */
+    send_to_node(hub, node_port, payload, encode_control(&stop, payload, sizeof(payload)));
+    int64_t before = newest_frame();
+    run_for(node, hub, 150);
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    assert_int_equal(st.auth_rejected, ATTACKS + 1);
+    assert_int_equal(st.control_accepted + st.control_rejected + st.control_ignored, 0);
+    assert_true(st.running);
+    assert_int_equal(rx.ack_datagrams, 0);
+    expect_markers_after(before, SPOTS);
+
+    /* The real hub raises the threshold (kept for a replay), then lowers it again. */
+    uint8_t kept[MN_ENVELOPE_MAX_DATAGRAM];
+    mocap_v1_Control c = mocap_v1_Control_init_zero;
+    c.node_id = 7;
+    c.sequence = 1;
+    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c.command.set_threshold.value = 250;
+    size_t kept_len = send_control_kept(hub, node_port, &c, kept);
+    run_for(node, hub, 100);
+    before = newest_frame();
+    run_for(node, hub, 100);
+    expect_markers_after(before, 0);
+    c.sequence = 2;
+    c.command.set_threshold.value = 60;
+    send_control(hub, node_port, &c);
+    run_for(node, hub, 100);
+    /* The recorded "threshold 250" replayed five times: refused, the threshold stays 60. */
+    for (int i = 0; i < 5; i++)
+        send_to_node(hub, node_port, kept, kept_len);
+    before = newest_frame();
+    run_for(node, hub, 150);
+    expect_markers_after(before, SPOTS);
+    mn_node_get_stats(node, &st);
+    assert_int_equal(st.auth_rejected, ATTACKS + 1 + 5);
+    assert_int_equal(rx.last_auth_rejected, ATTACKS + 1 + 5);
+    assert_int_equal(st.control_accepted, 2);
+    assert_int_equal(rx.acks[1].count, 1);
+    assert_int_equal(rx.acks[2].count, 1);
+    assert_int_equal(rx.acks[9].count + rx.acks[10].count, 0);
+    assert_true(st.running);
+    mn_node_free(node);
+    close(hub);
+    test_remove_tree(dir);
+}
+
 /* No hub configured: the node finds it by the HubAnnounce broadcast (sent here straight to the
  * announce port on loopback) and takes the session's epoch and rate from it. */
 static void hub_found_by_announce(void **state)
@@ -442,10 +572,40 @@ static void hub_found_by_announce(void **state)
     p.body.hub_announce.port = port;
     p.body.hub_announce.epoch_ns = (uint64_t)mn_clock_real_ns() + 30000000;
     p.body.hub_announce.rate_millihz = 100000;
-    uint8_t buf[MN_WIRE_MAX_DATAGRAM];
-    size_t len;
+    uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
+    size_t n, len;
     const char *why;
-    assert_int_equal(mn_wire_encode(&p, buf, sizeof(buf), &len, &why), 0);
+    assert_int_equal(mn_wire_encode(&p, payload, sizeof(payload), &n, &why), 0);
+    /* A forged announce (right layout, wrong key) pointing at an attacker's socket is refused:
+     * the node's frames never go there. So is a plain one. */
+    uint16_t attacker_port;
+    int attacker = test_hub_socket(&attacker_port);
+    p.body.hub_announce.port = attacker_port;
+    assert_int_equal(mn_wire_encode(&p, payload, sizeof(payload), &n, &why), 0);
+    uint8_t wrong_key[MN_ENVELOPE_KEY_BYTES];
+    memset(wrong_key, 0x42, sizeof(wrong_key));
+    struct mn_envelope env = {.direction = MN_ENVELOPE_TO_NODE, .key_id = 1, .node_id = 7,
+                              .counter = test_hub_counter(), .payload = payload, .payload_len = n};
+    assert_int_equal(mn_envelope_seal(&env, wrong_key, buf, sizeof(buf), &len, &why), 0);
+    send_to_node(hub, announce_port, buf, len);
+    send_to_node(hub, announce_port, payload, n);
+    /* An authentic announce for another node (broadcasts carry one per node) is ignored. */
+    env.node_id = 8;
+    env.counter = test_hub_counter();
+    assert_int_equal(mn_envelope_seal(&env, test_node_key(), buf, sizeof(buf), &len, &why), 0);
+    send_to_node(hub, announce_port, buf, len);
+    run_for(node, hub, 150);
+    mn_node_get_stats(node, &st);
+    assert_false(st.hub_known);
+    assert_int_equal(st.auth_rejected, 2);
+    assert_int_equal(st.auth_other_node, 1);
+    assert_int_equal(recv(attacker, buf, sizeof(buf), MSG_DONTWAIT), -1);
+    close(attacker);
+
+    p.body.hub_announce.port = port;
+    p.body.hub_announce.epoch_ns = (uint64_t)mn_clock_real_ns() + 30000000;
+    assert_int_equal(mn_wire_encode(&p, payload, sizeof(payload), &n, &why), 0);
+    len = test_seal_to_node(payload, n, test_hub_counter(), buf, sizeof(buf));
     send_to_node(hub, announce_port, buf, len);
     run_for(node, hub, 300);
     mn_node_get_stats(node, &st);
@@ -497,6 +657,7 @@ int main(void)
         cmocka_unit_test(replay_as_fast_as_possible),
         cmocka_unit_test(paced_replay_with_control),
         cmocka_unit_test(control_reaches_detector),
+        cmocka_unit_test(forged_and_replayed_control_steers_nothing),
         cmocka_unit_test(hub_found_by_announce),
         cmocka_unit_test(bad_sources_refuse_to_start),
     };

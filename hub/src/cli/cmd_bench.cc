@@ -2,7 +2,13 @@
 // 16 cameras, 60 markers, 240 Hz, the faults), side by side in the same run with the
 // floor: undistorting and triangulating the same frames given the true correspondences. Prints
 // the real-time factor (frame period / mean time per frame, one thread).
+// `bench --ingest`: the hub's datagram ingest (envelope opened and checked, packet decoded,
+// chunks and frame sets assembled) on the same simulated session's datagrams, authenticated and
+// on the insecure development wire, in datagrams per second of one thread.
 #include <algorithm>
+#include <filesystem>
+#include <map>
+#include <unistd.h>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -15,6 +21,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "ingest/frame_codec.h"
+#include "ingest/frame_ingest.h"
+#include "wire/datagram_envelope.h"
+#include "wire/key_file.h"
 #include "recon/reconstructor.h"
 #include "recon/triangulation.h"
 #include "simcore/motion_volume.h"
@@ -36,6 +46,7 @@ struct BenchArgs {
   bool no_predictions = false;
   ProjectOptions faults;
   bool json = false;
+  bool ingest = false;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -67,6 +78,94 @@ struct Timings {
     return sorted[k];
   }
 };
+
+// The simulated session as the nodes would send it, through FrameIngest once per wire mode.
+void RunIngestBench(const BenchArgs& args, const Rig& rig, FaultyProjector& projector, const MarkerTrajectories& motion) {
+  namespace fs = std::filesystem;
+  std::vector<uint32_t> ids;
+  for (const Camera& c : rig.cameras) ids.push_back(c.id);
+  const fs::path keys = fs::temp_directory_path() / ("mocap_bench_keys_" + std::to_string(::getpid()));
+  fs::remove_all(keys);
+  fs::create_directories(keys);
+  std::map<uint32_t, wire::WireKey> key_of;
+  for (uint32_t id : ids) {
+    wire::KeyFile f;
+    f.node_id = id;
+    f.keys.push_back({1, wire::GenerateKey()});
+    wire::WriteKeyFile((keys / wire::KeyFileName(id)).string(), f);
+    key_of[id] = f.keys[0].key;
+  }
+  // Datagrams in arrival order, each with its receive time on the session's grid.
+  struct Item {
+    std::vector<uint8_t> plain, sealed;
+    uint64_t receive_ns;
+  };
+  std::vector<Item> items;
+  std::vector<Eigen::Vector3d> truth(motion.NumMarkers());
+  std::vector<int> seeing;
+  std::map<uint32_t, uint64_t> counters;
+  const uint64_t start = RealtimeNowNs();
+  const uint64_t period = static_cast<uint64_t>(1e9 / args.rate_hz);
+  size_t payload_bytes = 0;
+  for (size_t f = 0; f < motion.NumFrames(); ++f) {
+    for (size_t m = 0; m < motion.NumMarkers(); ++m) truth[m] = motion.At(f, m);
+    for (const CameraFrame& camera : projector.Project(motion.frame_numbers[f], 0, truth.data(), &seeing)) {
+      for (auto& packet : EncodeCameraFrame(camera)) {
+        const uint64_t t = start + f * period + items.size() % 64 * 1000;
+        uint64_t& counter = counters[camera.camera_id];
+        counter = wire::NextCounter(counter, t);
+        payload_bytes += packet.size();
+        std::vector<uint8_t> sealed = wire::SealEnvelope({wire::Direction::kToHub, 1, camera.camera_id, counter},
+                                                         key_of[camera.camera_id], packet.data(), packet.size());
+        items.push_back({std::move(packet), std::move(sealed), t});
+      }
+    }
+  }
+  FrameSetAssemblerOptions assembly;
+  assembly.rate_hz = args.rate_hz;
+  assembly.deadline_ns = 20'000'000;
+  nlohmann::json report = {{"cameras", args.cameras}, {"markers", args.markers}, {"frames", motion.NumFrames()},
+                           {"datagrams", items.size()}, {"mean_payload_bytes", double(payload_bytes) / items.size()}};
+  double insecure_us = 0.0;
+  for (bool authenticated : {false, true}) {
+    WireAuthOptions auth;
+    if (authenticated) auth.keys_dir = keys.string();
+    else auth.insecure_dev = true;
+    FrameIngest ingest(ids, assembly, auth);
+    Datagram d;
+    size_t sets = 0, refused = 0;
+    const double cpu_start = ThreadCpuMicroseconds();
+    for (const Item& item : items) {
+      d.bytes = authenticated ? item.sealed : item.plain;
+      d.receive_time_ns = item.receive_ns;
+      refused += !ingest.Add(d, nullptr).ok;
+      sets += ingest.Collect(item.receive_ns).size();
+    }
+    sets += ingest.Flush().size();
+    const double us = ThreadCpuMicroseconds() - cpu_start;
+    const double per = us / items.size();
+    if (!authenticated) insecure_us = per;
+    report[authenticated ? "authenticated" : "insecure"] = {
+        {"us_per_datagram", per}, {"datagrams_per_s", 1e6 / per}, {"frame_sets", sets}, {"refused", refused}};
+    if (refused) throw std::runtime_error("bench --ingest: " + std::to_string(refused) + " datagrams refused");
+  }
+  fs::remove_all(keys);
+  const double auth_us = report["authenticated"]["us_per_datagram"].get<double>();
+  report["auth_cost_us_per_datagram"] = auth_us - insecure_us;
+  if (args.json) {
+    std::printf("%s\n", report.dump().c_str());
+    return;
+  }
+  std::printf("bench --ingest: %d cameras, %d markers, %zu frames: %zu datagrams (%.0f B packets on average)\n",
+              args.cameras, args.markers, motion.NumFrames(), items.size(), double(payload_bytes) / items.size());
+  std::printf("%-34s %12s %14s %12s\n", "ingest (thread CPU)", "us/datagram", "datagrams/s", "frame sets");
+  for (const char* mode : {"insecure", "authenticated"})
+    std::printf("%-34s %12.2f %14.0f %12zu\n",
+                std::string(mode) == "insecure" ? "insecure development wire" : "authenticated (HMAC-SHA-512/256)",
+                report[mode]["us_per_datagram"].get<double>(), report[mode]["datagrams_per_s"].get<double>(),
+                report[mode]["frame_sets"].get<size_t>());
+  std::printf("authentication adds %.2f us per datagram\n", auth_us - insecure_us);
+}
 
 // True correspondences of one frame, by blob: for every marker, the blob nearest to its true
 // projection in each camera, within a few pixels (merged blobs serve both markers).
@@ -110,6 +209,10 @@ void RunBench(BenchArgs args) {
   rig_options.cameras = args.cameras;
   const Rig rig = MakeRingRig(ComputeMotionVolume(motion, motion_options.up_axis), rig_options);
   FaultyProjector projector(rig, motion.NumMarkers(), args.faults);
+  if (args.ingest) {
+    RunIngestBench(args, rig, projector, motion);
+    return;
+  }
 
   ReconstructorOptions recon_options;
   recon_options.matcher = MatcherTypeFromString(args.matcher);
@@ -239,6 +342,8 @@ void AddBenchCommand(CLI::App& app) {
   command->add_option("--drop-frames", args->faults.drop_frames, "Dropped camera frame probability")->capture_default_str();
   command->add_option("--seed", args->faults.seed, "Fault seed")->capture_default_str();
   command->add_flag("--json", args->json, "One JSON object on stdout");
+  command->add_flag("--ingest", args->ingest,
+                    "Time the hub's datagram ingest instead, authenticated and insecure (datagrams/s)");
   command->callback([args]() { RunBench(*args); });
 }
 

@@ -44,6 +44,7 @@ struct RecordArgs {
   double idle_timeout_s = 0.0;
   int max_markers = 64;
   bool no_trc = false;
+  WireAuthOptions auth;
 };
 
 void RunRecord(const RecordArgs& args) {
@@ -64,6 +65,10 @@ void RunRecord(const RecordArgs& args) {
   options.assembly.free_run = args.free_run;
   options.assembly.rate_hz = args.rate_hz;
   options.assembly.epoch_ns = options.epoch_ns;
+  options.auth = args.auth;
+  CheckOptions(options);
+  if (options.auth.insecure_dev)
+    log::Warn("INSECURE WIRE: --insecure-dev-wire is set: datagrams are not authenticated; development only");
   Recorder recorder(options);
   recorder.Bind();
 
@@ -123,11 +128,16 @@ void RunRecord(const RecordArgs& args) {
                              {"send_to_result_p50", send_to_result.Percentile(50)},
                              {"send_to_result_p99", send_to_result.Percentile(99)}};
   out.extra["malformed_datagrams"] = stats.malformed;
+  out.extra["unauthentic_datagrams"] = stats.unauthentic;
+  out.extra["wire"] = recorder.auth().StatusJson();
   out.extra["incomplete_frame_sets"] = recorder.assembler().incomplete_sets();
   out.frame_sets = recorder.frame_sets();
   session.Finish();
 
   log::Info("per-node statistics:\n{}", stats.Report());
+  if (recorder.auth().rejected_total())
+    log::Warn("wire: {} datagrams refused: {}", recorder.auth().rejected_total(),
+              recorder.auth().StatusJson()["rejected_by_kind"].dump());
   if (dropped_columns)
     log::Warn("{} samples beyond --max-markers {} columns not in the live TRC", dropped_columns, args.max_markers);
   std::printf("%s: %llu frame sets, %llu incomplete; latency trigger->send p50 %.2f ms p99 %.2f ms, "
@@ -158,6 +168,11 @@ void AddRecordCommand(CLI::App& app) {
   command->add_option("--epoch-ns", args->epoch_ns, "Session epoch (time of frame 0), ns; default now")
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 62));
   command->add_option("--announce", args->announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
+  command->add_option("--keys", args->auth.keys_dir,
+                      "Directory of the nodes' wire keys (node-N.key); required unless --insecure-dev-wire")
+      ->check(CLI::ExistingDirectory);
+  command->add_flag("--insecure-dev-wire", args->auth.insecure_dev,
+                    "DEVELOPMENT ONLY: no keys, unauthenticated datagrams");
   command->add_option("--deadline-ms", args->deadline_ms, "How long a frame set waits for late cameras")
       ->check(FiniteRange(0.1, 10000.0))
       ->capture_default_str();

@@ -178,6 +178,13 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
   command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
   command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
+  command->add_option("--keys", o.auth.keys_dir,
+                      "Directory of the nodes' wire keys (node-N.key, `mocap-hub keys new`); required unless "
+                      "--insecure-dev-wire")
+      ->check(CLI::ExistingDirectory);
+  command->add_flag("--insecure-dev-wire", o.auth.insecure_dev,
+                    "DEVELOPMENT ONLY: no keys, unauthenticated datagrams (anyone on the network can forge "
+                    "frames and steer the nodes)");
   command->add_option("--deadline-ms", o.deadline_ms, "How long a frame set waits for late cameras")
       ->capture_default_str();
   command->add_flag("--free-run", o.free_run, "No trigger wire: group frames by capture time");

@@ -48,8 +48,17 @@ void PrintStatus(const json& s) {
               Str(s, "provisional_points_published").c_str(), Str(s, "markers_confirmed").c_str());
   std::printf("hub latency (last datagram -> 3D published): p50 %.3f ms, p99 %.3f ms, max %.3f ms\n",
               l["p50"].get<double>(), l["p99"].get<double>(), l["max"].get<double>());
-  std::printf("bad input: %s malformed, %s from unknown nodes; masks for %s cameras\n",
-              Str(s, "malformed_datagrams").c_str(), Str(s, "unknown_datagrams").c_str(), Str(s, "masks").c_str());
+  std::printf("bad input: %s malformed, %s from unknown nodes, %s unauthentic; masks for %s cameras\n",
+              Str(s, "malformed_datagrams").c_str(), Str(s, "unknown_datagrams").c_str(),
+              Str(s, "unauthentic_datagrams").c_str(), Str(s, "masks").c_str());
+  if (s.contains("wire")) {
+    const json& w = s["wire"];
+    if (w.value("mode", "") == "insecure-dev")
+      std::printf("WIRE: INSECURE (--insecure-dev-wire): nothing is authenticated; development only\n");
+    else
+      std::printf("wire: authenticated, keys of %s nodes; %s datagrams refused %s\n", Str(w, "nodes_with_keys").c_str(),
+                  Str(w, "rejected").c_str(), w["rejected_by_kind"].dump().c_str());
+  }
   if (s["capture"].is_null()) {
     std::printf("capture: none running\n");
   } else {

@@ -71,6 +71,8 @@ void AddCalibrateImportTsaiCommand(CLI::App& app);
 void AddCalibrateImportMcdCommand(CLI::App& app);
 // cmd_serve.cc; cmd_service_clients.cc (status, nodes, node, mask, capture, sessions).
 void AddServeCommand(CLI::App& app);
+// cmd_keys.cc (keys new, rotate, retire, list).
+void AddKeysCommands(CLI::App& app);
 void AddServiceClientCommands(CLI::App& app);
 
 }  // namespace mocap

@@ -17,6 +17,7 @@ const AddCommand kCommands[] = {
     mocap::AddServeCommand,
     mocap::AddServiceClientCommands,
     mocap::AddRecordCommand,
+    mocap::AddKeysCommands,
     mocap::AddSimRigCommand,
     mocap::AddSimProjectCommand,
     mocap::AddSimRenderCommand,
@@ -43,6 +44,7 @@ struct GroupEntry {
 
 const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
+    {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, intrinsics, DLT and seed-format imports"},
 };
 

@@ -13,14 +13,18 @@ uint32_t SenderNodeId(const v1::Packet& packet) {
   return 0;
 }
 
-FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly)
-    : assembler_(assembly, cameras) {
+FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly,
+                         WireAuthOptions auth)
+    : auth_(std::move(auth)), assembler_(assembly, cameras) {
   for (uint32_t id : cameras) stats_.nodes[id];
 }
 
 const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* session) {
   last_off_clock_ = false;
-  decoded_ = wire::Decode(d.bytes.data(), d.bytes.size());
+  last_rejected_by_auth_ = false;
+  const WireOpened opened = auth_.Open(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
+  if (!opened.ok) return RefuseUnauthentic(opened.reason, d);
+  decoded_ = wire::Decode(opened.payload, opened.payload_size);
   if (!decoded_.ok) {
     if (stats_.malformed++ == 0) {
       stats_.first_malformed_reason = decoded_.reason;
@@ -29,6 +33,13 @@ const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* ses
     return decoded_;
   }
   const uint32_t node = SenderNodeId(decoded_.packet);
+  if (!auth_.insecure() && node != opened.node_id) {
+    // Authentic, but a node may only speak for itself (and never send the hub's packet kinds).
+    auth_.CountNodeMismatch(opened.node_id);
+    return RefuseUnauthentic("node " + std::to_string(opened.node_id) + " sent a packet for node " +
+                                 std::to_string(node),
+                             d);
+  }
   auto known = stats_.nodes.find(node);
   if (known == stats_.nodes.end()) {
     ++stats_.unknown_nodes[node];
@@ -47,13 +58,25 @@ const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* ses
       return decoded_;
     }
   }
-  if (session) session->AppendDatagram(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
+  if (session) session->AppendDatagram(opened.payload, opened.payload_size, d.receive_time_ns);
   if (decoded_.packet.has_node_status()) {
     ++ns.status_packets;
     ns.has_status = true;
     ns.last_status = decoded_.packet.node_status();
   } else if (decoded_.packet.has_marker_frame()) {
     AddMarkerFrame(decoded_.packet.marker_frame(), d.receive_time_ns, &ns);
+  }
+  return decoded_;
+}
+
+const wire::DecodeResult& FrameIngest::RefuseUnauthentic(const std::string& reason, const Datagram& d) {
+  last_rejected_by_auth_ = true;
+  decoded_.ok = false;
+  decoded_.reason = reason;
+  decoded_.packet.Clear();
+  if (stats_.unauthentic++ == 0) {
+    stats_.first_unauthentic_reason = reason;
+    stats_.first_unauthentic_source = d.FromString();
   }
   return decoded_;
 }

@@ -1,8 +1,10 @@
 // What a live hub does with every datagram from the nodes, shared by `record` and `serve`:
-// decode it by the wire rules (malformed input counted with its first reason), attribute it to a
-// camera of the calibration (others counted per node id), refuse marker frames numbered off the
-// session clock (counted per node), append it to the session's raw log as received when a
-// capture is running, reassemble marker-frame chunks and assemble the camera
+// open its authenticated envelope (ingest/wire_auth.h: forged, replayed, stale or plain
+// datagrams are counted and go no further), decode the packet inside by the wire rules
+// (malformed input counted with its first reason), attribute it to a camera of the calibration
+// (others counted per node id), refuse marker frames numbered off the session clock (counted per
+// node), append its packet to the session's raw log as received (the envelope's payload: logs
+// stay readable without keys) when a capture runs, reassemble marker-frame chunks and assemble the camera
 // frames into frame sets under the deadline. Bad input is counted, never fatal.
 #pragma once
 
@@ -13,6 +15,7 @@
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
 #include "ingest/udp_socket.h"
+#include "ingest/wire_auth.h"
 #include "wire/chunking.h"
 #include "wire/packet.h"
 
@@ -24,8 +27,10 @@ uint32_t SenderNodeId(const v1::Packet& packet);
 
 class FrameIngest {
  public:
-  // cameras: the node ids of the calibration; assembly.Check() must hold (std::invalid_argument).
-  FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly);
+  // cameras: the node ids of the calibration; assembly.Check() must hold (std::invalid_argument);
+  // auth: the keys (WireAuth's constructor throws for a bad keys directory).
+  FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly,
+              WireAuthOptions auth);
 
   // One received datagram. `session` (may be null: nothing is being captured) gets every valid
   // datagram of a known camera. Returns the decode result so the caller can route the other
@@ -38,12 +43,19 @@ class FrameIngest {
   bool IsCamera(uint32_t node_id) const { return stats_.nodes.count(node_id) != 0; }
   // Whether the last datagram given to Add() was a marker frame refused as off the session clock.
   bool last_off_clock() const { return last_off_clock_; }
+  // The last datagram Add refused was refused by the authentication (not the wire rules).
+  bool last_rejected_by_auth() const { return last_rejected_by_auth_; }
+  WireAuth& auth() { return auth_; }
+  const WireAuth& auth() const { return auth_; }
   const IngestStats& stats() const { return stats_; }
   const FrameSetAssembler& assembler() const { return assembler_; }
 
  private:
   void AddMarkerFrame(const v1::MarkerFrame& chunk, uint64_t receive_time_ns, NodeStats* node);
+  const wire::DecodeResult& RefuseUnauthentic(const std::string& reason, const Datagram& d);
 
+  WireAuth auth_;
+  bool last_rejected_by_auth_ = false;
   wire::DecodeResult decoded_;
   bool last_off_clock_ = false;
   wire::ChunkAssembler chunks_;

@@ -44,6 +44,9 @@ std::string IngestStats::Report() const {
   if (malformed)
     out << malformed << " malformed datagrams dropped (first from " << first_malformed_source << ": "
         << first_malformed_reason << ")\n";
+  if (unauthentic)
+    out << unauthentic << " unauthentic datagrams refused (forged, replayed, stale or plain; first from "
+        << first_unauthentic_source << ": " << first_unauthentic_reason << ")\n";
   return out.str();
 }
 

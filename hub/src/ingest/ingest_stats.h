@@ -35,6 +35,9 @@ struct IngestStats {
   uint64_t malformed = 0;
   std::string first_malformed_reason;
   std::string first_malformed_source;
+  uint64_t unauthentic = 0;  // refused by the authenticated wire (ingest/wire_auth.h has the kinds)
+  std::string first_unauthentic_reason;
+  std::string first_unauthentic_source;
 
   // Records a complete frame from a known node, counting gaps in its numbering.
   void CountFrame(uint32_t node, uint64_t frame_number);

@@ -15,10 +15,11 @@ void RecorderOptions::Check() const {
   ParseHostPort(listen);  // throws std::invalid_argument naming the bad address
   if (!announce.empty()) ParseHostPort(announce);
   assembly.Check();
+  auth.Check();
 }
 
 Recorder::Recorder(RecorderOptions options)
-    : options_((options.Check(), std::move(options))), ingest_(options_.cameras, options_.assembly) {}
+    : options_((options.Check(), std::move(options))), ingest_(options_.cameras, options_.assembly, options_.auth) {}
 
 void Recorder::Bind() {
   socket_.Bind(ParseHostPort(options_.listen));
@@ -31,7 +32,9 @@ void Recorder::Bind() {
 void Recorder::Announce(uint64_t now_ns) {
   if (!announce_to_ || now_ns < next_announce_ns_) return;
   next_announce_ns_ = now_ns + 1'000'000'000ull;
-  socket_.SendTo(*announce_to_, wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz));
+  // One announce per node with a key, each sealed for its node (a broadcast reaches them all).
+  const std::vector<uint8_t> packet = wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz);
+  for (const auto& datagram : ingest_.auth().SealForEveryNode(packet, now_ns)) socket_.SendTo(*announce_to_, datagram);
 }
 
 void Recorder::Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set) {
@@ -56,6 +59,7 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
         now > last_datagram + uint64_t(options_.idle_timeout_s * 1e9))
       break;
     Announce(now);
+    ingest_.auth().ReloadIfChanged(now);
     // Drain everything queued, then hand out what is complete or overdue.
     while (socket_.Receive(&d, 2)) {
       last_datagram = RealtimeNowNs();

@@ -28,6 +28,7 @@ struct RecorderOptions {
   uint64_t max_frames = 0;            // frame sets; 0 = no limit
   double idle_timeout_s = 0.0;        // stop after this long without datagrams once data came; 0 = never
   FrameSetAssemblerOptions assembly;
+  WireAuthOptions auth;               // keys directory, or the insecure development wire
 
   // Throws std::invalid_argument naming the first unusable setting (the hub's options policy).
   void Check() const;
@@ -45,6 +46,7 @@ class Recorder {
   const IngestStats& stats() const { return ingest_.stats(); }
   uint64_t frame_sets() const { return frame_sets_; }
   const FrameSetAssembler& assembler() const { return ingest_.assembler(); }
+  const WireAuth& auth() const { return ingest_.auth(); }
 
  private:
   void Emit(std::vector<FrameSet> sets, const std::function<void(const FrameSet&)>& on_set);

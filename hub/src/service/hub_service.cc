@@ -99,6 +99,7 @@ void ServeOptions::Check() const {
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
   if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
+  auth.Check();
 }
 
 struct HubService::PreviewWait {
@@ -124,7 +125,7 @@ HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
       rig_(LoadRigOrThrow(options_.calibration)),
       start_ns_(RealtimeNowNs()),
-      ingest_(CameraIds(rig_), AssemblyOf(options_, EpochOf(options_))),
+      ingest_(CameraIds(rig_), AssemblyOf(options_, EpochOf(options_)), options_.auth),
       registry_(RegistryOf(options_, rig_)),
       controls_(ControlsOf(options_, start_ns_)),
       live_(rig_, options_.rate_hz, options_.recon,
@@ -134,6 +135,11 @@ HubService::HubService(ServeOptions options)
   std::error_code ec;
   std::filesystem::create_directories(options_.sessions_dir, ec);
   if (ec) throw std::runtime_error(options_.sessions_dir + ": cannot create: " + ec.message());
+  if (options_.auth.insecure_dev)
+    log::Warn("INSECURE WIRE: --insecure-dev-wire is set: datagrams are not authenticated, anyone on the network "
+              "can forge frames and steer the nodes; for development only (/api/status says so too)");
+  else
+    WarnAboutMissingKeys();
   for (const std::string& name : captures_.RecoverInterrupted())
     log::Warn("session {} was interrupted (the service stopped during its capture); its raw log is kept", name);
   if (!options_.masks_file.empty() && std::filesystem::exists(options_.masks_file)) {
@@ -143,6 +149,15 @@ HubService::HubService(ServeOptions options)
 }
 
 HubService::~HubService() = default;
+
+void HubService::WarnAboutMissingKeys() const {
+  log::Info("wire authenticated with the keys of {} nodes from {}", ingest_.auth().KeyedNodes().size(),
+            options_.auth.keys_dir);
+  for (const Camera& c : rig_.cameras)
+    if (!ingest_.auth().HasKey(c.id))
+      log::Warn("camera {} has no key in {} ({}): its datagrams will be refused", c.id, options_.auth.keys_dir,
+                wire::KeyFileName(c.id));
+}
 
 void HubService::Bind() {
   socket_.Bind(ParseHostPort(options_.listen));
@@ -197,7 +212,10 @@ void HubService::HandleDatagram(const Datagram& d) {
   const wire::DecodeResult& decoded = ingest_.Add(d, captures_.writer());
   const std::string source = d.FromString();
   if (!decoded.ok) {
-    registry_.OnMalformed(source, decoded.reason, d.receive_time_ns);
+    if (ingest_.last_rejected_by_auth())
+      registry_.OnUnauthentic(source, decoded.reason, d.receive_time_ns);
+    else
+      registry_.OnMalformed(source, decoded.reason, d.receive_time_ns);
     return;
   }
   const v1::Packet& packet = decoded.packet;
@@ -269,11 +287,12 @@ void HubService::Publish(const FrameSet& set) {
 void HubService::Tick(uint64_t now) {
   captures_.MaybeFlush(now);
   Announce(now);
+  ingest_.auth().ReloadIfChanged(now);
   OnRegistryEvents(registry_.Tick(now));
   ControlRequests::TickResult tick = controls_.Tick(now);
   for (const v1::Packet& packet : tick.resend) {
     if (const NodeEntry* node = registry_.Find(packet.control().node_id()))
-      socket_.SendTo(ParseHostPort(node->address), wire::Encode(packet));
+      SendToNode(packet.control().node_id(), ParseHostPort(node->address), packet);
   }
   for (const RequestResult& result : tick.finished) OnRequestFinished(result);
   previews_.DiscardStale(now);
@@ -295,7 +314,9 @@ void HubService::Tick(uint64_t now) {
 void HubService::Announce(uint64_t now) {
   if (!announce_to_ || now < next_announce_ns_) return;
   next_announce_ns_ = now + kSecondNs;
-  socket_.SendTo(*announce_to_, wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz));
+  // One announce per node with a key, each sealed for its node (a broadcast reaches them all).
+  const std::vector<uint8_t> packet = wire::EncodeHubAnnounce(port(), options_.epoch_ns, options_.rate_hz);
+  for (const auto& datagram : ingest_.auth().SealForEveryNode(packet, now)) socket_.SendTo(*announce_to_, datagram);
 }
 
 void HubService::OnRegistryEvents(const std::vector<RegistryEvent>& events) {
@@ -318,8 +339,17 @@ void HubService::SendMask(const CameraMask& mask, uint32_t node_id) {
   }
   if (const NodeEntry* node = registry_.Find(node_id)) {
     const HostPort to = ParseHostPort(node->address);
-    for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+    for (const v1::Packet& packet : submitted.send) SendToNode(node_id, to, packet);
   }
+}
+
+void HubService::SendToNode(uint32_t node_id, const HostPort& to, const v1::Packet& packet) {
+  const std::vector<uint8_t> datagram = ingest_.auth().Seal(node_id, wire::Encode(packet), RealtimeNowNs());
+  if (datagram.empty()) {
+    log::Warn("node {}: no key in the keys directory, nothing sent to it", node_id);
+    return;
+  }
+  socket_.SendTo(to, datagram);
 }
 
 void HubService::OnRequestFinished(const RequestResult& result) {
@@ -402,7 +432,7 @@ void HubService::FinishMaskCollection() {
       return;
     }
     const HostPort to = ParseHostPort(registry_.Find(mask.camera_id)->address);
-    for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+    for (const v1::Packet& packet : submitted.send) SendToNode(mask.camera_id, to, packet);
     job.requests[submitted.request_id] = mask.camera_id;
   }
 }
@@ -428,7 +458,7 @@ std::future<RequestResult> HubService::Submit(uint32_t node_id, const std::vecto
   const SubmitResult submitted = controls_.Submit(node_id, commands, RealtimeNowNs());
   if (!submitted.ok) throw ApiError(503, submitted.error);
   const HostPort to = ParseHostPort(node.address);
-  for (const v1::Packet& packet : submitted.send) socket_.SendTo(to, wire::Encode(packet));
+  for (const v1::Packet& packet : submitted.send) SendToNode(node_id, to, packet);
   return request_waiters_[submitted.request_id].get_future();
 }
 
@@ -490,6 +520,8 @@ nlohmann::json HubService::Status() {
         {"markers_confirmed", live_.tracker().NumMarkers()},
         {"malformed_datagrams", registry_.malformed_total()},
         {"unknown_datagrams", registry_.unknown_total()},
+        {"unauthentic_datagrams", registry_.unauthentic_total()},
+        {"wire", ingest_.auth().StatusJson()},
         {"hub_latency_ms",
          {{"p50", hub_latency_ms_.Percentile(50)},
           {"p99", hub_latency_ms_.Percentile(99)},
@@ -547,6 +579,7 @@ nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
       {"width", n.width},
       {"height", n.height},
       {"control_rejected", n.control_rejected},
+      {"auth_rejected_by_node", n.auth_rejected},
       {"camera_reopens", n.camera_reopens},
       {"sync",
        {{"edge_jitter_ns", n.sync.edge_jitter_ns},

@@ -59,6 +59,7 @@ struct ServeOptions {
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
   int auto_mask_max_frames = 1000;
   ReconstructorOptions recon;             // as `reconstruct` takes them
+  WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
@@ -125,6 +126,9 @@ class HubService : public ServiceApi {
   void FailMaskJob(const std::string& reason, int status);
   std::future<RequestResult> Submit(uint32_t node_id, const std::vector<v1::Control>& commands);
   void SendMask(const CameraMask& mask, uint32_t node_id);
+  // Encodes, seals under node_id's key and sends one packet.
+  void SendToNode(uint32_t node_id, const HostPort& to, const v1::Packet& packet);
+  void WarnAboutMissingKeys() const;
   void SaveMasks();
   const NodeEntry& KnownNode(uint32_t node_id) const;  // throws ApiError 404
   nlohmann::json NodeJson(const NodeEntry& node) const;

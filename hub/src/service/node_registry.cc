@@ -48,6 +48,7 @@ void CopyStatus(const v1::NodeStatus& s, uint64_t now_ns, NodeEntry* e) {
   e->exposure_us = s.exposure_us();
   e->gain_milli = s.gain_milli();
   e->control_rejected = s.control_rejected();
+  e->auth_rejected = s.auth_rejected();
   e->camera_reopens = s.camera_reopens();
   e->width = s.width();
   e->height = s.height();
@@ -110,6 +111,14 @@ void NodeRegistry::OnMalformed(const std::string& source, const std::string& rea
   c.last_reason = reason;
   c.last_seen_ns = now_ns;
   ++malformed_total_;
+}
+
+void NodeRegistry::OnUnauthentic(const std::string& source, const std::string& reason, uint64_t now_ns) {
+  SourceCounts& c = CountsFor(source);
+  ++c.unauthentic;
+  c.last_reason = reason;
+  c.last_seen_ns = now_ns;
+  ++unauthentic_total_;
 }
 
 NodeEntry* NodeRegistry::Attribute(uint32_t node_id, const std::string& source, uint64_t now_ns,

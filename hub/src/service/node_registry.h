@@ -70,6 +70,7 @@ struct NodeEntry {
   uint32_t exposure_us = 0;
   uint32_t gain_milli = 0;
   uint32_t control_rejected = 0;
+  uint32_t auth_rejected = 0;     // hub datagrams the node refused as unauthentic
   uint32_t camera_reopens = 0;
   uint32_t width = 0;
   uint32_t height = 0;
@@ -79,6 +80,7 @@ struct NodeEntry {
 struct SourceCounts {
   uint64_t malformed = 0;         // refused by the wire rules
   uint64_t unknown = 0;           // valid, but from no node we track
+  uint64_t unauthentic = 0;       // refused by the authenticated wire (forged, replayed, plain)
   std::string last_reason;
   uint64_t last_seen_ns = 0;
 };
@@ -104,6 +106,8 @@ class NodeRegistry {
                                       uint64_t now_ns);
   // A datagram wire::Decode refused, with its reason.
   void OnMalformed(const std::string& source, const std::string& reason, uint64_t now_ns);
+  // A datagram the authenticated wire refused, with its reason.
+  void OnUnauthentic(const std::string& source, const std::string& reason, uint64_t now_ns);
   // Marks nodes silent since now_ns - lost_after_ns as lost; returns them.
   std::vector<RegistryEvent> Tick(uint64_t now_ns);
 
@@ -113,6 +117,7 @@ class NodeRegistry {
   const SourceCounts& other_sources() const { return other_; }  // beyond max_sources
   uint64_t malformed_total() const { return malformed_total_; }
   uint64_t unknown_total() const { return unknown_total_; }
+  uint64_t unauthentic_total() const { return unauthentic_total_; }
 
  private:
   NodeEntry* Attribute(uint32_t node_id, const std::string& source, uint64_t now_ns,
@@ -124,7 +129,7 @@ class NodeRegistry {
   std::map<uint32_t, NodeEntry> nodes_;
   std::map<std::string, SourceCounts> sources_;
   SourceCounts other_;
-  uint64_t malformed_total_ = 0, unknown_total_ = 0;
+  uint64_t malformed_total_ = 0, unknown_total_ = 0, unauthentic_total_ = 0;
 };
 
 }  // namespace mocap::service

@@ -9,7 +9,11 @@ namespace mocap::wire {
 
 constexpr uint32_t kProtocolVersion = 1;
 constexpr size_t kMaxDatagramBytes = 1400;
-// 48 markers of at most 24 encoded bytes each plus the frame header stay under 1400 bytes.
+// One Packet: the datagram less the authenticated envelope (wire/envelope.h), also when a
+// development rig sends it plain (firmware: MN_WIRE_MAX_PACKET).
+constexpr size_t kMaxPacketBytes = 1352;
+// 48 markers of at most 24 encoded bytes each plus the frame header: at most 1231 bytes, within
+// the packet budget.
 constexpr uint32_t kMarkersPerChunk = 48;
 constexpr uint32_t kMaxMarkersPerFrame = 1024;
 constexpr uint32_t kMaxChunksPerFrame = (kMaxMarkersPerFrame + kMarkersPerChunk - 1) / kMarkersPerChunk;

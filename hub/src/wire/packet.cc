@@ -140,8 +140,8 @@ DecodeResult Decode(const uint8_t* data, size_t size) {
     result.reason = "empty datagram";
     return result;
   }
-  if (size > kMaxDatagramBytes) {
-    result.reason = "datagram larger than " + std::to_string(kMaxDatagramBytes) + " bytes";
+  if (size > kMaxPacketBytes) {
+    result.reason = "packet larger than 1352 bytes (1400 with its envelope)";
     return result;
   }
   if (!result.packet.ParseFromArray(data, static_cast<int>(size))) {
@@ -157,7 +157,7 @@ std::vector<uint8_t> Encode(const v1::Packet& packet) {
   const std::string problem = Validate(packet);
   if (!problem.empty()) throw std::invalid_argument("refusing to encode: " + problem);
   const size_t size = packet.ByteSizeLong();
-  if (size > kMaxDatagramBytes) throw std::invalid_argument("refusing to encode: datagram over 1400 bytes");
+  if (size > kMaxPacketBytes) throw std::invalid_argument("refusing to encode: packet over 1352 bytes");
   std::vector<uint8_t> bytes(size);
   if (!packet.SerializeToArray(bytes.data(), static_cast<int>(size)))
     throw std::invalid_argument("refusing to encode: serialization failed");

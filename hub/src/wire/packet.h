@@ -23,7 +23,8 @@ DecodeResult Decode(const uint8_t* data, size_t size);
 // Empty when the packet obeys every v1 rule, otherwise the first broken rule.
 std::string Validate(const v1::Packet& packet);
 
-// Serializes a valid packet (deterministic field order) and checks the 1400-byte limit.
+// Serializes a valid packet (deterministic field order) and checks the 1352-byte packet limit
+// (the envelope brings the datagram to at most 1400).
 std::vector<uint8_t> Encode(const v1::Packet& packet);
 
 // The hub's HubAnnounce datagram: where nodes send (port), frame 0's time and the trigger rate.

@@ -40,7 +40,7 @@ TEST(Packet, WorstCaseChunksStayUnderDatagramLimit) {
   ASSERT_EQ(packets.size(), 6u);
   for (const auto& p : packets) {
     const auto bytes = Encode(p);
-    EXPECT_LE(bytes.size(), kMaxDatagramBytes);
+    EXPECT_LE(bytes.size(), kMaxPacketBytes);
     const DecodeResult back = Decode(bytes.data(), bytes.size());
     EXPECT_TRUE(back.ok) << back.reason;
   }
@@ -62,7 +62,7 @@ TEST(Packet, RejectsWrongVersion) {
 }
 
 TEST(Packet, RejectsOversizedAndEmptyAndGarbage) {
-  std::vector<uint8_t> big(kMaxDatagramBytes + 1, 0);
+  std::vector<uint8_t> big(kMaxPacketBytes + 1, 0);
   EXPECT_FALSE(Decode(big.data(), big.size()).ok);
   EXPECT_FALSE(Decode(big.data(), 0).ok);
   const uint8_t garbage[] = {0xff, 0xff, 0xff, 0xff, 0x0f};
