@@ -258,10 +258,8 @@ void HubService::OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d
     return;
   }
   // To where the frames came from: a node sends and receives on its one control socket.
-  for (const v1::Packet& packet : submitted.send) {
-    const std::vector<uint8_t> bytes = wire::Encode(packet);
-    socket_.SendTo(d.from, bytes.data(), bytes.size());
-  }
+  const HostPort to = ParseHostPort(d.FromString());
+  for (const v1::Packet& packet : submitted.send) SendToNode(frame.node_id(), to, packet);
 }
 
 void HubService::Publish(const FrameSet& set) {
