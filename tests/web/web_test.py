@@ -18,6 +18,7 @@ import json
 import os
 import shutil
 import socket
+import subprocess
 import sys
 import time
 import unittest
@@ -110,7 +111,8 @@ class WebConsoleTest(unittest.TestCase):
 
     def go(self, page):
         self.page.get(self.url + "#" + page)
-        wait_for(f"the {page} page", lambda: self.js("return window.mocapConsole && mocapConsole.currentPage()") == page)
+        wait_for(f"the {page} page",
+                 lambda: self.js("return window.mocapConsole && mocapConsole.currentPage()") == page)
 
     def hub_state(self, driver):
         return self.js("return document.getElementById('hub-state').textContent", driver)
@@ -134,12 +136,14 @@ class WebConsoleTest(unittest.TestCase):
                         if len(self.page.find_elements(By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS
                         else None)
         rows_s = time.monotonic() - start
-        load_ms = self.js("const n = performance.getEntriesByType('navigation')[0]; return n.loadEventEnd - n.startTime")
+        load_ms = self.js("const n = performance.getEntriesByType('navigation')[0]; "
+                          "return n.loadEventEnd - n.startTime")
         nodes = self.rig.nodes_json()
         self.assertEqual({int(r.get_attribute("data-node-id")) for r in rows}, set(nodes))
         for row in rows:
             node = nodes[int(row.get_attribute("data-node-id"))]
-            wait_for("the row's state", lambda: row.find_element(By.CSS_SELECTOR, "[data-field=state]").text == node["state"])
+            wait_for("the row's state",
+                     lambda: row.find_element(By.CSS_SELECTOR, "[data-field=state]").text == node["state"])
             self.assertEqual(row.find_element(By.CSS_SELECTOR, "[data-field=address]").text, node["address"])
         errors = [e for e in self.page.get_log("browser") if e["level"] == "SEVERE"]
         self.assertEqual(errors, [], "the console logs no errors")
@@ -204,7 +208,8 @@ class WebConsoleTest(unittest.TestCase):
         # as the WebSocket would: serve here runs without --bodies).
         visible, position = self.js(
             "const p = mocapConsole.pages.live; p.onFrame({frame: 0, points: [], "
-            "bodies: [[1, 1, 0, 100, 200, 300, 0, 0, 0.7071068, 0.7071068, 0.2, 4], [2, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0]]});"
+            "bodies: [[1, 1, 0, 100, 200, 300, 0, 0, 0.7071068, 0.7071068, 0.2, 4],"
+            "         [2, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0]]});"
             "const a = p.scene.bodyAxes; return [a.map((x) => x.visible), a[0].position.toArray()];")
         self.assertEqual(visible, [True, False], "a tracked body is drawn, one neither tracked nor predicted is not")
         self.assertEqual(position, [100, 200, 300])
@@ -266,10 +271,12 @@ class WebConsoleTest(unittest.TestCase):
         # The list is read when the page is shown: show it again.
         self.go("nodes")
         self.go("sessions")
-        row = wait_for("the session's row", lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-session='web_take']"))[0]
+        row = wait_for("the session's row",
+                       lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-session='web_take']"))[0]
         self.assertEqual(row.find_elements(By.TAG_NAME, "td")[1].text, "complete")
         row.find_element(By.CSS_SELECTOR, "button[data-action=files]").click()
-        files = wait_for("its files", lambda: self.page.find_elements(By.CSS_SELECTOR, "#session-details tr[data-file]"))
+        files = wait_for("its files",
+                         lambda: self.page.find_elements(By.CSS_SELECTOR, "#session-details tr[data-file]"))
         names = {f.get_attribute("data-file") for f in files}
         self.assertTrue({"markers.trc", "markers.c3d", "live_points.tsv", "session.json"} <= names, names)
         # The download links give the files byte for byte.
@@ -341,9 +348,19 @@ class WebConsoleTest(unittest.TestCase):
         wait_for("the live view to reconnect", lambda: self.js(
             "return mocapConsole.pages.live.socket.connections") == connections + 1, timeout=10)
         frames = self.js("return mocapConsole.pages.live.frames")
-        wait_for("frames again after the restart", lambda: self.js("return mocapConsole.pages.live.frames") > frames + 10)
+        wait_for("frames again after the restart",
+                 lambda: self.js("return mocapConsole.pages.live.frames") > frames + 10)
         wait_for("the nodes back in the second browser", lambda: len(other.find_elements(
             By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS)
+
+    def test_9_a_missing_web_root_is_a_usage_error(self):
+        result = subprocess.run(
+            [os.path.join(BIN, "mocap-hub"), "serve", "--calibration", os.path.join(WORK, "frames", "calibration.json"),
+             "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "off",
+             "--sessions-dir", os.path.join(WORK, "sessions_unused"), "--web-root", os.path.join(WORK, "no_such_dir")],
+            capture_output=True, text=True, timeout=30)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("not a directory", result.stderr)
 
     def test_9_paths_that_leave_the_console_or_the_sessions_are_refused(self):
         port = self.rig.api_port
@@ -352,7 +369,8 @@ class WebConsoleTest(unittest.TestCase):
         for path in ("/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/js/..%2f..%2f..%2fetc/passwd",
                      "/vendor/three/../../../../../etc/passwd", "/vendor/three/%2e%2e/%2e%2e/%2e%2e/etc/passwd",
                      "/api/sessions/%2e%2e/files/outside.trc", "/api/sessions/web_take/files/..%2f..%2foutside.trc",
-                     "/api/sessions/web_take/files/%2e%2e%2f%2e%2e%2foutside.trc", "/api/sessions/..%2f/files/outside.trc",
+                     "/api/sessions/web_take/files/%2e%2e%2f%2e%2e%2foutside.trc",
+                     "/api/sessions/..%2f/files/outside.trc",
                      "/.%2e/outside.trc", "/masks.json", "/api/sessions/web_take/files/.hidden"):
             status, _, body = raw_request(port, f"GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n".encode())
             self.assertIn(status, (400, 403, 404), path)

@@ -262,7 +262,8 @@ int HttpServer::OnStaticRequest(mg_connection* connection) {
               "Connection: close\r\n\r\n", etag);
     return 304;
   }
-  const std::string headers = std::string("Cache-Control: no-cache\r\n") + (etag[0] ? "ETag: " + std::string(etag) + "\r\n" : "");
+  const std::string headers =
+      std::string("Cache-Control: no-cache\r\n") + (etag[0] ? "ETag: " + std::string(etag) + "\r\n" : "");
   return SendFile(connection, file.path, file.content_type, method == "HEAD", headers);
 }
 

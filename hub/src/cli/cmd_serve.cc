@@ -158,9 +158,10 @@ void RunServe(ServeArgs& args, bool web_root_given) {
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
   const HostPort api = ParseHostPort(args.api);
-  log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(),
-            api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host, http.port(), args.options.sessions_dir);
-  if (!console.empty()) log::Info("web console at http://{}:{}/ from {}", api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host, http.port(), console[0].dir);
+  const std::string api_host = api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host;
+  log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(), api_host, http.port(),
+            args.options.sessions_dir);
+  if (!console.empty()) log::Info("web console at http://{}:{}/ from {}", api_host, http.port(), console[0].dir);
   if (streams.udp)
     log::Info("stream: UDP port {}{}", streams.udp->port(),
               args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);

@@ -145,7 +145,8 @@ TEST_F(CaptureTest, SessionFilesAreListedAndOnlyThoseCanBeNamed) {
   for (const auto& named : std::vector<std::pair<std::string, std::string>>{
            {"walk", "link.txt"}, {"walk", "sub"}, {"walk", ".hidden"}, {"walk", "../../secret.txt"},
            {"walk", "missing.trc"}, {"..", "secret.txt"}, {"nope", "session.json"}, {"walk/..", "secret.txt"}})
-    EXPECT_EQ(StatusOf([&] { captures.FilePath(named.first, named.second); }), 404) << named.first << " " << named.second;
+    EXPECT_EQ(StatusOf([&] { captures.FilePath(named.first, named.second); }), 404)
+        << named.first << " " << named.second;
   EXPECT_EQ(StatusOf([&] { captures.Describe("nope"); }), 404);
   EXPECT_EQ(StatusOf([&] { captures.Describe(".."); }), 404);
 }

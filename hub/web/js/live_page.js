@@ -55,9 +55,10 @@ export class LivePage {
     const f = this.frame;
     const provisional = f ? f.points.filter((p) => p[4]).length : 0;
     const bodies = f && f.bodies ? f.bodies.filter((b) => b[1]).length : 0;
+    const rates = `${this.rate.fps.toFixed(0)} frames/s received · ${this.scene.fps.toFixed(0)} fps drawn`;
     this.info.textContent = this.socket.state !== 'open' ? `live: ${this.socket.state}…` :
-      f ? `frame ${f.frame} · ${f.points.length} markers (${provisional} provisional) · ${bodies} bodies · ` +
-        `${this.rate.fps.toFixed(0)} frames/s received · ${this.scene.fps.toFixed(0)} fps drawn` : 'waiting for frames';
+      f ? `frame ${f.frame} · ${f.points.length} markers (${provisional} provisional) · ${bodies} bodies · ${rates}`
+        : 'waiting for frames';
   }
 
   // Draws `markers` synthetic markers moving on a sphere for `ms` milliseconds (live frames are

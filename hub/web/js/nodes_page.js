@@ -26,7 +26,7 @@ export class NodesPage {
       el('h2', { text: 'Nodes' }),
       el('table', { class: 'nodes', id: 'nodes-table' },
         el('thead', {}, el('tr', {}, ...['Node', 'State', 'Address', 'Firmware', 'fps', 'Dropped', 'Detect µs',
-          'Temp °C', 'Sync jitter µs', 'Last seen', 'Threshold', 'Exposure µs', 'Gain ×', '', ''].map(
+          'Temp °C', 'Sync jitter · edges', 'Last seen', 'Threshold', 'Exposure µs', 'Gain ×', '', ''].map(
           (t) => el('th', { text: t })))),
         this.tbody = el('tbody')),
       el('h2', { text: 'Cameras' }),
@@ -75,7 +75,8 @@ export class NodesPage {
       c.dropped.textContent = node.frames_dropped;
       c.detect.textContent = formatNumber(node.detect_us_mean, 0);
       c.temperature.textContent = formatNumber(node.temperature_c, 1);
-      c.sync.textContent = formatNumber(node.sync.edge_jitter_ns / 1000, 1);
+      const jitter = formatNumber(node.sync.edge_jitter_ns / 1000, 1);
+      c.sync.textContent = `${jitter} µs · ${node.sync.missed_edges} missed`;
       c.seen.textContent = lastSeen(node.last_seen_s);
       for (const [key, value] of [['threshold', node.threshold], ['exposure_us', node.exposure_us],
         ['gain', node.gain_milli / 1000]]) {
@@ -123,7 +124,10 @@ export class NodesPage {
   async apply(id) {
     const row = this.rows.get(id);
     const body = {};
-    const changed = (key) => row.inputs[key].value !== '' && Number(row.inputs[key].value) !== Number(row.inputs[key].dataset.current);
+    const changed = (key) => {
+      const input = row.inputs[key];
+      return input.value !== '' && Number(input.value) !== Number(input.dataset.current);
+    };
     if (changed('threshold')) body.threshold = Math.round(Number(row.inputs.threshold.value));
     if (changed('exposure_us')) body.exposure_us = Math.round(Number(row.inputs.exposure_us.value));
     if (changed('gain')) body.gain_milli = Math.round(Number(row.inputs.gain.value) * 1000);
@@ -155,7 +159,8 @@ export class NodesPage {
     this.maskMessage.textContent = 'collecting frames…';
     try {
       const answer = await postJson('/api/masks/auto', { frames: Number(frames) });
-      const found = answer.cameras.map((c) => `cam ${c.camera_id}: ${c.static_blobs_found} blobs, ${c.regions} regions`);
+      const found = answer.cameras.map(
+        (c) => `cam ${c.camera_id}: ${c.static_blobs_found} blobs, ${c.regions} regions`);
       this.maskMessage.textContent = `masked from ${answer.frames} frame sets (${found.join('; ')})`;
     } catch (e) {
       this.maskMessage.textContent = `auto-mask failed: ${e.message}`;

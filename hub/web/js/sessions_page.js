@@ -8,7 +8,8 @@ import { Scene3D } from './scene3d.js';
 function defaultName() {
   const d = new Date();
   const p = (n) => String(n).padStart(2, '0');
-  return `take_${d.getFullYear()}${p(d.getMonth() + 1)}${p(d.getDate())}_${p(d.getHours())}${p(d.getMinutes())}${p(d.getSeconds())}`;
+  const date = `${d.getFullYear()}${p(d.getMonth() + 1)}${p(d.getDate())}`;
+  return `take_${date}_${p(d.getHours())}${p(d.getMinutes())}${p(d.getSeconds())}`;
 }
 
 function playable(name) {
@@ -129,7 +130,8 @@ export class SessionsPage {
         el('button', { id: 'capture-start', text: 'Start capture', onclick: () => this.start() }),
         el('button', { id: 'capture-stop', text: 'Stop', onclick: () => this.stop() }), this.captureState,
         this.captureMessage),
-      el('h2', {}, 'Sessions ', el('button', { id: 'sessions-refresh', text: 'Refresh', onclick: () => this.refresh() })),
+      el('h2', {}, 'Sessions ',
+        el('button', { id: 'sessions-refresh', text: 'Refresh', onclick: () => this.refresh() })),
       el('table', { class: 'sessions', id: 'sessions-table' },
         el('thead', {}, el('tr', {}, ...['Session', 'State', 'Frame sets', 'Cameras', 'Rate Hz', ''].map(
           (t) => el('th', { text: t })))), this.list),
