@@ -293,6 +293,7 @@ class WebConsoleTest(unittest.TestCase):
         self.page.find_element(By.CSS_SELECTOR,
                                "#session-details tr[data-file='markers.trc'] button[data-action=play]").click()
         wait_for("playback", lambda: self.js("return mocapConsole.pages.sessions.player.playing"))
+        time.sleep(0.15)  # a render of the new recording
         seen = set()
         end = time.monotonic() + 3
         while time.monotonic() < end and len(seen) < 5:
@@ -325,6 +326,29 @@ class WebConsoleTest(unittest.TestCase):
         advanced = self.js("return mocapConsole.pages.sessions.player.index") - start_index
         elapsed = time.monotonic() - start
         self.assertGreater(advanced, RATE * elapsed * 1.2, "2x plays faster than real time")
+        self.page.find_element(By.ID, "play").click()
+        # live_points.tsv (what serve published) plays too: each frame shown draws its points.
+        published = collections.Counter()
+        with open(os.path.join(session, "live_points.tsv")) as f:
+            for line in f:
+                if line[:1].isdigit():
+                    published[int(line.split("\t")[0])] += 1
+        self.page.find_element(By.CSS_SELECTOR,
+                               "#session-details tr[data-file='live_points.tsv'] button[data-action=play]").click()
+        wait_for("the live points", lambda: self.js(
+            "return mocapConsole.pages.sessions.player.recording.markers.length === 0 && "
+            "mocapConsole.pages.sessions.player.playing"))
+        time.sleep(0.15)
+        for _ in range(5):
+            drawn, number = self.js("const p = mocapConsole.pages.sessions; "
+                                    "return [p.scene.drawnMarkers, p.player.recording.frameNumbers[p.player.index]]")
+            self.assertEqual(drawn, published[number], f"published frame {number}")
+            time.sleep(0.1)
+        self.page.find_element(By.CSS_SELECTOR,
+                               "#session-details tr[data-file='markers.trc'] button[data-action=play]").click()
+        wait_for("the TRC again",
+                 lambda: self.js("return mocapConsole.pages.sessions.player.recording.markers.length") > 0)
+        time.sleep(1.0)
         self.page.find_element(By.ID, "play").click()
         self.shot("sessions")
 
