@@ -217,7 +217,10 @@ class WebConsoleTest(unittest.TestCase):
         self.assertEqual(most, MARKERS, f"the rendered subject has {MARKERS} markers: {samples}")
         time.sleep(1.2)
         received, drawn_fps = self.js("const p = mocapConsole.pages.live; return [p.rate.fps, p.scene.fps]")
+        frames_before = self.js("return mocapConsole.pages.live.socket.framesReceived")
         http_bps, ws_bps, requests = self.traffic_per_second(4)
+        frames = (self.js("return mocapConsole.pages.live.socket.framesReceived") - frames_before) / 4
+        print(f"live message size: {ws_bps / frames:.0f} bytes per frame of about {MARKERS} points")
         print(f"live 3D, {MARKERS} markers at {RATE} Hz: {received:.0f} frames/s received (max_fps=60), "
               f"{drawn_fps:.0f} fps drawn in headless Chromium (SwiftShader, 1400x860)")
         print(f"traffic, Live 3D page: {ws_bps / 1000:.1f} kB/s WebSocket + {http_bps / 1000:.1f} kB/s HTTP "
