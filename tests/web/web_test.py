@@ -351,7 +351,7 @@ class WebConsoleTest(unittest.TestCase):
                                "#session-details tr[data-file='markers.trc'] button[data-action=play]").click()
         wait_for("the TRC again",
                  lambda: self.js("return mocapConsole.pages.sessions.player.recording.markers.length") > 0)
-        time.sleep(1.0)
+        time.sleep(0.6)  # into the take (it lasts 1.1 s at 2x), then paused for the picture
         self.page.find_element(By.ID, "play").click()
         self.shot("sessions")
 
