@@ -18,8 +18,10 @@ HOST_PACKAGES=(
     libcmocka-dev libgtest-dev libgmock-dev
     # hub libraries
     libeigen3-dev libceres-dev libopencv-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
-    # the live hub's HTTP + WebSocket API
-    libcivetweb-dev
+    # the live hub's HTTP + WebSocket API, and three.js for its web console's 3D views
+    libcivetweb-dev libjs-three
+    # the web console's browser test (tests/web): headless Chromium and its WebDriver
+    chromium chromium-driver
     # node hardware backends
     libgpiod-dev libcamera-dev libsystemd-dev
     # the authenticated wire between hub and nodes (HMAC-SHA-512/256, keys from its CSPRNG)

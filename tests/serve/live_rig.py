@@ -152,7 +152,9 @@ class Rig:
         self.epoch = time.time_ns() + 1_000_000_000
         self.keys = os.path.join(work, "keys")
 
-    def start_serve(self):
+    def start_serve(self, udp_port=0, api_port=0):
+        """serve on the given ports (0: any free one; a restart passes the old ones, so that nodes
+        and browsers find it again)."""
         if os.path.exists(self.notify_path):
             os.unlink(self.notify_path)
         self.notify = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
@@ -168,7 +170,8 @@ class Rig:
         self.log_path = os.path.join(self.work, "serve.log")
         with open(self.log_path, "w") as log:
             self.serve = subprocess.Popen(
-                [os.path.join(self.bin, "mocap-hub"), "serve", "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0",
+                [os.path.join(self.bin, "mocap-hub"), "serve", "--listen", f"127.0.0.1:{udp_port}",
+                 "--api", f"127.0.0.1:{api_port}",
                  "--calibration", os.path.join(self.frames, "calibration.json"),
                  "--sessions-dir", os.path.join(self.work, "sessions"),
                  "--masks-file", os.path.join(self.work, "masks.json"),

@@ -3,9 +3,18 @@
 
 #include <civetweb.h>
 
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <vector>
+
+#include "api/live_query.h"
 
 #include "ingest/udp_socket.h"
 #include "service/api_router.h"
@@ -28,6 +37,7 @@ HttpServer* ServerOf(const mg_connection* connection) {
 }
 
 int RequestTrampoline(mg_connection* connection, void*) { return ServerOf(connection)->OnRequest(connection); }
+int StaticTrampoline(mg_connection* connection, void*) { return ServerOf(connection)->OnStaticRequest(connection); }
 // The parts a /api/stream client asked for (its query's parts=...); 0 when the list is bad.
 uint32_t PartsOf(const mg_connection* connection) {
   const mg_request_info* info = mg_get_request_info(connection);
@@ -46,9 +56,16 @@ bool IsStream(const mg_connection* connection) {
   return uri && std::strcmp(uri, "/api/stream") == 0;
 }
 
-// Refuses (non-zero) a /api/stream upgrade with an unknown part, and any beyond the client limit.
+std::optional<LiveQuery> LiveQueryOf(const mg_connection* connection) {
+  const char* query = mg_get_request_info(connection)->query_string;
+  return ParseLiveQuery(query ? query : "");
+}
+
+// Refuses (non-zero) a /api/stream upgrade with an unknown part, a /api/live one with a bad
+// query, and any beyond the client limit.
 int WebSocketConnect(const mg_connection* connection, void*) {
-  return (IsStream(connection) && !PartsOf(connection)) || !ServerOf(connection)->AcceptWebSocket(connection);
+  const bool bad = IsStream(connection) ? !PartsOf(connection) : !LiveQueryOf(connection);
+  return bad || !ServerOf(connection)->AcceptWebSocket(connection);
 }
 void WebSocketReady(mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketReady(connection); }
 int WebSocketData(mg_connection*, int, char*, size_t, void*) { return 1; }  // keep open, ignore input
@@ -57,6 +74,7 @@ void WebSocketClose(const mg_connection* connection, void*) { ServerOf(connectio
 const char* Reason(int status) {
   switch (status) {
     case 200: return "OK";
+    case 304: return "Not Modified";
     case 400: return "Bad Request";
     case 404: return "Not Found";
     case 405: return "Method Not Allowed";
@@ -98,18 +116,50 @@ std::string FrameMessage(const LiveFrame& frame) {
   return out;
 }
 
+// The file's bytes as the body of a 200 answer, read in pieces (a session's raw log may be large;
+// a file still growing, as a running capture's, is sent as long as it was when opened).
+int SendFile(mg_connection* connection, const std::string& path, const std::string& content_type, bool head,
+             const std::string& extra_headers) {
+  std::ifstream in(path, std::ios::binary);
+  struct stat st;
+  if (!in || ::stat(path.c_str(), &st) != 0) {
+    const std::string body = R"({"error":"the file cannot be read"})";
+    mg_printf(connection,
+              "HTTP/1.1 404 Not Found\r\nContent-Type: application/json\r\nContent-Length: %zu\r\n"
+              "Connection: close\r\n\r\n%s",
+              body.size(), body.c_str());
+    return 404;
+  }
+  const long long size = static_cast<long long>(st.st_size);
+  mg_printf(connection,
+            "HTTP/1.1 200 OK\r\nContent-Type: %s\r\nContent-Length: %lld\r\n%sConnection: close\r\n\r\n",
+            content_type.c_str(), size, extra_headers.c_str());
+  if (head) return 200;
+  std::vector<char> buffer(64 * 1024);
+  long long left = size;
+  while (left > 0 && in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(std::min<long long>(left, buffer.size())));
+    const std::streamsize got = in.gcount();
+    if (got <= 0 || mg_write(connection, buffer.data(), static_cast<size_t>(got)) <= 0) break;
+    left -= got;
+  }
+  return 200;
+}
+
 }  // namespace
 
 struct HttpServer::Client {
   mg_connection* connection = nullptr;
   bool binary = false;   // /api/stream (protobuf) rather than /api/live (JSON)
   uint32_t parts = 0;
+  std::chrono::nanoseconds min_interval{0};  // /api/live?max_fps
+  std::chrono::steady_clock::time_point next_due{};
   stream::FrameQueue queue{kMaxQueuedFrames};
   std::thread writer;
 };
 
-HttpServer::HttpServer(service::HubService& service, const std::string& listen)
-    : service_(service), queue_(kMaxQueuedFrames) {
+HttpServer::HttpServer(service::HubService& service, const std::string& listen, std::vector<StaticMount> console)
+    : service_(service), console_(std::move(console)), queue_(kMaxQueuedFrames) {
   const HostPort address = ParseHostPort(listen);
   const std::string ports = (address.host.empty() || address.host == "*" ? std::string("0.0.0.0") : address.host) +
                             ":" + std::to_string(address.port);
@@ -123,7 +173,9 @@ HttpServer::HttpServer(service::HubService& service, const std::string& listen)
   mg_server_port bound[4];
   const int n = mg_get_server_ports(context_, 4, bound);
   if (n > 0) port_ = static_cast<uint16_t>(bound[0].port);
+  // civetweb tries exact and "/api/..." prefix handlers before patterns: "**" is everything else.
   mg_set_request_handler(context_, "/api", RequestTrampoline, nullptr);
+  mg_set_request_handler(context_, "**", StaticTrampoline, nullptr);
   for (const char* path : {"/api/live", "/api/stream"})
     mg_set_websocket_handler(context_, path, WebSocketConnect, WebSocketReady, WebSocketData, WebSocketClose, nullptr);
   broadcaster_ = std::thread([this] { Broadcast(); });
@@ -161,12 +213,58 @@ int HttpServer::OnRequest(mg_connection* connection) {
     request.body.assign(buffer.data(), got);
     response = HandleApiRequest(service_, request);
   }
+  if (response.status == 200 && !response.file.empty())
+    return SendFile(connection, response.file, response.content_type, request.method == "HEAD", "");
   mg_printf(connection,
             "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: no-store\r\n"
             "Connection: close\r\n\r\n",
             response.status, Reason(response.status), response.content_type.c_str(), response.body.size());
   mg_write(connection, response.body.data(), response.body.size());
   return response.status;
+}
+
+int HttpServer::OnStaticRequest(mg_connection* connection) {
+  const mg_request_info* info = mg_get_request_info(connection);
+  const std::string method = info->request_method ? info->request_method : "";
+  const std::string path = info->local_uri ? info->local_uri : "";
+  int status = 0;
+  std::string body;
+  StaticFile file;
+  if (method != "GET" && method != "HEAD") {
+    status = 405;
+    body = R"({"error":"the console's files are read with GET"})";
+  } else {
+    file = ResolveStaticFile(console_, path);
+    if (file.status != 200) {
+      status = file.status;
+      body = console_.empty() ? "{\"error\":\"this serve has no web console (--web-root)\"}"
+                              : nlohmann::json{{"error", file.reason}}.dump(-1, ' ', false,
+                                                                           nlohmann::json::error_handler_t::replace);
+    }
+  }
+  if (status) {
+    mg_printf(connection,
+              "HTTP/1.1 %d %s\r\nContent-Type: application/json\r\nContent-Length: %zu\r\nConnection: close\r\n\r\n",
+              status, Reason(status), body.size());
+    mg_write(connection, body.data(), body.size());
+    return status;
+  }
+  // The file's size and time as its version: a browser revalidates (no-cache) and gets a 304.
+  struct stat st;
+  char etag[64] = "";
+  if (::stat(file.path.c_str(), &st) == 0)
+    std::snprintf(etag, sizeof etag, "\"%llx-%llx\"", static_cast<unsigned long long>(st.st_size),
+                  static_cast<unsigned long long>(st.st_mtim.tv_sec) * 1000000000ull +
+                      static_cast<unsigned long long>(st.st_mtim.tv_nsec));
+  const char* if_none_match = mg_get_header(connection, "If-None-Match");
+  if (etag[0] && if_none_match && std::strcmp(if_none_match, etag) == 0) {
+    mg_printf(connection, "HTTP/1.1 304 Not Modified\r\nETag: %s\r\nCache-Control: no-cache\r\nContent-Length: 0\r\n"
+              "Connection: close\r\n\r\n", etag);
+    return 304;
+  }
+  const std::string headers =
+      std::string("Cache-Control: no-cache\r\n") + (etag[0] ? "ETag: " + std::string(etag) + "\r\n" : "");
+  return SendFile(connection, file.path, file.content_type, method == "HEAD", headers);
 }
 
 bool HttpServer::AcceptWebSocket(const mg_connection*) {
@@ -179,6 +277,10 @@ void HttpServer::OnWebSocketReady(mg_connection* connection) {
   client->connection = connection;
   client->binary = IsStream(connection);
   client->parts = client->binary ? PartsOf(connection) : 0;
+  if (!client->binary) {
+    const int max_fps = LiveQueryOf(connection).value_or(LiveQuery{}).max_fps;
+    if (max_fps) client->min_interval = std::chrono::nanoseconds(1'000'000'000 / max_fps);
+  }
   client->writer = std::thread(Write, client.get());
   std::lock_guard<std::mutex> lock(clients_mutex_);
   clients_[connection] = std::move(client);
@@ -211,6 +313,13 @@ void HttpServer::Write(Client* client) {
   while (!client->queue.closed()) {
     const stream::SharedFrame frame = client->queue.Pop(std::chrono::seconds(1));
     if (!frame) continue;
+    if (client->min_interval.count()) {
+      // At most max_fps frames per second on average: a frame is sent when its slot is due; a
+      // late frame may use the slot it missed (at most one), so 100 Hz thinned to 60 gives 60.
+      const auto now = std::chrono::steady_clock::now();
+      if (now < client->next_due) continue;
+      client->next_due = std::max(client->next_due, now - client->min_interval) + client->min_interval;
+    }
     const std::string message =
         client->binary ? stream::EncodeStreamFrame(*frame, client->parts).bytes : FrameMessage(*frame);
     mg_lock_connection(client->connection);

@@ -8,8 +8,12 @@
 //      "bodies": [[id, tracked, predicted, x, y, z, qx, qy, qz, qw, mean_error_mm, markers], ...]}
 //     (mm, world frame; id is the confirmed marker number or, when provisional is 1, the
 //     tentative track's serial, -1 for a point no track took)
+//     /api/live?max_fps=N sends at most N frames per second (api/live_query.h).
 //   /api/stream  binary messages, one StreamFrame (proto/mocap_stream.proto) per frame, with the
 //     parts asked for in the query: /api/stream?parts=points,bodies (default points,bodies).
+// Every other path is the web console's static files (api/static_files.h; GET and HEAD, with an
+// ETag so a reload costs a 304), answered from the HTTP worker threads; a session file a request
+// names (/api/sessions/NAME/files/FILE) is streamed from disk in 64 KiB pieces, never held whole.
 // A client that cannot keep up loses frames, nobody else's and never the service's: the
 // broadcaster thread hands each frame to every client's short queue (dropping the oldest), and
 // each client has its own writer thread, so one that stops reading stalls only itself. At most
@@ -23,7 +27,9 @@
 #include <map>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "api/static_files.h"
 #include "service/hub_service.h"
 #include "stream/frame_queue.h"
 
@@ -34,9 +40,10 @@ namespace mocap::api {
 
 class HttpServer {
  public:
-  // listen: "HOST:PORT" (port 0: any free one). Starts serving at once; throws
-  // std::runtime_error when the address cannot be bound.
-  HttpServer(service::HubService& service, const std::string& listen);
+  // listen: "HOST:PORT" (port 0: any free one); console: where the web console's files are
+  // (none: the API only). Starts serving at once; throws std::runtime_error when the address
+  // cannot be bound.
+  HttpServer(service::HubService& service, const std::string& listen, std::vector<StaticMount> console = {});
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -49,6 +56,7 @@ class HttpServer {
 
   // civetweb callbacks (public for the C trampolines only).
   int OnRequest(mg_connection* connection);
+  int OnStaticRequest(mg_connection* connection);
   bool AcceptWebSocket(const mg_connection* connection);
   void OnWebSocketReady(mg_connection* connection);
   void OnWebSocketClose(const mg_connection* connection);
@@ -59,6 +67,7 @@ class HttpServer {
   static void Write(Client* client);
 
   service::HubService& service_;
+  std::vector<StaticMount> console_;
   mg_context* context_ = nullptr;
   uint16_t port_ = 0;
   stream::FrameQueue queue_;

@@ -16,6 +16,7 @@
 #include "cli/config_file.h"
 #include "ingest/udp_socket.h"
 #include "api/http_server.h"
+#include "api/static_files.h"
 #include "service/hub_service.h"
 #include "stream/osc_sender.h"
 #include "stream/qtm/qtm_rt_server.h"
@@ -41,7 +42,26 @@ struct ServeArgs {
   std::string osc_targets;             // comma-separated HOST:PORT
   std::string osc_parts = "points,bodies";
   std::string qtm_rt;                  // HOST:PORT of the Qualisys RT server; empty: off
+  std::string web_root = MOCAP_WEB_ROOT;  // the console's files; "off": none
+  std::string three_root = "/usr/share/javascript/three";  // Debian's libjs-three
 };
+
+// The console's files: a missing directory is a usage error when asked for explicitly, and a
+// warning for the built-in default (an installation that copied only the binary still serves
+// its API).
+std::vector<api::StaticMount> ConsoleOf(const ServeArgs& args, bool web_root_given) {
+  if (args.web_root == "off") return {};
+  std::vector<api::StaticMount> mounts = api::ConsoleMounts(args.web_root, args.three_root);
+  const bool has_root = !mounts.empty() && mounts[0].prefix == "/";
+  if (!has_root && web_root_given) throw UsageError("--web-root " + args.web_root + ": not a directory");
+  if (!has_root) {
+    log::Warn("web console not served: {} is not a directory (--web-root)", args.web_root);
+    return {};
+  }
+  if (mounts.size() < 2)
+    log::Warn("web console without its 3D views: {} missing (Debian package libjs-three)", args.three_root);
+  return mounts;
+}
 
 std::vector<std::string> SplitList(const std::string& text) {
   std::vector<std::string> out;
@@ -107,12 +127,13 @@ class Watchdog {
   uint64_t next_ns_ = 0;
 };
 
-void RunServe(ServeArgs& args) {
+void RunServe(ServeArgs& args, bool web_root_given) {
   CheckOptions(args.options);
+  std::vector<api::StaticMount> console = ConsoleOf(args, web_root_given);
   service::HubService hub(args.options);
   hub.Bind();
   Streams streams(args);
-  api::HttpServer http(hub, args.api);
+  api::HttpServer http(hub, args.api, console);
   // Qualisys RT (--qtm-rt): clients of that protocol, on its own thread like the streams.
   std::unique_ptr<stream::qtm::QtmRtServer> qtm_rt;
   if (!args.qtm_rt.empty()) {
@@ -137,8 +158,10 @@ void RunServe(ServeArgs& args) {
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
   const HostPort api = ParseHostPort(args.api);
-  log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(),
-            api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host, http.port(), args.options.sessions_dir);
+  const std::string api_host = api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host;
+  log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(), api_host, http.port(),
+            args.options.sessions_dir);
+  if (!console.empty()) log::Info("web console at http://{}:{}/ from {}", api_host, http.port(), console[0].dir);
   if (streams.udp)
     log::Info("stream: UDP port {}{}", streams.udp->port(),
               args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);
@@ -208,9 +231,14 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--qtm-rt", args->qtm_rt,
                       "HOST:PORT of a Qualisys-RT-compatible server (little-endian port; 0: any free); default off");
-  command->callback([args, config, command] {
+  CLI::Option* web_root = command->add_option("--web-root", args->web_root,
+                                              "Directory of the web console's files (hub/web); off: API only")
+                              ->capture_default_str();
+  command->add_option("--three-root", args->three_root, "three.js for the console's 3D views (libjs-three)")
+      ->capture_default_str();
+  command->callback([args, config, command, web_root] {
     if (!config->empty()) ApplyConfigFile(*command, *config);
-    RunServe(*args);
+    RunServe(*args, web_root->count() > 0);
   });
 }
 

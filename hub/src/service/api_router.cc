@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "service/api_error.h"
+#include "service/capture.h"
 
 namespace mocap::service {
 namespace {
@@ -146,6 +147,33 @@ ApiResponse RouteNode(ServiceApi& api, const ApiRequest& r, const std::vector<st
   throw ApiError(404, "no such path: " + r.path);
 }
 
+// What a downloaded session file is, by its extension; anything unknown is bytes.
+std::string FileType(const std::string& file) {
+  const size_t dot = file.rfind('.');
+  const std::string ext = dot == std::string::npos ? "" : file.substr(dot + 1);
+  if (ext == "trc" || ext == "txt") return "text/plain; charset=utf-8";
+  if (ext == "tsv") return "text/tab-separated-values; charset=utf-8";
+  if (ext == "json") return "application/json";
+  if (ext == "csv") return "text/csv; charset=utf-8";
+  return "application/octet-stream";
+}
+
+// /api/sessions/NAME[/files/FILE]: names are checked here as the service names sessions, so a
+// path that could leave the sessions directory ("..", "/", a leading dot) never reaches it.
+ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
+  RequireMethod(r, "GET");
+  const std::string& name = s[2];
+  if (!ValidSessionName(name)) throw ApiError(404, "no session '" + name + "'");
+  if (s.size() == 3) return Json(api.Session(name));
+  if (s.size() != 5 || s[3] != "files") throw ApiError(404, "no such path: " + r.path);
+  const std::string& file = s[4];
+  if (!ValidSessionName(file)) throw ApiError(404, "session '" + name + "' has no file '" + file + "'");
+  ApiResponse response;
+  response.file = api.SessionFile(name, file);
+  response.content_type = FileType(file);
+  return response;
+}
+
 ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
   if (r.body.size() > kMaxApiBody) throw ApiError(413, "the body is larger than 64 KiB");
   const std::vector<std::string> s = Segments(r.path);
@@ -183,6 +211,15 @@ ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
   if (what == "sessions" && s.size() == 2) {
     RequireMethod(r, "GET");
     return Json(api.Sessions());
+  }
+  if (what == "sessions") return RouteSession(api, r, s);
+  if (what == "calibration" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Calibration());
+  }
+  if (what == "blobs" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Blobs());
   }
   throw ApiError(404, "no such path: " + r.path);
 }

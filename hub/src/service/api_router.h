@@ -14,6 +14,10 @@
 //   POST   /api/capture/start               {"name": "NAME"}
 //   POST   /api/capture/stop
 //   GET    /api/sessions                    every session with its state
+//   GET    /api/sessions/NAME               one session with its files
+//   GET    /api/sessions/NAME/files/FILE    one of them (the response names the file to send)
+//   GET    /api/calibration                 the cameras: intrinsics, pose, centre
+//   GET    /api/blobs                       every camera's 2D blobs of the next frame set, masks
 //
 // Errors: {"error": "reason"} with 400 (bad JSON, unknown field, value out of range), 404 (no
 // such path or node), 405 (wrong method), 409, 413 (body over 64 KiB), 504, 500.
@@ -36,6 +40,7 @@ struct ApiResponse {
   int status = 200;
   std::string content_type = "application/json";
   std::string body;
+  std::string file;  // when set, the answer is this file's content (body unused): a download
 };
 
 inline constexpr size_t kMaxApiBody = 64 * 1024;

@@ -113,6 +113,46 @@ TEST(ApiRouter, BadRequestsAreRefusedWithTheirStatusAndAReason) {
   }
 }
 
+TEST(ApiRouter, SessionsCalibrationAndBlobs) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "GET", "/api/calibration").body["called"], "calibration");
+  EXPECT_EQ(Send(api, "GET", "/api/blobs").body["called"], "blobs");
+  EXPECT_EQ(Send(api, "GET", "/api/sessions/walk_01").body["called"], "session");
+  EXPECT_EQ(api.last_name, "walk_01");
+  const Routed trc = Send(api, "GET", "/api/sessions/walk_01/files/markers.trc");
+  EXPECT_EQ(trc.response.status, 200);
+  EXPECT_EQ(trc.response.file, "/sessions/walk_01/markers.trc");
+  EXPECT_EQ(trc.response.content_type, "text/plain; charset=utf-8");
+  EXPECT_EQ(api.last_name, "walk_01/markers.trc");
+  EXPECT_EQ(Send(api, "GET", "/api/sessions/walk_01/files/markers.c3d").response.content_type,
+            "application/octet-stream");
+  EXPECT_EQ(Send(api, "GET", "/api/sessions/walk_01/files/live_points.tsv").response.content_type,
+            "text/tab-separated-values; charset=utf-8");
+}
+
+TEST(ApiRouter, SessionPathsThatCouldLeaveTheSessionsDirectoryNeverReachTheService) {
+  // The HTTP server hands the router decoded paths: "%2e%2e" arrives as "..", "%2f" as "/".
+  const char* paths[] = {"/api/sessions/..", "/api/sessions/../files/x", "/api/sessions/a/files/..",
+                         "/api/sessions/a/files/.hidden", "/api/sessions/.a/files/b",
+                         "/api/sessions/a/files/../../etc/passwd", "/api/sessions/a/files/b/c",
+                         "/api/sessions/a/files", "/api/sessions/a/other/b", "/api/sessions/a b",
+                         "/api/sessions/a/files/b\\c", "/api/sessions/a\x01/files/b"};
+  for (const char* path : paths) {
+    FakeServiceApi api;
+    const Routed r = Send(api, "GET", path);
+    EXPECT_EQ(r.response.status, 404) << path;
+    EXPECT_TRUE(r.body.contains("error")) << path;
+    EXPECT_TRUE(r.response.file.empty()) << path;
+    EXPECT_TRUE(api.calls.empty()) << path;
+  }
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "POST", "/api/sessions/a/files/b").response.status, 405);
+  EXPECT_EQ(Send(api, "DELETE", "/api/sessions/a").response.status, 405);
+  EXPECT_EQ(Send(api, "POST", "/api/blobs").response.status, 405);
+  EXPECT_EQ(Send(api, "PUT", "/api/calibration").response.status, 405);
+  EXPECT_TRUE(api.calls.empty());
+}
+
 TEST(ApiRouter, OversizedBodiesAndInvalidTextAreAnswered) {
   FakeServiceApi api;
   EXPECT_EQ(Send(api, "POST", "/api/capture/start", std::string(kMaxApiBody + 1, ' ')).response.status, 413);

@@ -128,6 +128,23 @@ nlohmann::json Captures::Current(uint64_t now_ns) const {
           {"seconds", static_cast<double>(now_ns - started_ns_) * 1e-9}};
 }
 
+nlohmann::json Captures::Summary(const fs::path& path) const {
+  nlohmann::json item = {{"name", path.filename().string()}, {"path", path.string()}};
+  try {
+    const SessionInfo info = LoadSessionInfo(path.string());
+    const bool current = writer_ && path.filename() == name_;
+    item["state"] = current ? "capturing" : info.extra.value("capture_state", "complete");
+    item["source"] = info.source;
+    item["frame_sets"] = current ? frame_sets_ : info.frame_sets;
+    item["cameras"] = info.camera_ids.size();
+    item["rate_hz"] = info.rate_hz;
+  } catch (const std::exception& e) {
+    item["state"] = "unreadable";
+    item["error"] = e.what();
+  }
+  return item;
+}
+
 nlohmann::json Captures::List() const {
   nlohmann::json list = nlohmann::json::array();
   std::error_code ec;
@@ -136,23 +153,43 @@ nlohmann::json Captures::List() const {
   for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec))
     if (entry.is_directory() && fs::exists(entry.path() / "session.json")) dirs.push_back(entry.path());
   std::sort(dirs.begin(), dirs.end());
-  for (const fs::path& path : dirs) {
-    nlohmann::json item = {{"name", path.filename().string()}, {"path", path.string()}};
-    try {
-      const SessionInfo info = LoadSessionInfo(path.string());
-      const bool current = writer_ && path.filename() == name_;
-      item["state"] = current ? "capturing" : info.extra.value("capture_state", "complete");
-      item["source"] = info.source;
-      item["frame_sets"] = current ? frame_sets_ : info.frame_sets;
-      item["cameras"] = info.camera_ids.size();
-      item["rate_hz"] = info.rate_hz;
-    } catch (const std::exception& e) {
-      item["state"] = "unreadable";
-      item["error"] = e.what();
-    }
-    list.push_back(item);
-  }
+  for (const fs::path& path : dirs) list.push_back(Summary(path));
   return list;
+}
+
+fs::path Captures::SessionPath(const std::string& name) const {
+  std::error_code ec;
+  const fs::path path = fs::path(dir_) / name;
+  if (!ValidSessionName(name) || !fs::is_directory(fs::symlink_status(path, ec)) ||
+      !fs::exists(path / "session.json", ec))
+    throw ApiError(404, "no session '" + name + "'");
+  return path;
+}
+
+nlohmann::json Captures::Describe(const std::string& name) const {
+  const fs::path path = SessionPath(name);
+  std::vector<std::pair<std::string, uintmax_t>> files;
+  std::error_code ec;
+  for (const fs::directory_entry& entry : fs::directory_iterator(path, ec)) {
+    const std::string file = entry.path().filename().string();
+    std::error_code size_ec;
+    if (!ValidSessionName(file) || !fs::is_regular_file(entry.symlink_status(size_ec))) continue;
+    const uintmax_t bytes = fs::file_size(entry.path(), size_ec);
+    if (!size_ec) files.emplace_back(file, bytes);
+  }
+  std::sort(files.begin(), files.end());
+  nlohmann::json item = Summary(path);
+  item["files"] = nlohmann::json::array();
+  for (const auto& [file, bytes] : files) item["files"].push_back({{"name", file}, {"bytes", bytes}});
+  return item;
+}
+
+std::string Captures::FilePath(const std::string& name, const std::string& file) const {
+  const fs::path path = SessionPath(name) / file;
+  std::error_code ec;
+  if (!ValidSessionName(file) || !fs::is_regular_file(fs::symlink_status(path, ec)))
+    throw ApiError(404, "session '" + name + "' has no file '" + file + "'");
+  return path.string();
 }
 
 }  // namespace mocap::service

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -45,8 +46,19 @@ class Captures {
   bool running() const { return writer_ != nullptr; }
   nlohmann::json Current(uint64_t now_ns) const;  // null when none
   nlohmann::json List() const;                    // every session directory with its state
+  // One session: its summary as in List() plus "files": [{"name", "bytes"}] (the regular files
+  // directly in its directory, sorted; links and subdirectories are not offered). Throws
+  // ApiError 404 when there is no such session.
+  nlohmann::json Describe(const std::string& name) const;
+  // The path of one of those files, for download. Throws ApiError 404 unless both names are
+  // valid session names (ValidSessionName: no '/', no leading '.', so nothing outside the
+  // sessions directory can be named) and the file is a regular file (not a link) there.
+  std::string FilePath(const std::string& name, const std::string& file) const;
 
  private:
+  nlohmann::json Summary(const std::filesystem::path& path) const;
+  std::filesystem::path SessionPath(const std::string& name) const;  // throws ApiError 404
+
   std::string dir_;
   std::string calibration_file_;
   SessionInfo base_;

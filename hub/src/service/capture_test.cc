@@ -4,9 +4,12 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -107,6 +110,45 @@ TEST_F(CaptureTest, AKilledCaptureIsMarkedInterruptedAtTheNextStart) {
   EXPECT_EQ(listed[0]["name"], "broken");
   EXPECT_EQ(listed[0]["state"], "unreadable");
   EXPECT_TRUE(restarted.RecoverInterrupted().empty());
+}
+
+TEST_F(CaptureTest, SessionFilesAreListedAndOnlyThoseCanBeNamed) {
+  Captures captures = Make();
+  captures.Start("walk", IngestStats{}, 1'000'000'000);
+  captures.Stop(IngestStats{}, 2'000'000'000);
+  const fs::path session = dir_ / "sessions" / "walk";
+  const std::string trc = "PathFileType\t4\n";
+  std::ofstream(session / "markers.trc") << trc;
+  fs::create_directories(session / "sub");
+  std::ofstream(session / ".hidden") << "x";
+  std::ofstream(dir_ / "secret.txt") << "outside";
+  fs::create_symlink(dir_ / "secret.txt", session / "link.txt");
+
+  const nlohmann::json described = captures.Describe("walk");
+  EXPECT_EQ(described["name"], "walk");
+  EXPECT_EQ(described["state"], "complete");
+  std::vector<std::string> names;
+  for (const auto& f : described["files"]) names.push_back(f["name"].get<std::string>());
+  EXPECT_NE(std::find(names.begin(), names.end(), "markers.trc"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "session.json"), names.end());
+  EXPECT_NE(std::find(names.begin(), names.end(), "live_points.tsv"), names.end());
+  for (const char* hidden : {"sub", ".hidden", "link.txt"})
+    EXPECT_EQ(std::find(names.begin(), names.end(), hidden), names.end()) << hidden;
+  EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
+  for (const auto& f : described["files"]) {
+    if (f["name"] == "markers.trc") {
+      EXPECT_EQ(f["bytes"], trc.size());
+    }
+  }
+
+  EXPECT_EQ(fs::path(captures.FilePath("walk", "markers.trc")), session / "markers.trc");
+  for (const auto& named : std::vector<std::pair<std::string, std::string>>{
+           {"walk", "link.txt"}, {"walk", "sub"}, {"walk", ".hidden"}, {"walk", "../../secret.txt"},
+           {"walk", "missing.trc"}, {"..", "secret.txt"}, {"nope", "session.json"}, {"walk/..", "secret.txt"}})
+    EXPECT_EQ(StatusOf([&] { captures.FilePath(named.first, named.second); }), 404)
+        << named.first << " " << named.second;
+  EXPECT_EQ(StatusOf([&] { captures.Describe("nope"); }), 404);
+  EXPECT_EQ(StatusOf([&] { captures.Describe(".."); }), 404);
 }
 
 }  // namespace

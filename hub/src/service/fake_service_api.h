@@ -48,6 +48,17 @@ class FakeServiceApi : public ServiceApi {
   }
   nlohmann::json StopCapture() override { return Call("stop"); }
   nlohmann::json Sessions() override { return Call("sessions"); }
+  nlohmann::json Session(const std::string& name) override {
+    last_name = name;
+    return Call("session");
+  }
+  std::string SessionFile(const std::string& name, const std::string& file) override {
+    last_name = name + "/" + file;
+    Call("sessionfile");
+    return "/sessions/" + name + "/" + file;
+  }
+  nlohmann::json Calibration() override { return Call("calibration"); }
+  nlohmann::json Blobs() override { return Call("blobs"); }
 
  private:
   nlohmann::json Call(const std::string& what, uint32_t node = 0) {

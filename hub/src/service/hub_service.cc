@@ -109,6 +109,11 @@ struct HubService::PreviewWait {
   std::promise<PreviewImage> promise;
 };
 
+struct HubService::BlobsWait {
+  uint64_t deadline_ns = 0;
+  std::promise<BlobsSnapshot> promise;
+};
+
 struct HubService::MaskJob {
   int frames_wanted = 0;
   int frames_seen = 0;
@@ -264,6 +269,9 @@ void HubService::OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d
 
 void HubService::Publish(const FrameSet& set) {
   if (mask_job_) CollectMaskFrames(set);
+  last_publish_ns_ = RealtimeNowNs();
+  for (auto& wait : blobs_waiters_) wait->promise.set_value(BlobsSnapshot{set, masks_});
+  blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
   const LiveFrame& frame = live_.Process(set, RealtimeNowNs);
   processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
@@ -302,6 +310,14 @@ void HubService::Tick(uint64_t now) {
     (*it)->promise.set_exception(std::make_exception_ptr(
         ApiError(504, "node " + std::to_string((*it)->node_id) + " sent no complete preview in time")));
     it = preview_waiters_.erase(it);
+  }
+  for (auto it = blobs_waiters_.begin(); it != blobs_waiters_.end();) {
+    if (now < (*it)->deadline_ns) {
+      ++it;
+      continue;
+    }
+    (*it)->promise.set_value(BlobsSnapshot{std::nullopt, masks_});
+    it = blobs_waiters_.erase(it);
   }
   if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
     FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
@@ -714,6 +730,79 @@ nlohmann::json HubService::StopCapture() {
 
 nlohmann::json HubService::Sessions() {
   return OnLoop([this] { return captures_.List(); });
+}
+
+nlohmann::json HubService::Session(const std::string& name) {
+  return OnLoop([this, name] { return captures_.Describe(name); });
+}
+
+std::string HubService::SessionFile(const std::string& name, const std::string& file) {
+  return OnLoop([this, name, file] { return captures_.FilePath(name, file); });
+}
+
+nlohmann::json HubService::Calibration() {
+  // The rig never changes while serving: no need to go through the loop.
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const Camera& c : rig_.cameras) {
+    const CameraIntrinsics& k = c.intrinsics;
+    nlohmann::json rotation = nlohmann::json::array();
+    for (int r = 0; r < 3; ++r) rotation.push_back({c.rotation(r, 0), c.rotation(r, 1), c.rotation(r, 2)});
+    const Eigen::Vector3d centre = c.CenterInWorld();
+    cameras.push_back({{"id", c.id},
+                       {"width", k.width},
+                       {"height", k.height},
+                       {"fx", k.fx},
+                       {"fy", k.fy},
+                       {"cx", k.cx},
+                       {"cy", k.cy},
+                       {"distortion", k.distortion},
+                       {"rotation", rotation},
+                       {"translation", {c.translation.x(), c.translation.y(), c.translation.z()}},
+                       {"centre", {centre.x(), centre.y(), centre.z()}}});
+  }
+  return {{"units", "mm"}, {"file", options_.calibration}, {"cameras", cameras}};
+}
+
+nlohmann::json HubService::BlobsJson(const BlobsSnapshot& snapshot) const {
+  const FrameSet* set = snapshot.set ? &*snapshot.set : nullptr;
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const Camera& c : rig_.cameras) {
+    nlohmann::json blobs = nlohmann::json::array();
+    bool seen = false;
+    if (set) {
+      for (const CameraFrame& frame : set->cameras) {
+        if (frame.camera_id != c.id) continue;
+        seen = true;
+        for (const Blob& b : frame.blobs) blobs.push_back({b.pixel.x(), b.pixel.y(), b.area});
+      }
+    }
+    nlohmann::json mask = nlohmann::json::array();
+    for (const CameraMask& m : snapshot.masks)
+      if (m.camera_id == c.id)
+        for (const MaskRect& r : m.regions) mask.push_back({r.x, r.y, r.width, r.height});
+    cameras.push_back({{"id", c.id},
+                       {"width", c.intrinsics.width},
+                       {"height", c.intrinsics.height},
+                       {"seen", seen},
+                       {"blobs", blobs},
+                       {"mask", mask}});
+  }
+  return {{"frame", set ? nlohmann::json(set->frame_number) : nlohmann::json(nullptr)}, {"cameras", cameras}};
+}
+
+nlohmann::json HubService::Blobs() {
+  std::future<BlobsSnapshot> answer = OnLoop([this] {
+    auto wait = std::make_unique<BlobsWait>();
+    const uint64_t now = RealtimeNowNs();
+    wait->deadline_ns = now + Ns(kBlobsWaitSeconds);
+    std::future<BlobsSnapshot> future = wait->promise.get_future();
+    if (now > last_publish_ns_ + Ns(kBlobsWaitSeconds))
+      wait->promise.set_value(BlobsSnapshot{std::nullopt, masks_});  // nothing flows: don't wait
+    else
+      blobs_waiters_.push_back(std::move(wait));
+    return future;
+  });
+  return BlobsJson(Await(std::move(answer), kBlobsWaitSeconds + 1.0));
 }
 
 int HubService::Subscribe(Subscriber subscriber) {

@@ -95,6 +95,14 @@ class HubService : public ServiceApi {
   nlohmann::json StartCapture(const std::string& name) override;
   nlohmann::json StopCapture() override;
   nlohmann::json Sessions() override;
+  nlohmann::json Session(const std::string& name) override;
+  std::string SessionFile(const std::string& name, const std::string& file) override;
+  nlohmann::json Calibration() override;
+  // The next frame set's blobs: waits for it at most kBlobsWaitSeconds, and not at all when no
+  // frame set came for that long (then "frame" is null), so idle consoles hold no HTTP worker.
+  // The loop only copies the set; the JSON is made on the caller's thread.
+  nlohmann::json Blobs() override;
+  static constexpr double kBlobsWaitSeconds = 0.5;
 
   int Subscribe(Subscriber subscriber);
   void Unsubscribe(int id);
@@ -105,6 +113,7 @@ class HubService : public ServiceApi {
  private:
   struct MaskJob;
   struct PreviewWait;
+  struct BlobsWait;
 
   // Runs f on the loop thread and returns its result (or rethrows its exception).
   template <typename F>
@@ -133,6 +142,11 @@ class HubService : public ServiceApi {
   const NodeEntry& KnownNode(uint32_t node_id) const;  // throws ApiError 404
   nlohmann::json NodeJson(const NodeEntry& node) const;
   nlohmann::json CaptureJson() const;
+  struct BlobsSnapshot {
+    std::optional<FrameSet> set;       // none: no frame set in time
+    std::vector<CameraMask> masks;
+  };
+  nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ only)
 
   ServeOptions options_;
   Rig rig_;
@@ -161,6 +175,8 @@ class HubService : public ServiceApi {
   std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
   std::vector<std::unique_ptr<PreviewWait>> preview_waiters_;
   std::unique_ptr<MaskJob> mask_job_;
+  std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
+  uint64_t last_publish_ns_ = 0;
 
   // Work handed to the loop by other threads.
   std::mutex tasks_mutex_;

@@ -35,6 +35,15 @@ class ServiceApi {
   virtual nlohmann::json StartCapture(const std::string& name) = 0;
   virtual nlohmann::json StopCapture() = 0;
   virtual nlohmann::json Sessions() = 0;
+  // One session with its files; the path of one file of it (see Captures::Describe/FilePath).
+  virtual nlohmann::json Session(const std::string& name) = 0;
+  virtual std::string SessionFile(const std::string& name, const std::string& file) = 0;
+  // The cameras of the calibration: id, image size, intrinsics, cam_from_world, centre in world.
+  virtual nlohmann::json Calibration() = 0;
+  // The 2D blobs of the next frame set per calibrated camera, with each camera's mask regions:
+  // {"frame": N | null, "cameras": [{"id", "width", "height", "seen", "blobs": [[x, y, area], ...],
+  // "mask": [[x, y, width, height], ...]}]}; "frame" is null when no frame set came in time.
+  virtual nlohmann::json Blobs() = 0;
 };
 
 }  // namespace mocap::service

@@ -1,0 +1,59 @@
+// Calibration: the calibration serve runs with, as a camera layout in 3D and a table per camera
+// (resolution, intrinsics, distortion, position, distance to the volume's centre, its node).
+// Live wanding feedback (samples and coverage per camera) and the solver's report belong to the
+// calibration work (wand calibration in the service); this page shows what is calibrated now.
+import { el, formatNumber } from './api.js';
+import { Scene3D } from './scene3d.js';
+
+export class CalibrationPage {
+  constructor(root, hub) {
+    this.hub = hub;
+    const view = el('div', { class: 'view3d short', id: 'calibration-view' });
+    this.file = el('span', { class: 'hint' });
+    root.append(el('h2', { text: 'Camera layout' }), this.file, view,
+      el('table', { class: 'cameras', id: 'calibration-table' },
+        el('thead', {}, el('tr', {}, ...['Camera', 'Image px', 'fx / fy px', 'cx / cy px', 'k1 / k2',
+          'Position mm', 'Distance to centre mm', 'Node'].map((t) => el('th', { text: t })))),
+        this.tbody = el('tbody')),
+      el('p', { class: 'hint', text: 'Wanding coverage and the calibration report come with the calibration ' +
+        'service; calibrate with `mocap-hub calibrate wand` and restart serve with the new file.' }));
+    this.scene = new Scene3D(view);
+    this.cameras = [];
+    hub.onCalibration((cameras, file) => {
+      this.cameras = cameras;
+      this.file.textContent = `${file} · ${cameras.length} cameras`;
+      this.scene.setCameras(cameras);
+      this.fill();
+    });
+  }
+
+  fill(nodes = new Map()) {
+    this.tbody.replaceChildren();
+    const centre = [0, 0, 0];
+    for (const c of this.cameras) c.centre.forEach((v, i) => { centre[i] += v / this.cameras.length; });
+    for (const c of this.cameras) {
+      const node = nodes.get(c.id);
+      const d = Math.hypot(...c.centre.map((v, i) => v - centre[i]));
+      this.tbody.append(el('tr', { 'data-camera-id': c.id },
+        el('td', { text: c.id }), el('td', { text: `${c.width}×${c.height}` }),
+        el('td', { text: `${formatNumber(c.fx)} / ${formatNumber(c.fy)}` }),
+        el('td', { text: `${formatNumber(c.cx)} / ${formatNumber(c.cy)}` }),
+        el('td', { text: `${formatNumber(c.distortion[0], 3)} / ${formatNumber(c.distortion[1], 3)}` }),
+        el('td', { text: c.centre.map((v) => v.toFixed(0)).join(', ') }),
+        el('td', { text: d.toFixed(0) }),
+        el('td', { text: node ? node.state : 'not heard' })));
+    }
+  }
+
+  async show() {
+    this.scene.show();
+    try {
+      const nodes = await this.hub.nodes();
+      this.fill(new Map(nodes.map((n) => [n.id, n])));
+    } catch (e) {
+      this.fill();
+    }
+  }
+
+  hide() { this.scene.hide(); }
+}

@@ -1,0 +1,439 @@
+#!/usr/bin/env python3
+"""The web console in a real browser: `mocap-hub serve` with four real `mocap-node` processes on
+loopback (tests/serve/live_rig.py), Debian's Chromium headless driven through selenium and
+Debian's chromedriver. Asserts on the page what an operator relies on: the node rows are the
+running nodes, a threshold typed into the page reaches the node's status, the camera views show
+blobs and the auto-mask's regions, the 3D view draws every marker of the frame it shows, a
+captured and reconstructed session plays (and scrubs) with the TRC's markers, its files download
+byte for byte, a second browser sees the same, and the page reconnects by itself after serve
+restarts. Prints the figures (page load, frame rates, traffic per client) and saves screenshots
+in WORK_DIR/screenshots; figures are reported, never asserted.
+
+usage: web_test.py BIN_DIR WORK_DIR
+
+Every wait is bounded; every process the test starts is killed at the end."""
+
+import collections
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
+from live_rig import Rig, http, render_scene, wait_for  # noqa: E402
+
+from selenium import webdriver  # noqa: E402
+from selenium.webdriver.chrome.service import Service  # noqa: E402
+from selenium.webdriver.common.by import By  # noqa: E402
+
+BIN = WORK = None
+CAMERAS = 4
+MARKERS = 12
+RATE = 100
+REFLECTIONS = 6
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+
+
+def browser():
+    options = webdriver.ChromeOptions()
+    options.binary_location = CHROMIUM
+    # No GPU here: WebGL runs on SwiftShader, Chromium's software renderer.
+    for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--enable-unsafe-swiftshader",
+                "--window-size=1400,860", "--disable-extensions", "--no-first-run"):
+        options.add_argument(arg)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+
+
+def trc_markers_per_frame(path):
+    """Frame# -> markers present in that row of a TRC (gaps are empty cells)."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    count = len([n for n in lines[3].split("\t")[2:] if n])
+    present = {}
+    for line in lines[5:]:
+        if not line.strip():
+            continue
+        cells = line.split("\t")
+        present[int(cells[0])] = sum(1 for m in range(count) if cells[2 + 3 * m].strip())
+    return present
+
+
+def raw_request(port, request):
+    """One raw HTTP request (bytes as given, nothing normalised) -> (status, headers, body)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=10)
+    s.sendall(request)
+    data = b""
+    while True:
+        chunk = s.recv(65536)
+        if not chunk:
+            break
+        data += chunk
+    s.close()
+    head, _, body = data.partition(b"\r\n\r\n")
+    lines = head.decode("latin-1").split("\r\n")
+    headers = {k.strip().lower(): v.strip() for k, _, v in (line.partition(":") for line in lines[1:])}
+    return int(lines[0].split()[1]), headers, body
+
+
+class WebConsoleTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        shutil.rmtree(WORK, ignore_errors=True)
+        os.makedirs(WORK)
+        cls.shots = os.path.join(WORK, "screenshots")
+        os.makedirs(cls.shots)
+        render_scene(BIN, WORK, CAMERAS, RATE, markers=MARKERS, reflections=REFLECTIONS)
+        cls.rig = Rig(BIN, WORK, RATE)
+        cls.drivers = []
+        try:
+            cls.rig.start(CAMERAS)
+            cls.url = f"http://{cls.rig.api}/"
+            cls.page = browser()
+            cls.drivers.append(cls.page)
+        except BaseException:
+            cls.tearDownClass()
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        for driver in cls.drivers:
+            driver.quit()
+        cls.rig.stop()
+
+    def js(self, script, driver=None):
+        return (driver or self.page).execute_script(script)
+
+    def go(self, page):
+        self.page.get(self.url + "#" + page)
+        wait_for(f"the {page} page",
+                 lambda: self.js("return window.mocapConsole && mocapConsole.currentPage()") == page)
+
+    def hub_state(self, driver):
+        return self.js("return document.getElementById('hub-state').textContent", driver)
+
+    def shot(self, name):
+        self.page.save_screenshot(os.path.join(self.shots, name + ".png"))
+
+    def traffic_per_second(self, seconds):
+        """Bytes the page received per second (HTTP bodies + WebSocket messages) over `seconds`."""
+        before = self.js("return {...mocapConsole.traffic, t: performance.now()}")
+        time.sleep(seconds)
+        after = self.js("return {...mocapConsole.traffic, t: performance.now()}")
+        dt = (after["t"] - before["t"]) / 1000
+        return ((after["httpBytes"] - before["httpBytes"]) / dt, (after["wsBytes"] - before["wsBytes"]) / dt,
+                (after["requests"] - before["requests"]) / dt)
+
+    def test_1_page_loads_and_its_rows_are_the_running_nodes(self):
+        start = time.monotonic()
+        self.page.get(self.url)
+        rows = wait_for("a row per node", lambda: self.page.find_elements(By.CSS_SELECTOR, "#nodes-table tbody tr")
+                        if len(self.page.find_elements(By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS
+                        else None)
+        rows_s = time.monotonic() - start
+        load_ms = self.js("const n = performance.getEntriesByType('navigation')[0]; "
+                          "return n.loadEventEnd - n.startTime")
+        nodes = self.rig.nodes_json()
+        self.assertEqual({int(r.get_attribute("data-node-id")) for r in rows}, set(nodes))
+        for row in rows:
+            node = nodes[int(row.get_attribute("data-node-id"))]
+            wait_for("the row's state",
+                     lambda: row.find_element(By.CSS_SELECTOR, "[data-field=state]").text == node["state"])
+            self.assertEqual(row.find_element(By.CSS_SELECTOR, "[data-field=address]").text, node["address"])
+        errors = [e for e in self.page.get_log("browser") if e["level"] == "SEVERE"]
+        self.assertEqual(errors, [], "the console logs no errors")
+        print(f"page load on loopback: load event {load_ms:.0f} ms, node rows shown {rows_s * 1000:.0f} ms "
+              f"after the request")
+
+    def test_2_threshold_typed_in_the_page_reaches_the_node(self):
+        self.go("nodes")
+        row = wait_for("node 3's row", lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-node-id='3']"))[0]
+        field = row.find_element(By.CSS_SELECTOR, "input[data-field=threshold]")
+        field.clear()
+        field.send_keys("47")
+        row.find_element(By.CSS_SELECTOR, "button[data-action=apply]").click()
+        wait_for("the node's answer in the row",
+                 lambda: row.find_element(By.CSS_SELECTOR, "[data-field=result]").text == "applied")
+        wait_for("node 3's status to say threshold 47", lambda: self.rig.nodes_json()[3]["threshold"] == 47)
+        self.assertEqual(self.rig.nodes_json()[1]["threshold"], 32)
+        self.rig.hub("node", "3", "set", "threshold=32")
+        wait_for("the page to show the node's threshold again",
+                 lambda: field.get_attribute("value") == "32", timeout=5)
+
+    def test_3_camera_views_show_blobs_and_auto_masks(self):
+        self.go("nodes")
+        views = wait_for("a view per camera with blobs", lambda: [
+            v for v in self.page.find_elements(By.CSS_SELECTOR, ".camera-view")
+            if int(v.get_attribute("data-blobs") or 0) > 0] if len(
+            self.page.find_elements(By.CSS_SELECTOR, ".camera-view[data-blobs]")) == CAMERAS else None)
+        self.assertEqual(len(views), CAMERAS)
+        http_bps, ws_bps, requests = self.traffic_per_second(4)
+        print(f"traffic, Nodes page: {http_bps / 1000:.1f} kB/s HTTP ({requests:.1f} requests/s), "
+              f"{ws_bps / 1000:.1f} kB/s WebSocket")
+        self.page.find_element(By.ID, "mask-frames").clear()
+        self.page.find_element(By.ID, "mask-frames").send_keys("50")
+        self.page.find_element(By.ID, "auto-mask").click()
+        wait_for("the auto-mask's answer", lambda: "masked from" in self.page.find_element(By.ID, "mask-message").text)
+        # Each view draws the regions the installation's mask file keeps for its camera.
+        with open(os.path.join(WORK, "masks.json")) as f:
+            regions = {c["camera_id"]: len(c["regions"]) for c in json.load(f)["cameras"]}
+        self.assertGreater(sum(regions.values()), 0, "the rendered reflections were masked")
+        wait_for("each camera's masked regions drawn in its view", lambda: all(
+            int(v.get_attribute("data-mask-regions") or 0) == regions.get(int(v.get_attribute("data-camera-id")), 0)
+            for v in self.page.find_elements(By.CSS_SELECTOR, ".camera-view")))
+        # A preview on demand (camera 1, thresholded) becomes the view's background.
+        view = self.page.find_element(By.CSS_SELECTOR, ".camera-view[data-camera-id='1']")
+        view.find_element(By.XPATH, ".//button[text()='Raw image']").click()
+        wait_for("the preview", lambda: view.find_element(By.CSS_SELECTOR, ".message").text == "raw preview")
+        time.sleep(0.3)
+        self.shot("nodes")
+
+    def test_4_live_view_draws_every_marker_of_its_frame(self):
+        self.go("live")
+        self.page.find_element(By.ID, "show-ids").click()
+        wait_for("markers drawn", lambda: self.js("return mocapConsole.pages.live.scene.drawnMarkers") > 0)
+        samples = []
+        for _ in range(30):
+            drawn, points = self.js("const s = mocapConsole.pages.live.scene; "
+                                    "return [s.drawnMarkers, s.drawnFramePoints]")
+            self.assertEqual(drawn, points, "the view draws every point of the frame it shows")
+            samples.append(drawn)
+            time.sleep(0.05)
+        # Rigid bodies are drawn as axes at their pose (a frame with one body, handed to the page
+        # as the WebSocket would: serve here runs without --bodies).
+        visible, position = self.js(
+            "const p = mocapConsole.pages.live; p.onFrame({frame: 0, points: [], "
+            "bodies: [[1, 1, 0, 100, 200, 300, 0, 0, 0.7071068, 0.7071068, 0.2, 4],"
+            "         [2, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0]]});"
+            "const a = p.scene.bodyAxes; return [a.map((x) => x.visible), a[0].position.toArray()];")
+        self.assertEqual(visible, [True, False], "a tracked body is drawn, one neither tracked nor predicted is not")
+        self.assertEqual(position, [100, 200, 300])
+        most = collections.Counter(samples).most_common(1)[0][0]
+        self.assertEqual(most, MARKERS, f"the rendered subject has {MARKERS} markers: {samples}")
+        time.sleep(1.2)
+        received, drawn_fps = self.js("const p = mocapConsole.pages.live; return [p.rate.fps, p.scene.fps]")
+        frames_before = self.js("return mocapConsole.pages.live.socket.framesReceived")
+        http_bps, ws_bps, requests = self.traffic_per_second(4)
+        frames = (self.js("return mocapConsole.pages.live.socket.framesReceived") - frames_before) / 4
+        print(f"live message size: {ws_bps / frames:.0f} bytes per frame of about {MARKERS} points")
+        print(f"live 3D, {MARKERS} markers at {RATE} Hz: {received:.0f} frames/s received (max_fps=60), "
+              f"{drawn_fps:.0f} fps drawn in headless Chromium (SwiftShader, 1400x860)")
+        print(f"traffic, Live 3D page: {ws_bps / 1000:.1f} kB/s WebSocket + {http_bps / 1000:.1f} kB/s HTTP "
+              f"({requests:.1f} requests/s)")
+        self.shot("live")
+
+    def test_5_a_view_of_150_markers(self):
+        self.go("live")
+        wait_for("live frames", lambda: self.js("return mocapConsole.pages.live.frames") > 0)
+        if not self.page.find_element(By.ID, "show-ids").is_selected():
+            self.page.find_element(By.ID, "show-ids").click()
+        result = self.page.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "mocapConsole.pages.live.benchmark(150, 4000).then(done);")
+        self.assertEqual(result["drawn"], 150)
+        self.assertGreater(result["frames"], 0)
+        software = self.js("return mocapConsole.softwareGl")
+        print(f"live 3D with 150 markers (ids shown): {result['fps']:.1f} fps drawn over {result['seconds']:.1f} s "
+              f"(headless Chromium, {'software WebGL (SwiftShader), no antialiasing' if software else 'GPU'}, "
+              f"1400x860, on the 2-core machine beside serve and 4 nodes)")
+
+    def test_6_calibration_page_shows_every_camera(self):
+        self.go("calibration")
+        rows = wait_for("a row per camera", lambda: self.page.find_elements(
+            By.CSS_SELECTOR, "#calibration-table tbody tr") if len(self.page.find_elements(
+                By.CSS_SELECTOR, "#calibration-table tbody tr")) == CAMERAS else None)
+        self.assertEqual({int(r.get_attribute("data-camera-id")) for r in rows}, set(range(1, CAMERAS + 1)))
+        wait_for("node states in the table", lambda: all(
+            r.find_elements(By.TAG_NAME, "td")[-1].text == "running"
+            for r in self.page.find_elements(By.CSS_SELECTOR, "#calibration-table tbody tr")))
+        time.sleep(0.3)
+        self.shot("calibration")
+
+    def test_7_a_captured_session_plays_and_downloads(self):
+        self.go("sessions")
+        name = self.page.find_element(By.ID, "capture-name")
+        name.clear()
+        name.send_keys("web_take")
+        self.page.find_element(By.ID, "capture-start").click()
+        wait_for("the capture", lambda: "capturing web_take" in self.page.find_element(By.ID, "capture-state").text)
+        time.sleep(2.0)
+        self.page.find_element(By.ID, "capture-stop").click()
+        wait_for("the capture's summary", lambda: self.page.find_element(By.ID, "capture-message").text.startswith(
+            "web_take: "))
+        self.assertEqual(self.page.find_element(By.ID, "capture-state").text, "not capturing")
+        session = os.path.join(WORK, "sessions", "web_take")
+        trc = os.path.join(session, "markers.trc")
+        calibration = os.path.join(WORK, "frames", "calibration.json")
+        self.rig.hub("reconstruct", session, "--calibration", calibration, "-o", trc)
+        self.rig.hub("reconstruct", session, "--calibration", calibration, "-o", os.path.join(session, "markers.c3d"))
+        # The list is read when the page is shown: show it again.
+        self.go("nodes")
+        self.go("sessions")
+        row = wait_for("the session's row",
+                       lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-session='web_take']"))[0]
+        self.assertEqual(row.find_elements(By.TAG_NAME, "td")[1].text, "complete")
+        row.find_element(By.CSS_SELECTOR, "button[data-action=files]").click()
+        files = wait_for("its files",
+                         lambda: self.page.find_elements(By.CSS_SELECTOR, "#session-details tr[data-file]"))
+        names = {f.get_attribute("data-file") for f in files}
+        self.assertTrue({"markers.trc", "markers.c3d", "live_points.tsv", "session.json"} <= names, names)
+        # The download links give the files byte for byte.
+        for file in ("markers.trc", "markers.c3d"):
+            link = self.page.find_element(By.CSS_SELECTOR, f"#session-details tr[data-file='{file}'] a")
+            self.assertEqual(link.get_attribute("download"), file)
+            path = link.get_attribute("href").split(self.rig.api, 1)[1]
+            status, body = http(self.rig.api_port, "GET", path)
+            self.assertEqual(status, 200)
+            with open(os.path.join(session, file), "rb") as f:
+                self.assertEqual(body, f.read(), file)
+        # Play the TRC: frames advance, and each frame shown draws the TRC's markers of that row.
+        present = trc_markers_per_frame(trc)
+        self.page.find_element(By.CSS_SELECTOR,
+                               "#session-details tr[data-file='markers.trc'] button[data-action=play]").click()
+        wait_for("playback", lambda: self.js("return mocapConsole.pages.sessions.player.playing"))
+        time.sleep(0.15)  # a render of the new recording
+        seen = set()
+        end = time.monotonic() + 3
+        while time.monotonic() < end and len(seen) < 5:
+            frame, drawn, number = self.js(
+                "const p = mocapConsole.pages.sessions; const r = p.player.recording;"
+                "return [p.player.index, p.scene.drawnMarkers, r.frameNumbers[p.player.index]]")
+            self.assertEqual(drawn, present[number], f"TRC frame {number}")
+            seen.add(frame)
+            time.sleep(0.1)
+        self.assertGreaterEqual(len(seen), 3, "the frame shown advances while playing")
+        self.page.find_element(By.ID, "play").click()  # pause
+        self.assertFalse(self.js("return mocapConsole.pages.sessions.player.playing"))
+        # Scrub to the middle: the view shows that frame and stays there while paused.
+        frames = len(present)
+        self.js(f"const s = document.getElementById('timeline'); s.value = {frames // 2};"
+                "s.dispatchEvent(new Event('input'));")
+        time.sleep(0.2)  # a render or two
+        index, drawn, number = self.js("const p = mocapConsole.pages.sessions; return [p.player.index, "
+                                       "p.scene.drawnMarkers, p.player.recording.frameNumbers[p.player.index]]")
+        self.assertEqual(index, frames // 2)
+        self.assertEqual(drawn, present[number])
+        time.sleep(0.3)
+        self.assertEqual(self.js("return mocapConsole.pages.sessions.player.index"), frames // 2)
+        # Twice the speed plays faster than real time (from the start: the take is 2 s long).
+        self.js("const s = document.getElementById('timeline'); s.value = 0; s.dispatchEvent(new Event('input'));")
+        self.js("const s = document.getElementById('speed'); s.value = '2'; s.dispatchEvent(new Event('change'));")
+        self.page.find_element(By.ID, "play").click()
+        start_index, start = self.js("return mocapConsole.pages.sessions.player.index"), time.monotonic()
+        time.sleep(0.5)
+        advanced = self.js("return mocapConsole.pages.sessions.player.index") - start_index
+        elapsed = time.monotonic() - start
+        self.assertGreater(advanced, RATE * elapsed * 1.2, "2x plays faster than real time")
+        self.page.find_element(By.ID, "play").click()
+        # live_points.tsv (what serve published) plays too: each frame shown draws its points.
+        published = collections.Counter()
+        with open(os.path.join(session, "live_points.tsv")) as f:
+            for line in f:
+                if line[:1].isdigit():
+                    published[int(line.split("\t")[0])] += 1
+        self.page.find_element(By.CSS_SELECTOR,
+                               "#session-details tr[data-file='live_points.tsv'] button[data-action=play]").click()
+        wait_for("the live points", lambda: self.js(
+            "return mocapConsole.pages.sessions.player.recording.markers.length === 0 && "
+            "mocapConsole.pages.sessions.player.playing"))
+        time.sleep(0.15)
+        for _ in range(5):
+            drawn, number = self.js("const p = mocapConsole.pages.sessions; "
+                                    "return [p.scene.drawnMarkers, p.player.recording.frameNumbers[p.player.index]]")
+            self.assertEqual(drawn, published[number], f"published frame {number}")
+            time.sleep(0.1)
+        self.page.find_element(By.CSS_SELECTOR,
+                               "#session-details tr[data-file='markers.trc'] button[data-action=play]").click()
+        wait_for("the TRC again",
+                 lambda: self.js("return mocapConsole.pages.sessions.player.recording.markers.length") > 0)
+        time.sleep(0.6)  # into the take (it lasts 1.1 s at 2x), then paused for the picture
+        self.page.find_element(By.ID, "play").click()
+        self.shot("sessions")
+
+    def test_8_a_second_browser_and_a_serve_restart(self):
+        other = browser()
+        self.drivers.append(other)
+        other.get(self.url + "#nodes")
+        wait_for("the second browser's node rows", lambda: len(other.find_elements(
+            By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS)
+        self.go("live")
+        wait_for("live frames", lambda: self.js("return mocapConsole.pages.live.frames") > 0)
+        connections = self.js("return mocapConsole.pages.live.socket.connections")
+        # serve goes away (killed, as a crash would) and comes back on the same ports.
+        self.rig.serve.kill()
+        self.rig.serve.wait()
+        for driver in (self.page, other):
+            wait_for("the page to say the hub is away", lambda: "away" in self.hub_state(driver))
+        self.rig.start_serve(self.rig.udp_port, self.rig.api_port)
+        for driver in (self.page, other):
+            wait_for("the page to reconnect", lambda: self.hub_state(driver) == "connected", timeout=10)
+        wait_for("the live view to reconnect", lambda: self.js(
+            "return mocapConsole.pages.live.socket.connections") == connections + 1, timeout=10)
+        frames = self.js("return mocapConsole.pages.live.frames")
+        wait_for("frames again after the restart",
+                 lambda: self.js("return mocapConsole.pages.live.frames") > frames + 10)
+        wait_for("the nodes back in the second browser", lambda: len(other.find_elements(
+            By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS)
+
+    def test_9_a_missing_web_root_is_a_usage_error(self):
+        result = subprocess.run(
+            [os.path.join(BIN, "mocap-hub"), "serve", "--calibration", os.path.join(WORK, "frames", "calibration.json"),
+             "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "off",
+             "--sessions-dir", os.path.join(WORK, "sessions_unused"), "--web-root", os.path.join(WORK, "no_such_dir")],
+            capture_output=True, text=True, timeout=30)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertIn("not a directory", result.stderr)
+
+    def test_9_paths_that_leave_the_console_or_the_sessions_are_refused(self):
+        port = self.rig.api_port
+        with open(os.path.join(WORK, "outside.trc"), "w") as f:
+            f.write("outside")
+        for path in ("/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/js/..%2f..%2f..%2fetc/passwd",
+                     "/vendor/three/../../../../../etc/passwd", "/vendor/three/%2e%2e/%2e%2e/%2e%2e/etc/passwd",
+                     "/api/sessions/%2e%2e/files/outside.trc", "/api/sessions/web_take/files/..%2f..%2foutside.trc",
+                     "/api/sessions/web_take/files/%2e%2e%2f%2e%2e%2foutside.trc",
+                     "/api/sessions/..%2f/files/outside.trc",
+                     "/.%2e/outside.trc", "/masks.json", "/api/sessions/web_take/files/.hidden"):
+            status, _, body = raw_request(port, f"GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n".encode())
+            self.assertIn(status, (400, 403, 404), path)
+            self.assertNotIn(b"root:", body, path)
+            self.assertNotIn(b"outside", body.replace(b"outside.trc", b""), path)
+
+    def test_9_console_files_are_typed_and_revalidated(self):
+        port = self.rig.api_port
+        status, headers, body = raw_request(port, b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        self.assertEqual(status, 200)
+        self.assertTrue(headers["content-type"].startswith("text/html"))
+        self.assertIn(b'<script type="module" src="/js/main.js">', body)
+        status, headers, body = raw_request(
+            port, b"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        self.assertEqual(status, 200)
+        self.assertTrue(headers["content-type"].startswith("text/javascript"))  # ES modules need it
+        self.assertEqual(int(headers["content-length"]), len(body))
+        etag = headers["etag"]
+        status, _, body = raw_request(port, f"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: x\r\n"
+                                            f"If-None-Match: {etag}\r\nConnection: close\r\n\r\n".encode())
+        self.assertEqual((status, body), (304, b""))
+        status, _, _ = raw_request(port, b"POST /index.html HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n"
+                                         b"Connection: close\r\n\r\n")
+        self.assertEqual(status, 405)
+
+
+def main():
+    global BIN, WORK
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    BIN, WORK = sys.argv[1], sys.argv[2]
+    for tool in (CHROMIUM, CHROMEDRIVER):
+        if not os.path.exists(tool):
+            sys.exit(f"{tool} missing: deploy/install-deps.sh installs chromium and chromium-driver")
+    unittest.main(argv=sys.argv[:1], verbosity=2)
+
+
+if __name__ == "__main__":
+    main()
