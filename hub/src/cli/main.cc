@@ -25,6 +25,7 @@ const AddCommand kCommands[] = {
     mocap::AddReconstructCommand,
     mocap::AddConvertCommand,
     mocap::AddBodyCommands,
+    mocap::AddLabelsCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,
@@ -43,6 +44,7 @@ struct GroupEntry {
 
 const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
+    {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, intrinsics, DLT and seed-format imports"},
 };
 

@@ -1,0 +1,32 @@
+// Labelling a whole recording (reconstruct --labels, labels apply): the frame-by-frame labeller
+// (marker_labeller.h) runs over every frame with each column's unbroken runs of frames as its
+// tracks (a run ends at a gap, and where the swap guard took a name back), then each run gets one
+// name for its whole life: the name with most support (frames it held the name, plus the mean
+// shape's votes), when that is at least half of its support and no run overlapping it in time
+// holds the same name with more support. A run that earns no name keeps its column's anonymous
+// name, so the output holds one column per name placed (in the set's order) and then the
+// leftovers. Pure.
+#pragma once
+
+#include <cstddef>
+
+#include "io/marker_trajectories.h"
+#include "labels/marker_labeller.h"
+#include "labels/marker_set.h"
+
+namespace mocap {
+
+struct TrialLabelling {
+  MarkerTrajectories named;
+  size_t runs = 0;          // unbroken runs of the input's columns
+  size_t named_runs = 0;    // of those, the ones given a name
+  size_t names_placed = 0;  // marker-set names that hold data
+  size_t named_points = 0, points = 0;
+  LabellerStats stats;
+};
+
+// Throws std::invalid_argument for bad options or a marker set that cannot label.
+TrialLabelling LabelTrajectories(const MarkerTrajectories& anonymous, const MarkerSet& set,
+                                 const LabellerOptions& options = {});
+
+}  // namespace mocap

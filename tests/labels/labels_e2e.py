@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""Marker-set labelling end to end: a labelled motion's first half teaches a marker set (`labels
+learn`), the whole motion is projected into 8 simulated cameras with faults, `reconstruct
+--labels` names the markers in TRC and C3D, `eval` measures the share of output points correctly
+and wrongly named, OpenSim reads the named TRC and ezc3d the named C3D, with the names.
+The motion is the simulator's own synthetic walker with names given here, so the test needs no
+shared data; where ../shared/data/motions exists beside the checkout, the real cases run too: a
+set learned from walk.trc names the reconstruction of running.trc (another subject), and the
+tennis serve's first half names its whole reconstruction. Their figures are printed; the floors
+asserted on them are what the labeller reaches today (below issue 14's 99 %: README).
+
+usage: labels_e2e.py BIN_DIR WORK_DIR"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import unittest
+
+BIN = WORK = None
+MOTIONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "motions")
+FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
+          "--drop-frames", "0.002"]
+
+
+def hub(*args):
+    out = subprocess.run([os.path.join(BIN, "mocap-hub"), *args], capture_output=True, text=True, timeout=600)
+    if out.returncode != 0:
+        raise AssertionError(f"mocap-hub {' '.join(args)}: {out.stderr}")
+    return out.stdout
+
+
+def rename(path, out, names_of):
+    """A TRC with its marker names replaced (names_of: old -> new)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    cells = lines[3].split("\t")
+    lines[3] = "\t".join(names_of(c) if c.strip() else c for c in cells[:2]) + "\t" + \
+        "\t".join(names_of(c) if c.strip() else c for c in cells[2:])
+    with open(out, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def first_part(path, out, share):
+    """The first `share` of a TRC's frames (header counts fixed)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    rows = [line for line in lines[5:] if line.strip()]
+    keep = rows[:int(len(rows) * share)]
+    fields = lines[2].split("\t")
+    fields[2] = str(len(keep))
+    lines[2] = "\t".join(fields)
+    with open(out, "w") as f:
+        f.write("\n".join(lines[:5] + [""] + keep) + "\n")
+
+
+def labelled_reconstruction(name, motion, template_trials):
+    """Learns a set, projects `motion` with faults, reconstructs with --labels; the eval report."""
+    work = os.path.join(WORK, name)
+    os.makedirs(work)
+    marker_set = os.path.join(work, "set.json")
+    hub("labels", "learn", *template_trials, "-o", marker_set)
+    rig, session = os.path.join(work, "rig.json"), os.path.join(work, "session")
+    hub("sim", "rig", "--motion", motion, "--cameras", "8", "-o", rig)
+    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, *FAULTS)
+    out = os.path.join(work, "named.trc")
+    print(hub("reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", out,
+              "--labels", marker_set).strip().splitlines()[-1], file=sys.stderr)
+    report = json.loads(hub("eval", "--truth", os.path.join(session, "truth.trc"), "--result", out, "--json"))
+    print(f"{name}: {100 * report['correct_share']:.2f} % of points correctly named, "
+          f"{100 * report['wrong_share']:.2f} % wrongly", file=sys.stderr)
+    return work, session, out, report
+
+
+class LabelsE2e(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        shutil.rmtree(WORK, ignore_errors=True)
+        os.makedirs(WORK)
+        anonymous = os.path.join(WORK, "walker_anonymous.trc")
+        hub("sim", "motion", "-o", anonymous, "--markers", "24", "--frames", "400", "--rate", "100")
+        cls.motion = os.path.join(WORK, "walker.trc")
+        rename(anonymous, cls.motion, lambda n: "Walker:" + n[1:] if n.startswith("M") else n)
+        first = os.path.join(WORK, "walker_first_half.trc")
+        first_part(cls.motion, first, 0.5)
+        cls.work, cls.session, cls.out, cls.report = labelled_reconstruction("synthetic", cls.motion, [first])
+
+    def test_synthetic_markers_are_named(self):
+        self.assertTrue(self.report["labels_compared"])
+        self.assertGreaterEqual(self.report["correct_share"], 0.9)
+        self.assertLessEqual(self.report["wrong_share"], 0.05)
+
+    def test_named_trc_read_by_opensim_and_named_c3d_by_ezc3d(self):
+        # The opensim wheel on PyPI is built without its C3D adapter (no C3DFileAdapter), so the
+        # named C3D is read by ezc3d (the library OpenSim's C3D adapter is built on).
+        import ezc3d
+        import opensim
+        c3d = os.path.join(self.work, "named.c3d")
+        hub("reconstruct", self.session, "--calibration", os.path.join(self.session, "calibration.json"), "-o", c3d,
+            "--labels", os.path.join(self.work, "set.json"))
+        trc = opensim.TimeSeriesTableVec3(self.out)
+        trc_names = list(trc.getColumnLabels())
+        self.assertGreaterEqual(sum(n.startswith("Walker:") for n in trc_names), 20)
+        data = ezc3d.c3d(c3d)
+        self.assertEqual(list(data["parameters"]["POINT"]["LABELS"]["value"]), trc_names)
+        points = data["data"]["points"]
+        self.assertEqual(points.shape[2], trc.getNumRows())
+        row = trc.getNumRows() // 2
+        for column, name in enumerate(trc_names):
+            a = trc.getRowAtIndex(row)[column]
+            if any(a.get(k) != a.get(k) for k in range(3)):  # NaN: a gap in both
+                continue
+            for k in range(3):
+                self.assertAlmostEqual(a.get(k), float(points[k, column, row]), delta=0.01, msg=name)
+
+    @unittest.skipUnless(os.path.isdir(MOTIONS), "no ../shared/data/motions beside the checkout")
+    def test_real_walk_template_names_running(self):
+        _, _, _, report = labelled_reconstruction("running", os.path.join(MOTIONS, "running.trc"),
+                                                  [os.path.join(MOTIONS, "walk.trc")])
+        self.assertGreaterEqual(report["correct_share"], 0.75)
+
+    @unittest.skipUnless(os.path.isdir(MOTIONS), "no ../shared/data/motions beside the checkout")
+    def test_real_tennis_first_half_names_the_serve(self):
+        first = os.path.join(WORK, "tennis_first_half.trc")
+        first_part(os.path.join(MOTIONS, "tennis_serve.trc"), first, 0.5)
+        _, _, _, report = labelled_reconstruction("tennis", os.path.join(MOTIONS, "tennis_serve.trc"), [first])
+        self.assertGreaterEqual(report["correct_share"], 0.7)
+
+
+if __name__ == "__main__":
+    BIN, WORK = sys.argv[1], sys.argv[2]
+    unittest.main(argv=[sys.argv[0], "-v"])
