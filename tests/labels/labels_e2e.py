@@ -118,14 +118,17 @@ class LabelsE2e(unittest.TestCase):
     def test_real_walk_template_names_running(self):
         _, _, _, report = labelled_reconstruction("running", os.path.join(MOTIONS, "running.trc"),
                                                   [os.path.join(MOTIONS, "walk.trc")])
-        self.assertGreaterEqual(report["correct_share"], 0.75)
+        # Another subject: what cannot be told apart stays unnamed (wrists), never wrongly named.
+        self.assertGreaterEqual(report["correct_share"], 0.6)
+        self.assertLessEqual(report["wrong_share"], 0.001)
 
     @unittest.skipUnless(os.path.isdir(MOTIONS), "no ../shared/data/motions beside the checkout")
     def test_real_tennis_first_half_names_the_serve(self):
         first = os.path.join(WORK, "tennis_first_half.trc")
         first_part(os.path.join(MOTIONS, "tennis_serve.trc"), first, 0.5)
         _, _, _, report = labelled_reconstruction("tennis", os.path.join(MOTIONS, "tennis_serve.trc"), [first])
-        self.assertGreaterEqual(report["correct_share"], 0.7)
+        self.assertGreaterEqual(report["correct_share"], 0.9)
+        self.assertLessEqual(report["wrong_share"], 0.06)
 
 
 if __name__ == "__main__":

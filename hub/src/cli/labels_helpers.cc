@@ -21,11 +21,11 @@ std::string ApplyMarkerSet(const std::string& marker_set_path, int up_axis, Mark
     throw std::runtime_error(marker_set_path + ": " + error.what());
   }
   *markers = std::move(result.named);
-  return fmt::format("{} of {} names placed; {} of {} runs named ({:.2f}% of points), {} names taken back by the "
-                     "swap guard",
-                     result.names_placed, set.NumMarkers(), result.named_runs, result.runs,
+  return fmt::format("{} of {} names placed, {:.2f}% of points named ({} runs of {}; {} points unnamed in frames "
+                     "that broke their distances)",
+                     result.names_placed, set.NumMarkers(),
                      result.points ? 100.0 * static_cast<double>(result.named_points) / result.points : 0.0,
-                     result.stats.revocations);
+                     result.named_runs, result.runs, result.frame_names_dropped);
 }
 
 }  // namespace mocap

@@ -6,6 +6,8 @@
 #include <map>
 #include <tuple>
 
+#include "util/assignment.h"
+
 namespace mocap {
 namespace {
 
@@ -24,25 +26,33 @@ struct RunPair {
 };
 
 // How far two runs' distance is from what the set says of their names: in units of the spread
-// the set and the runs allow (another subject's markers sit elsewhere: a tenth of the distance),
-// squared and capped so that one odd pair cannot outweigh the rest.
-double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair) {
+// the set and the runs allow (plus `relative` of the distance: another subject's markers sit
+// elsewhere), squared and capped so that one odd pair cannot outweigh the rest.
+double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair, double relative) {
   if (a < 0 || b < 0 || pair.frames < 10) return 0.0;
   const MarkerDistance* d = set.Distance(a, b);
   if (d == nullptr) return 0.0;
-  const double z = (pair.mean - d->mean) / (d->sd + pair.sd + 3.0 + 0.1 * d->mean);
-  return std::min(z * z, 25.0);
+  // Another subject (a loose fit): only pairs steady in the set compare; how far apart two
+  // joints' markers swing depends on the activity and the body, their rigidity does not.
+  if (relative > 0.05 && d->sd > 5.0) return 0.0;
+  // Both how long the distance is and how much it varies: a pair that is steady in the set must
+  // be steady in the data too (rigidity does not change from one subject to another).
+  const double spread = d->sd + 3.0 + relative * d->mean;
+  const double z_mean = (pair.mean - d->mean) / (spread + pair.sd);
+  const double z_sd = (pair.sd - d->sd) / (d->sd + 3.0);
+  return std::min(z_mean * z_mean + z_sd * z_sd, 25.0);
 }
 
 // The runs' names as a whole, by their distances: swaps of two runs' names, and moves to a name no
 // overlapping run holds, while they lower the total cost (local search on the quadratic
 // assignment the distances pose). Fixes what the mean shape gets wrong along a chain of markers
 // that moves far from its mean pose (an arm serving), where the distances are right.
-void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<int64_t>& run_at,
-                       std::vector<Run>* runs_in, std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
+// Returns the share of a distance the subject's markers may differ from the set's (see below).
+double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<int64_t>& run_at,
+                         std::vector<Run>* runs_in, std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
   std::vector<Run>& runs = *runs_in;
   const size_t r_count = runs.size();
-  if (r_count < 2 || r_count > 2000) return;  // bounded: pairs grow with the square
+  if (r_count < 2 || r_count > 2000) return 0.15;  // bounded: pairs grow with the square
   const size_t columns = in.NumMarkers();
   std::vector<RunPair> pairs(r_count * r_count);
   std::vector<double> sum(r_count * r_count, 0.0), sum_squares(r_count * r_count, 0.0);
@@ -68,6 +78,23 @@ void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const
       p.sd = std::sqrt(std::max(0.0, sum_squares[i * r_count + j] / p.frames - p.mean * p.mean));
       pairs[j * r_count + i] = p;
     }
+  // How well the set's distances fit this subject: the spread of the ratio of steady pairs'
+  // distances (as named now) to the set's. The same subject: about 1 %; another: 10-20 %.
+  double relative = 0.1;
+  {
+    std::vector<double> log_ratio;
+    for (size_t i = 0; i < r_count; ++i)
+      for (size_t j = i + 1; j < r_count; ++j) {
+        const RunPair& p = pairs[i * r_count + j];
+        const MarkerDistance* d = set.Distance(runs[i].label, runs[j].label);
+        if (p.frames >= 10 && d != nullptr && d->sd < 5.0 && p.sd < 5.0 && d->mean > 0.0)
+          log_ratio.push_back(std::abs(std::log(p.mean / d->mean)));
+      }
+    if (log_ratio.size() >= 5) {
+      std::nth_element(log_ratio.begin(), log_ratio.begin() + log_ratio.size() / 2, log_ratio.end());
+      relative = std::clamp(3.0 * log_ratio[log_ratio.size() / 2], 0.01, 0.15);
+    }
+  }
   // A run's cost with a name: its distances to every other named run, and a little for straying
   // from the name its frames supported.
   auto cost_of = [&](size_t i, int label, size_t skip, int skip_label) {
@@ -75,11 +102,11 @@ void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const
     for (size_t j = 0; j < r_count; ++j) {
       if (j == i) continue;
       const int other = j == skip ? skip_label : runs[j].label;
-      c += PairCost(set, label, other, pairs[i * r_count + j]);
+      c += PairCost(set, label, other, pairs[i * r_count + j], relative);
     }
     const auto it = runs[i].support.find(label);
     const double share = runs[i].total > 0.0 && it != runs[i].support.end() ? it->second / runs[i].total : 0.0;
-    return c + 2.0 * (1.0 - share);
+    return c + 0.5 * (1.0 - share);
   };
   auto free_for = [&](int label, size_t i, size_t ignore) {
     for (size_t j = 0; j < r_count; ++j)
@@ -87,11 +114,70 @@ void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const
         return false;
     return true;
   };
+  // A run left without a name costs as much as a poor fit to every named run it meets (the mean
+  // pair cost that makes a name not worth giving).
+  constexpr double kUnnamedPairCost = 4.0;
+  auto unnamed_cost = [&](size_t i) {
+    double c = 0.0;
+    for (size_t j = 0; j < r_count; ++j)
+      if (j != i && runs[j].label >= 0 && pairs[i * r_count + j].frames >= 10) c += kUnnamedPairCost;
+    return c;
+  };
+  auto total_cost = [&]() {
+    double c = 0.0;
+    for (size_t i = 0; i < r_count; ++i) {
+      if (runs[i].label < 0) {
+        c += unnamed_cost(i);
+        continue;
+      }
+      for (size_t j = i + 1; j < r_count; ++j) c += PairCost(set, runs[i].label, runs[j].label, pairs[i * r_count + j], relative);
+      const auto it = runs[i].support.find(runs[i].label);
+      c += 0.5 * (1.0 - (runs[i].total > 0.0 && it != runs[i].support.end() ? it->second / runs[i].total : 0.0));
+    }
+    return c;
+  };
+  // Short runs' names are set aside while the long runs settle theirs (a short run holding a
+  // name must not block the long runs' exchanges), then take names by the moves below.
+  std::vector<int> short_label(r_count, -1);
+  for (size_t i = 0; i < r_count; ++i)
+    if (2 * (runs[i].last - runs[i].first + 1) < in.NumFrames()) short_label[i] = runs[i].label, runs[i].label = -1;
+  // First all long runs (half the recording or more: they overlap each other) at once: each
+  // run's cost for every name given the others' names, solved one to one; kept while the total
+  // falls. This moves whole chains of names that single swaps cannot.
+  std::vector<size_t> long_runs;
+  for (size_t i = 0; i < r_count; ++i)
+    if (2 * (runs[i].last - runs[i].first + 1) >= in.NumFrames()) long_runs.push_back(i);
+  const size_t labels = set.NumMarkers();
+  for (int round = 0; round < 10 && long_runs.size() >= 2; ++round) {
+    Eigen::MatrixXd cost(long_runs.size(), labels);
+    for (size_t x = 0; x < long_runs.size(); ++x) {
+      const size_t i = long_runs[x];
+      for (size_t a = 0; a < labels; ++a) {
+        bool blocked = false;  // held by a short run overlapping this one
+        for (size_t j = 0; j < r_count && !blocked; ++j)
+          blocked = runs[j].label == static_cast<int>(a) && 2 * (runs[j].last - runs[j].first + 1) < in.NumFrames() &&
+                    runs[i].first <= runs[j].last && runs[j].first <= runs[i].last;
+        cost(x, a) = blocked ? 1e9 : cost_of(i, static_cast<int>(a), i, static_cast<int>(a));
+      }
+    }
+    const std::vector<int> match = SolveAssignment(cost, 1e8);
+    const double before = total_cost();
+    std::vector<int> old(long_runs.size());
+    for (size_t x = 0; x < long_runs.size(); ++x) {
+      old[x] = runs[long_runs[x]].label;
+      if (match[x] >= 0) runs[long_runs[x]].label = match[x];
+    }
+    if (total_cost() >= before - 1e-6) {
+      for (size_t x = 0; x < long_runs.size(); ++x) runs[long_runs[x]].label = old[x];
+      break;
+    }
+  }
+  for (size_t i = 0; i < r_count; ++i)
+    if (short_label[i] >= 0 && free_for(short_label[i], i, i)) runs[i].label = short_label[i];
   for (int sweep = 0; sweep < 20; ++sweep) {
     bool improved = false;
     for (size_t i = 0; i < r_count; ++i) {
-      if (runs[i].label < 0) continue;
-      for (size_t j = i + 1; j < r_count; ++j) {
+      for (size_t j = i + 1; j < r_count && runs[i].label >= 0; ++j) {
         if (runs[j].label < 0 || runs[i].label < 0) continue;
         const int li = runs[i].label, lj = runs[j].label;
         if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
@@ -105,7 +191,8 @@ void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const
       for (int u = 0; u < static_cast<int>(set.NumMarkers()); ++u) {
         const int li = runs[i].label;
         if (u == li || !free_for(u, i, i)) continue;
-        if (cost_of(i, u, i, u) < cost_of(i, li, i, li) - 1e-6) {
+        const double now = li >= 0 ? cost_of(i, li, i, li) : unnamed_cost(i);
+        if (cost_of(i, u, i, u) < now - 1e-6) {
           runs[i].label = u;
           improved = true;
         }
@@ -113,9 +200,59 @@ void RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const
     }
     if (!improved) break;
   }
+  // Two overlapping runs whose names could be exchanged at almost no cost cannot be told apart
+  // (a pair of markers whose distances to the rest are alike, placed differently on this
+  // subject): both lose their names rather than carry a coin toss.
+  constexpr double kAmbiguityMargin = 2.0;
+  std::vector<char> ambiguous(r_count, 0);
+  for (size_t i = 0; i < r_count; ++i)
+    for (size_t j = i + 1; j < r_count; ++j) {
+      const int li = runs[i].label, lj = runs[j].label;
+      if (li < 0 || lj < 0 || pairs[i * r_count + j].frames < 10) continue;
+      if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+      const double now = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
+      const double exchanged = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
+      if (exchanged - now < kAmbiguityMargin) ambiguous[i] = ambiguous[j] = 1;
+    }
+  for (size_t i = 0; i < r_count; ++i)
+    if (ambiguous[i]) runs[i].label = -1;
+  // A name whose distances fit worse than leaving the run unnamed is taken back: never a guess.
+  for (size_t i = 0; i < r_count; ++i) {
+    if (runs[i].label < 0) continue;
+    double c = 0.0;
+    int n = 0;
+    for (size_t j = 0; j < r_count; ++j)
+      if (j != i && runs[j].label >= 0 && pairs[i * r_count + j].frames >= 10 &&
+          set.Distance(runs[i].label, runs[j].label) != nullptr)
+        c += PairCost(set, runs[i].label, runs[j].label, pairs[i * r_count + j], relative), ++n;
+    if (n > 0 && c / n > kUnnamedPairCost) runs[i].label = -1;
+  }
   for (auto& t : *taken) t.clear();
   for (const Run& run : runs)
     if (run.label >= 0) (*taken)[static_cast<size_t>(run.label)].push_back({run.first, run.last});
+  return relative;
+}
+
+// In one frame, the named points (label per point, -1: none) whose distances to the other named
+// points break most of the set's steady pairs lose their names for that frame: a run the tracker
+// swapped with another marker is not carried under the wrong name. Returns how many.
+size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
+                       std::vector<int>* labels) {
+  std::vector<size_t> drop;
+  for (size_t p = 0; p < points.size(); ++p) {
+    const int a = (*labels)[p];
+    if (a < 0) continue;
+    int checks = 0, breaks = 0;
+    for (size_t q = 0; q < points.size(); ++q) {
+      const MarkerDistance* d = q == p || (*labels)[q] < 0 ? nullptr : set.Distance(a, (*labels)[q]);
+      if (d == nullptr || d->sd > 5.0 || d->mean > 500.0) continue;
+      ++checks;
+      breaks += std::abs((points[p] - points[q]).norm() - d->mean) > 3.0 * d->sd + 5.0 + relative * d->mean;
+    }
+    if (checks >= 2 && 2 * breaks > checks) drop.push_back(p);
+  }
+  for (size_t p : drop) (*labels)[p] = -1;
+  return drop.size();
 }
 
 }  // namespace
@@ -182,7 +319,8 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
     ++out.named_runs;
   }
 
-  RefineByDistances(in, set, run_at, &runs, &taken);
+  const double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
 
   // Columns: the names placed, in the set's order, then the input columns left with data.
   std::vector<int> column_of_label(set.NumMarkers(), -1);
@@ -194,9 +332,27 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       named.names.push_back(set.names[a]);
     }
   out.names_placed = named.names.size();
+  // Per frame and input column the name its point carries (-1: none), after the frame check.
+  std::vector<int> label_at(in.points.size(), -1);
   std::vector<int> leftover_column(columns, -1);
-  for (const Run& run : runs)
-    if (run.label < 0 && leftover_column[run.column] < 0) leftover_column[run.column] = 0;
+  std::vector<Eigen::Vector3d> frame_points;
+  std::vector<int> frame_labels;
+  std::vector<size_t> frame_columns;
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    frame_points.clear(), frame_labels.clear(), frame_columns.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = run_at[f * columns + c];
+      if (r < 0) continue;
+      frame_points.push_back(in.At(f, c));
+      frame_labels.push_back(runs[static_cast<size_t>(r)].label);
+      frame_columns.push_back(c);
+    }
+    out.frame_names_dropped += DropBrokenNames(set, relative, frame_points, &frame_labels);
+    for (size_t i = 0; i < frame_columns.size(); ++i) {
+      label_at[f * columns + frame_columns[i]] = frame_labels[i];
+      if (frame_labels[i] < 0) leftover_column[frame_columns[i]] = 0;
+    }
+  }
   for (size_t c = 0; c < columns; ++c)
     if (leftover_column[c] == 0) {
       leftover_column[c] = static_cast<int>(named.names.size());
@@ -205,13 +361,12 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
   for (size_t f = 0; f < in.NumFrames(); ++f) {
     const size_t row = named.AddFrame(in.frame_numbers[f]);
     for (size_t c = 0; c < columns; ++c) {
-      const int64_t r = run_at[f * columns + c];
-      if (r < 0) continue;
-      const Run& run = runs[static_cast<size_t>(r)];
-      const int column = run.label >= 0 ? column_of_label[static_cast<size_t>(run.label)] : leftover_column[c];
+      if (run_at[f * columns + c] < 0) continue;
+      const int label = label_at[f * columns + c];
+      const int column = label >= 0 ? column_of_label[static_cast<size_t>(label)] : leftover_column[c];
       named.At(row, static_cast<size_t>(column)) = in.At(f, c);
       ++out.points;
-      out.named_points += run.label >= 0;
+      out.named_points += label >= 0;
     }
   }
   out.stats = labeller.stats();

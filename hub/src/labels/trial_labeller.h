@@ -3,9 +3,13 @@
 // tracks (a run ends at a gap, and where the swap guard took a name back), then each run gets one
 // name for its whole life: the name with most support (frames it held the name, plus the mean
 // shape's votes), when that is at least half of its support and no run overlapping it in time
-// holds the same name with more support. A run that earns no name keeps its column's anonymous
-// name, so the output holds one column per name placed (in the set's order) and then the
-// leftovers. Pure.
+// holds the same name with more support. The runs' names are then refined as a whole by their
+// distances (local search on the assignment: the long runs' names solved together, then
+// exchanges and moves), names two runs could exchange at almost no cost are dropped (they cannot
+// be told apart), and so is a name whose distances fit worse than none. Last, frame by frame, a
+// named point that breaks most of its steady distances loses its name for that frame (a swap
+// inside a run). A run or point without a name keeps its column's anonymous name, so the output
+// holds one column per name placed (in the set's order) and then the leftovers. Pure.
 #pragma once
 
 #include <cstddef>
@@ -22,6 +26,7 @@ struct TrialLabelling {
   size_t named_runs = 0;    // of those, the ones given a name
   size_t names_placed = 0;  // marker-set names that hold data
   size_t named_points = 0, points = 0;
+  size_t frame_names_dropped = 0;  // points of named runs left unnamed in a frame that broke the distances
   LabellerStats stats;
 };
 
