@@ -11,12 +11,22 @@ asserted on them are what the labeller reaches today (below issue 14's 99 %: REA
 
 usage: labels_e2e.py BIN_DIR WORK_DIR"""
 
+import asyncio
 import json
+import math
 import os
+import re
 import shutil
 import subprocess
 import sys
 import unittest
+import xml.etree.ElementTree as ET
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
+from live_rig import Rig, wait_for, websocket_messages  # noqa: E402
+
+import mocap_stream  # noqa: E402
+import qtm_rt  # noqa: E402
 
 BIN = WORK = None
 MOTIONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "motions")
@@ -53,6 +63,20 @@ def first_part(path, out, share):
     lines[2] = "\t".join(fields)
     with open(out, "w") as f:
         f.write("\n".join(lines[:5] + [""] + keep) + "\n")
+
+
+def read_trc(path):
+    with open(path) as f:
+        lines = f.read().splitlines()
+    names = [n for n in lines[3].split("\t")[2:] if n]
+    rows = []
+    for line in lines[5:]:
+        cells = line.split("\t")
+        if len(cells) < 2 or not cells[0].strip():
+            continue
+        rows.append([tuple(float(v) for v in cells[2 + 3 * m:5 + 3 * m]) if cells[2 + 3 * m].strip() else None
+                     for m in range(len(names))])
+    return names, rows
 
 
 def labelled_reconstruction(name, motion, template_trials):
@@ -113,6 +137,63 @@ class LabelsE2e(unittest.TestCase):
                 continue
             for k in range(3):
                 self.assertAlmostEqual(a.get(k), float(points[k, column, row]), delta=0.01, msg=name)
+
+    def test_live_names_in_serve(self):
+        rig = os.path.join(self.work, "rig.json")
+        live_work = os.path.join(WORK, "live")
+        os.makedirs(live_work)
+        hub("sim", "rig", "--motion", self.motion, "--cameras", "8", "--width", "640", "--height", "400", "-o", rig)
+        hub("sim", "render", "--motion", self.motion, "--rig", rig, "-o", os.path.join(live_work, "frames"))
+        marker_set = os.path.join(self.work, "set.json")
+        live = Rig(BIN, live_work, 100, serve_args=["--labels", marker_set, "--qtm-rt", "127.0.0.1:0"])
+        try:
+            live.start(8)
+            wait_for("frames to flow", lambda: websocket_messages(live.api_port, "/api/live", 1), timeout=15)
+            frames = websocket_messages(live.api_port, "/api/live", 150)
+            stream_port = int(re.search(r"stream: UDP port (\d+)", live.log()).group(1))
+            with mocap_stream.StreamClient("127.0.0.1", stream_port, parts=("points", "labels")) as client:
+                streamed = [client.receive(2.0) for _ in range(30)]
+            rt_port = int(wait_for("the RT port", lambda: re.search(r"Qualisys RT on [^:\s]+:(\d+)", live.log())).group(1))
+            xml = asyncio.run(asyncio.wait_for(self.qtm_3d_parameters(rt_port), 60))
+        finally:
+            live.stop()
+        truth_names, truth_rows = read_trc(self.motion)
+        # Each live frame against the truth frame it shows (the replay loops): the frame whose
+        # markers lie nearest its points.
+        correct = wrong = points = 0
+        for frame in frames[50:]:
+            pts = frame["points"]
+            if len(pts) < 5:
+                continue
+            best = min(range(len(truth_rows)), key=lambda f: sum(
+                min(math.dist(p[:3], t) for t in truth_rows[f] if t) for p in pts[:5]))
+            for p in pts:
+                points += 1
+                self.assertEqual(len(p), 8)
+                if p[7] is None:
+                    continue
+                t = truth_rows[best][truth_names.index(p[7])]
+                if t is not None and math.dist(p[:3], t) < 20:
+                    correct += 1
+                else:
+                    wrong += 1
+        print(f"\nlive: {100 * correct / points:.2f} % of points correctly named, {100 * wrong / points:.2f} % wrongly "
+              f"({points} points, 100 frames)", file=sys.stderr)
+        self.assertGreaterEqual(correct, 0.9 * points)
+        self.assertLessEqual(wrong, 0.02 * points)
+        named = [p.label for f in streamed if f is not None for p in f.points if p.label]
+        self.assertGreater(len(named), 0.8 * sum(len(f.points) for f in streamed if f is not None))
+        self.assertTrue(all(n.startswith("Walker:") for n in named))
+        labels = [e.findtext("Name") for e in ET.fromstring(xml).findall("The_3D/Label")]
+        with open(marker_set) as f:
+            self.assertEqual(labels, [m["name"] for m in json.load(f)["markers"]])
+
+    @staticmethod
+    async def qtm_3d_parameters(port):
+        conn = await qtm_rt.connect("127.0.0.1", port)
+        xml = await conn.get_parameters(["3d"])
+        conn.disconnect()
+        return xml
 
     @unittest.skipUnless(os.path.isdir(MOTIONS), "no ../shared/data/motions beside the checkout")
     def test_real_walk_template_names_running(self):
