@@ -255,6 +255,79 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
   return drop.size();
 }
 
+// Splits named runs where they start or stop breaking their steady distances for at least
+// `min_frames` frames (the tracker swapped two markers there): the broken part becomes a run of
+// its own without a name, to be named again by the refinement. Returns whether any was split.
+bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double relative, size_t min_frames,
+                     std::vector<Run>* runs, std::vector<int64_t>* run_at) {
+  const size_t columns = in.NumMarkers();
+  std::vector<char> broken(in.points.size(), 0);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> labels, original;
+  std::vector<size_t> which;
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    points.clear(), labels.clear(), which.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = (*run_at)[f * columns + c];
+      if (r < 0) continue;
+      points.push_back(in.At(f, c));
+      labels.push_back((*runs)[static_cast<size_t>(r)].label);
+      which.push_back(c);
+    }
+    original = labels;
+    DropBrokenNames(set, relative, points, &labels);
+    for (size_t i = 0; i < which.size(); ++i)
+      broken[f * columns + which[i]] = original[i] >= 0 && labels[i] < 0;
+  }
+  bool split = false;
+  const size_t count = runs->size();
+  for (size_t r = 0; r < count; ++r) {
+    if ((*runs)[r].label < 0) continue;
+    const size_t column = (*runs)[r].column;
+    // Pieces of equal state; short flickers join their neighbours.
+    std::vector<std::pair<size_t, size_t>> pieces;  // [first, last]
+    std::vector<char> state;
+    for (size_t f = (*runs)[r].first; f <= (*runs)[r].last; ++f) {
+      const char b = broken[f * columns + column];
+      if (!state.empty() && state.back() == b) {
+        pieces.back().second = f;
+      } else {
+        pieces.push_back({f, f});
+        state.push_back(b);
+      }
+    }
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (pieces[i].second - pieces[i].first + 1 < min_frames && pieces.size() > 1) state[i] = i > 0 ? state[i - 1] : 0;
+    std::vector<std::pair<size_t, size_t>> merged;
+    std::vector<char> merged_state;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (!merged.empty() && merged_state.back() == state[i]) merged.back().second = pieces[i].second;
+      else merged.push_back(pieces[i]), merged_state.push_back(state[i]);
+    }
+    if (merged.size() < 2) continue;
+    split = true;
+    const int label = (*runs)[r].label;
+    for (size_t i = 0; i < merged.size(); ++i) {
+      size_t target = r;
+      if (i == 0) {
+        (*runs)[r].last = merged[0].second;
+        (*runs)[r].label = merged_state[0] ? -1 : label;
+      } else {
+        target = runs->size();
+        Run piece;
+        piece.column = column;
+        piece.first = merged[i].first, piece.last = merged[i].second;
+        piece.label = merged_state[i] ? -1 : label;
+        if (piece.label >= 0) piece.support[label] = 1.0, piece.total = 1.0;
+        runs->push_back(piece);
+      }
+      for (size_t f = merged[i].first; f <= merged[i].second; ++f)
+        if ((*run_at)[f * columns + column] >= 0) (*run_at)[f * columns + column] = static_cast<int64_t>(target);
+    }
+  }
+  return split;
+}
+
 }  // namespace
 
 TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& set, const LabellerOptions& options) {
@@ -306,7 +379,6 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
   std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
   std::vector<std::vector<std::pair<size_t, size_t>>> taken(set.NumMarkers());
   TrialLabelling out;
-  out.runs = runs.size();
   for (const auto& [support, r, label] : candidates) {
     Run& run = runs[r];
     if (run.label >= 0) continue;
@@ -319,7 +391,10 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
     ++out.named_runs;
   }
 
-  const double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  // Runs the tracker swapped mid-way: split where they break their distances, then named again.
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  out.runs = runs.size();
   out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
 
   // Columns: the names placed, in the set's order, then the input columns left with data.

@@ -6,7 +6,9 @@
 // holds the same name with more support. The runs' names are then refined as a whole by their
 // distances (local search on the assignment: the long runs' names solved together, then
 // exchanges and moves), names two runs could exchange at almost no cost are dropped (they cannot
-// be told apart), and so is a name whose distances fit worse than none. Last, frame by frame, a
+// be told apart), and so is a name whose distances fit worse than none. A named run that breaks
+// its steady distances for 5 frames or more is split there (the tracker swapped it) and the
+// pieces named again the same way. Last, frame by frame, a
 // named point that breaks most of its steady distances loses its name for that frame (a swap
 // inside a run). A run or point without a name keeps its column's anonymous name, so the output
 // holds one column per name placed (in the set's order) and then the leftovers. Pure.
@@ -22,7 +24,7 @@ namespace mocap {
 
 struct TrialLabelling {
   MarkerTrajectories named;
-  size_t runs = 0;          // unbroken runs of the input's columns
+  size_t runs = 0;          // unbroken runs of the input's columns (split where they broke)
   size_t named_runs = 0;    // of those, the ones given a name
   size_t names_placed = 0;  // marker-set names that hold data
   size_t named_points = 0, points = 0;
