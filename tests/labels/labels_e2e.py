@@ -237,7 +237,7 @@ class LabelsE2e(unittest.TestCase):
         reconstruction swaps right-arm markers: README); else the walker from its first third."""
         if os.path.isdir(MOTIONS):
             name, motion = "tennis", os.path.join(MOTIONS, "tennis_serve.trc")
-            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.9, 0.06
+            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.9, 0.04
             first_part(motion, first, 0.5)
         else:
             name, motion = "walker_third", self.motion

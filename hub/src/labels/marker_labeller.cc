@@ -83,7 +83,7 @@ void MarkerLabeller::SwapGuard(const std::vector<Eigen::Vector3d>& points, const
   // Count each labelled point's broken segment distances; take the name from the worst offender
   // first and recount, so that one swapped point does not cost its honest partners their names.
   while (true) {
-    int worst = -1, worst_breaks = 0, worst_checks = 0;
+    int worst = -1, worst_breaks = 0;
     long long worst_since = -1;
     for (size_t p = 0; p < points.size(); ++p) {
       const int a = labels_[p];
@@ -107,10 +107,9 @@ void MarkerLabeller::SwapGuard(const std::vector<Eigen::Vector3d>& points, const
       const long long since = it == tracks_.end() ? frame_counter_ : it->second.labelled_since;
       // Most broken first; among equals the name given last (the newer claim is the doubtful one).
       if (breaks > worst_breaks || (breaks == worst_breaks && since > worst_since))
-        worst = static_cast<int>(p), worst_breaks = breaks, worst_checks = checks, worst_since = since;
+        worst = static_cast<int>(p), worst_breaks = breaks, worst_since = since;
     }
     if (worst < 0) return;
-    (void)worst_checks;
     const int a = labels_[static_cast<size_t>(worst)];
     labels_[static_cast<size_t>(worst)] = -1;
     point_of_label_[static_cast<size_t>(a)] = -1;

@@ -235,7 +235,9 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
 
 // In one frame, the named points (label per point, -1: none) whose distances to the other named
 // points break most of the set's steady pairs lose their names for that frame: a run the tracker
-// swapped with another marker is not carried under the wrong name. Returns how many.
+// swapped with another marker is not carried under the wrong name. Steady: an sd of at most 5 mm
+// in the set, or 15 mm when the set fits this subject closely (relative <= 2 %: the same person,
+// whose looser pairs are still known well). Returns how many.
 size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
                        std::vector<int>* labels) {
   std::vector<size_t> drop;
@@ -245,7 +247,7 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
     int checks = 0, breaks = 0;
     for (size_t q = 0; q < points.size(); ++q) {
       const MarkerDistance* d = q == p || (*labels)[q] < 0 ? nullptr : set.Distance(a, (*labels)[q]);
-      if (d == nullptr || d->sd > 5.0 || d->mean > 500.0) continue;
+      if (d == nullptr || d->sd > (relative <= 0.02 ? 15.0 : 5.0) || d->mean > 500.0) continue;
       ++checks;
       breaks += std::abs((points[p] - points[q]).norm() - d->mean) > 3.0 * d->sd + 5.0 + relative * d->mean;
     }
