@@ -384,7 +384,8 @@ class WebConsoleTest(unittest.TestCase):
         result = subprocess.run(
             [os.path.join(BIN, "mocap-hub"), "serve", "--calibration", os.path.join(WORK, "frames", "calibration.json"),
              "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "off",
-             "--sessions-dir", os.path.join(WORK, "sessions_unused"), "--web-root", os.path.join(WORK, "no_such_dir")],
+             "--sessions-dir", os.path.join(WORK, "sessions_unused"), "--keys", self.rig.keys,
+             "--web-root", os.path.join(WORK, "no_such_dir")],
             capture_output=True, text=True, timeout=30)
         self.assertEqual(result.returncode, 2, result.stderr)
         self.assertIn("not a directory", result.stderr)

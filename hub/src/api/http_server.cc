@@ -86,6 +86,24 @@ const char* Reason(int status) {
   }
 }
 
+// A JSON string's content: quotes, backslashes and control characters escaped.
+std::string JsonEscaped(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char code[8];
+      std::snprintf(code, sizeof code, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += code;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 std::string FrameMessage(const LiveFrame& frame) {
   std::string out;
   out.reserve(64 + frame.points.size() * 64);
@@ -99,9 +117,17 @@ std::string FrameMessage(const LiveFrame& frame) {
     const LivePoint& p = frame.points[i];
     const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
                                          : static_cast<long long>(p.marker);
-    std::snprintf(buffer, sizeof(buffer), "%s[%.3f,%.3f,%.3f,%lld,%d,%d,%.3f]", i ? "," : "", p.position.x(),
+    std::snprintf(buffer, sizeof(buffer), "%s[%.3f,%.3f,%.3f,%lld,%d,%d,%.3f", i ? "," : "", p.position.x(),
                   p.position.y(), p.position.z(), id, p.provisional() ? 1 : 0, p.views, p.rms_px);
     out += buffer;
+    // With a marker set (serve --labels) an eighth element: the point's name, or null.
+    if (frame.label_names) {
+      if (p.label >= 0 && static_cast<size_t>(p.label) < frame.label_names->size())
+        out += ",\"" + JsonEscaped((*frame.label_names)[static_cast<size_t>(p.label)]) + "\"";
+      else
+        out += ",null";
+    }
+    out += "]";
   }
   out += "],\"bodies\":[";
   for (size_t i = 0; i < frame.bodies.size(); ++i) {

@@ -1,8 +1,11 @@
 // Rigid bodies over a whole recording (see body_trajectories.h).
 #include "bodies/body_trajectories.h"
 
+#include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 namespace mocap {
@@ -54,6 +57,78 @@ void WriteBodyPoses(const std::string& path, const std::vector<RigidBodyDefiniti
                    q.x(), q.y(), q.z(), q.w(), p.mean_error_mm, p.markers);
     }
   if (std::fflush(file.get()) != 0 || std::ferror(file.get())) throw std::runtime_error(path + ": write failed (disk full?)");
+}
+
+namespace {
+
+constexpr const char* kPoseHeader =
+    "frame\ttime_s\tbody\ttracked\tpredicted\tx\ty\tz\tqx\tqy\tqz\tqw\tmean_error_mm\tmarkers";
+
+}  // namespace
+
+std::vector<BodyPoseRecord> ParseBodyPoses(const std::string& text, const std::string& source) {
+  std::vector<BodyPoseRecord> out;
+  std::istringstream in(text);
+  std::string line;
+  size_t number = 0;
+  auto fail = [&](const std::string& why) {
+    throw std::runtime_error(source + ": line " + std::to_string(number) + ": " + why);
+  };
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (number == 1) {
+      if (line != kPoseHeader) fail("not a body pose file (expected the header: frame, time_s, body, ...)");
+      continue;
+    }
+    if (line.empty()) continue;
+    std::vector<std::string> cells;
+    std::istringstream fields(line);
+    for (std::string cell; std::getline(fields, cell, '\t');) cells.push_back(cell);
+    if (cells.size() != 14) fail("expected 14 tab-separated columns, found " + std::to_string(cells.size()));
+    auto number_at = [&](size_t i) {
+      size_t used = 0;
+      double v = 0.0;
+      try {
+        v = std::stod(cells[i], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != cells[i].size() || !std::isfinite(v)) fail("column " + std::to_string(i + 1) + ": not a number");
+      return v;
+    };
+    BodyPoseRecord r;
+    const double frame = number_at(0);
+    if (frame < 0.0 || frame > 1e15 || frame != std::floor(frame)) fail("frame must be a whole number >= 0");
+    r.frame = static_cast<uint64_t>(frame);
+    r.body = cells[2];
+    if (r.body.empty() || r.body.size() > 255) fail("body name must be 1-255 bytes");
+    const double tracked = number_at(3), predicted = number_at(4);
+    if ((tracked != 0.0 && tracked != 1.0) || (predicted != 0.0 && predicted != 1.0)) fail("tracked/predicted must be 0 or 1");
+    r.tracked = tracked == 1.0, r.predicted = predicted == 1.0;
+    r.pivot = Eigen::Vector3d(number_at(5), number_at(6), number_at(7));
+    Eigen::Quaterniond q(number_at(11), number_at(8), number_at(9), number_at(10));
+    if (r.tracked || r.predicted) {
+      if (!(std::abs(q.norm() - 1.0) < 1e-3)) fail("orientation is not a unit quaternion");
+      q.normalize();
+    }
+    r.orientation = q;
+    r.mean_error_mm = number_at(12);
+    const double markers = number_at(13);
+    if (markers < 0.0 || markers > 1e6 || markers != std::floor(markers)) fail("markers must be a whole number >= 0");
+    r.markers = static_cast<size_t>(markers);
+    out.push_back(std::move(r));
+  }
+  if (number == 0) throw std::runtime_error(source + ": empty");
+  return out;
+}
+
+std::vector<BodyPoseRecord> ReadBodyPoses(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot open");
+  std::ostringstream text;
+  text << file.rdbuf();
+  return ParseBodyPoses(text.str(), path);
 }
 
 }  // namespace mocap

@@ -29,4 +29,20 @@ void AddVirtualMarkers(MarkerTrajectories* markers, const std::vector<RigidBodyD
 void WriteBodyPoses(const std::string& path, const std::vector<RigidBodyDefinition>& bodies,
                     const std::vector<BodyPoseRow>& rows, double rate_hz);
 
+// One row of a pose file as read back (eval --bodies-truth/--bodies-result).
+struct BodyPoseRecord {
+  uint64_t frame = 0;  // the file's frame column (1-based)
+  std::string body;
+  bool tracked = false, predicted = false;
+  Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  double mean_error_mm = 0.0;
+  size_t markers = 0;
+};
+
+// Reads a pose file written by WriteBodyPoses (reconstruct --bodies, sim project --bodies).
+// Throws std::runtime_error "<source>: line N: <reason>" for anything else.
+std::vector<BodyPoseRecord> ParseBodyPoses(const std::string& text, const std::string& source);
+std::vector<BodyPoseRecord> ReadBodyPoses(const std::string& path);
+
 }  // namespace mocap

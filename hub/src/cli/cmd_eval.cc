@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "eval/body_accuracy.h"
 #include "eval/marker_accuracy.h"
 #include "io/live_points.h"
 #include "io/trajectory_file.h"
@@ -24,6 +25,7 @@ struct EvalArgs {
   std::string visibility;
   bool json = false;
   MarkerEvalOptions options;
+  std::string bodies_truth, bodies_result;  // pose files (sim project --bodies, reconstruct --bodies)
 };
 
 void RunEval(const EvalArgs& args) {
@@ -48,10 +50,26 @@ void RunEval(const EvalArgs& args) {
     throw std::runtime_error(std::string("cannot compare ") + args.truth + " and " + args.result + ": " +
                              error.what());
   }
+  std::optional<BodyEvalReport> bodies;
+  if (!args.bodies_truth.empty()) {
+    const std::string result_poses = args.bodies_result.empty()
+                                         ? args.result.substr(0, args.result.find_last_of('.')) + ".bodies.tsv"
+                                         : args.bodies_result;
+    try {
+      bodies = EvaluateBodies(ReadBodyPoses(args.bodies_truth), ReadBodyPoses(result_poses),
+                              visibility ? &*visibility : nullptr);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error(std::string("cannot compare ") + args.bodies_truth + " and " + result_poses + ": " +
+                               error.what());
+    }
+  }
   if (args.json) {
-    std::printf("%s\n", report.ToJson().dump().c_str());
+    nlohmann::json out = report.ToJson();
+    if (bodies) out["rigid_bodies"] = bodies->ToJson();
+    std::printf("%s\n", out.dump().c_str());
   } else {
     std::fputs(report.ToText().c_str(), stdout);
+    if (bodies) std::fputs(bodies->ToText().c_str(), stdout);
   }
 }
 
@@ -67,6 +85,11 @@ void AddEvalCommand(CLI::App& app) {
   command->add_option("--visibility", args->visibility, "visibility.tsv to use instead of --session's")
       ->excludes(session);
   command->add_option("--gate-mm", args->options.gate_mm, "Matching gate, mm")->capture_default_str();
+  command->add_option("--bodies-truth", args->bodies_truth,
+                      "True rigid-body poses (SESSION/truth.bodies.tsv): pose errors of the result's bodies")
+      ->check(CLI::ExistingFile);
+  command->add_option("--bodies-result", args->bodies_result, "Result poses (default: RESULT with .bodies.tsv)")
+      ->check(CLI::ExistingFile);
   command->add_flag("--json", args->json, "Print one JSON object on stdout");
   command->callback([args] { RunEval(*args); });
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/labels_helpers.h"
 #include "cli/progress.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
@@ -36,7 +37,17 @@ struct ReconstructArgs {
   TrackerOptions tracker;
   GapFillOptions gap_fill;
   std::string bodies;  // rigid bodies file; empty: none
+  std::string labels;  // marker set; empty: anonymous columns
 };
+
+// Names from a marker set over the finished marker file (labels attach to whole track runs,
+// labels/trial_labeller.h), written back in place.
+void AddLabels(const ReconstructArgs& args) {
+  MarkerTrajectories markers = ReadTrajectories(args.output);
+  const std::string report = ApplyMarkerSet(args.labels, -1, &markers);
+  WriteTrajectories(markers, args.output);
+  std::printf("%s: %s\n", args.output.c_str(), report.c_str());
+}
 
 // Rigid bodies over the finished marker file: their poses beside it (OUT.bodies.tsv) and one
 // virtual marker per body (its pivot) added to it.
@@ -121,6 +132,7 @@ void RunReconstruct(ReconstructArgs args) {
   filler.Add(last_frame, samples);
   filler.Finish();
   spill.Finish(tracker.NumMarkers());
+  if (!args.labels.empty()) AddLabels(args);
   if (!args.bodies.empty()) AddRigidBodies(args);
 
   for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
@@ -147,6 +159,9 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_option("--bodies", args->bodies,
                       "Rigid bodies file: their poses to OUT.bodies.tsv and a virtual marker each (memory then "
                       "grows with the session)")
+      ->check(CLI::ExistingFile);
+  command->add_option("--labels", args->labels,
+                      "Marker set (labels learn): named columns for the markers it places, M001... for the rest")
       ->check(CLI::ExistingFile);
   command->add_option("--matcher", args->matcher, "Correspondences of untracked blobs")
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))

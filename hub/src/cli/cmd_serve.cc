@@ -142,7 +142,8 @@ void RunServe(ServeArgs& args, bool web_root_given) {
     rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
     CheckOptions(rt);
     qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
-        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz, args.options.bodies_file));
+        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz, args.options.bodies_file,
+                                      args.options.labels_file));
   }
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
@@ -196,6 +197,9 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--sessions-dir", o.sessions_dir, "Where captures go (one directory per session)")
       ->capture_default_str();
   command->add_option("--masks-file", o.masks_file, "The installation's camera masks (JSON), kept and re-sent");
+  command->add_option("--labels", o.labels_file,
+                      "Marker set (JSON, `mocap-hub labels learn`): names on the published points")
+      ->check(CLI::ExistingFile);
   command->add_option("--bodies", o.bodies_file, "Rigid bodies file (JSON, `mocap-hub body define`)")
       ->check(CLI::ExistingFile);
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();

@@ -1,5 +1,6 @@
 // `sim rig` and `sim project`: virtual rigs around a motion and simulated sessions with faults.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,8 @@
 #include "cli/progress.h"
 #include "io/calibration_json.h"
 #include "io/trc.h"
+#include "bodies/body_definition.h"
+#include "sim/body_scene.h"
 #include "sim/project_session.h"
 #include "simcore/ring_rig.h"
 
@@ -58,17 +61,35 @@ struct SimProjectArgs {
   std::string output;
   bool json = false;
   ProjectOptions project;
+  std::string bodies;  // rigid bodies to add (bodies file); empty: none
+  BodySceneOptions body_paths;
 };
 
 void RunSimProject(const SimProjectArgs& args) {
   CheckOptions(args.project);
-  const MarkerTrajectories motion = ReadTrc(args.motion);
+  CheckOptions(args.body_paths);
+  MarkerTrajectories motion = ReadTrc(args.motion);
   const Rig rig = LoadRigJson(args.rig);
   if (motion.NumFrames() == 0) throw std::runtime_error(args.motion + ": no frames");
+  // Rigid bodies fly around the subject: their markers join the truth, their poses go beside it.
+  std::vector<RigidBodyDefinition> bodies;
+  std::vector<BodyPoseRow> body_poses;
+  if (!args.bodies.empty()) {
+    bodies = ReadBodiesFile(args.bodies);
+    try {
+      BodyScene scene = AddRigidBodies(motion, bodies, args.body_paths);
+      motion = std::move(scene.scene);
+      body_poses = std::move(scene.poses);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error(args.motion + ": " + error.what());
+    }
+  }
   ProgressBar progress("sim project", motion.NumFrames());
   const ProjectSessionStats stats = ProjectSession(motion, rig, args.project, args.output,
                                                    [&](size_t done, size_t) { progress.Update(done); });
   progress.Finish();
+  if (!bodies.empty())
+    WriteBodyPoses((std::filesystem::path(args.output) / "truth.bodies.tsv").string(), bodies, body_poses, motion.rate_hz);
   const double reconstructible = stats.present > 0 ? static_cast<double>(stats.reconstructible) / stats.present : 0.0;
   if (args.json) {
     std::printf("%s\n", nlohmann::json({{"session", args.output},
@@ -132,6 +153,14 @@ void AddSimProjectCommand(CLI::App& app) {
   command->add_option("--late-frames", p.late_frames, "How many frames a late camera frame lags")
       ->capture_default_str();
   command->add_option("--seed", p.seed, "Seed of every fault")->capture_default_str();
+  command->add_option("--bodies", args->bodies,
+                      "Rigid bodies file: each body flies around the subject (markers <body>:1...; true poses "
+                      "in SESSION/truth.bodies.tsv)")
+      ->check(CLI::ExistingFile);
+  command->add_option("--body-speed", args->body_paths.speed_rad_s, "Bodies' speed around the subject, rad/s")
+      ->capture_default_str();
+  command->add_option("--body-spin", args->body_paths.spin_deg_s, "Bodies' spin, degrees/s")->capture_default_str();
+  command->add_option("--body-seed", args->body_paths.seed, "Seed of the bodies' paths")->capture_default_str();
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
   command->callback([args] { RunSimProject(*args); });
 }

@@ -26,6 +26,7 @@ const AddCommand kCommands[] = {
     mocap::AddReconstructCommand,
     mocap::AddConvertCommand,
     mocap::AddBodyCommands,
+    mocap::AddLabelsCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,
@@ -45,6 +46,7 @@ struct GroupEntry {
 const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
     {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
+    {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, intrinsics, DLT and seed-format imports"},
 };
 

@@ -50,6 +50,17 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     for (size_t f = 0; f < visibility->NumFrames(); ++f) visibility_index[visibility->frame_numbers[f]] = f;
   }
 
+  // Labelling: the truth marker of each result column's name (-1: not a truth name).
+  std::unordered_map<std::string, long> truth_marker_of_name;
+  for (size_t m = 0; m < truth_markers; ++m) truth_marker_of_name[truth.names[m]] = static_cast<long>(m);
+  std::vector<long> named_as(result_markers, -1);
+  for (size_t k = 0; k < result_markers; ++k) {
+    const auto it = truth_marker_of_name.find(result.names[k]);
+    if (it != truth_marker_of_name.end()) named_as[k] = it->second;
+  }
+  const bool labels = std::any_of(named_as.begin(), named_as.end(), [](long m) { return m >= 0; });
+  double worst_share = 1.0;
+
   std::unordered_map<uint64_t, size_t> truth_index;
   for (size_t f = 0; f < truth.NumFrames(); ++f) truth_index[truth.frame_numbers[f]] = f;
   // For each truth frame, the aligned result frame (or none: the result wrote no row then).
@@ -93,10 +104,20 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     const std::vector<int> match = SolveAssignment(cost, options.gate_mm);
 
     std::vector<char> truth_matched(present_truth.size(), 0);
+    size_t frame_correct = 0;
     for (size_t i = 0; i < present_result.size(); ++i) {
       const size_t column = present_result[i];
       result_ever[column] = 1;
       ++report.result_points;
+      if (named_as[column] >= 0) {
+        ++report.named_points;
+        if (match[i] >= 0 && static_cast<long>(present_truth[match[i]]) == named_as[column]) {
+          ++report.correctly_named;
+          ++frame_correct;
+        } else {
+          ++report.wrongly_named;
+        }
+      }
       if (match[i] < 0) {
         ++report.ghosts;
         continue;
@@ -108,6 +129,9 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
       if (last_match[column] >= 0 && last_match[column] != marker) ++report.swaps;
       last_match[column] = marker;
     }
+
+    if (labels && !present_result.empty())
+      worst_share = std::min(worst_share, static_cast<double>(frame_correct) / present_result.size());
 
     long visibility_frame = -1;
     if (visibility != nullptr) {
@@ -128,6 +152,12 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
   }
 
   report.matched = errors.size();
+  report.labels_compared = labels;
+  if (labels && report.result_points > 0) {
+    report.correct_share = static_cast<double>(report.correctly_named) / report.result_points;
+    report.wrong_share = static_cast<double>(report.wrongly_named) / report.result_points;
+    report.worst_frame_correct_share = worst_share;
+  }
   report.truth_markers = static_cast<size_t>(std::count(truth_ever.begin(), truth_ever.end(), 1));
   report.trajectories = static_cast<size_t>(std::count(result_ever.begin(), result_ever.end(), 1));
   if (!errors.empty()) {
@@ -175,7 +205,14 @@ nlohmann::json MarkerEvalReport::ToJson() const {
           {"fragmentation", fragmentation},
           {"swaps", swaps},
           {"visibility_used", visibility_used},
-          {"gate_mm", gate_mm}};
+          {"gate_mm", gate_mm},
+          {"labels_compared", labels_compared},
+          {"named_points", named_points},
+          {"correctly_named", correctly_named},
+          {"wrongly_named", wrongly_named},
+          {"correct_share", correct_share},
+          {"wrong_share", wrong_share},
+          {"worst_frame_correct_share", worst_frame_correct_share}};
 }
 
 std::string MarkerEvalReport::ToText() const {
@@ -192,6 +229,12 @@ std::string MarkerEvalReport::ToText() const {
   out << fmt::format("trajectories      {}   for {} truth markers (fragmentation {:.3f})\n", trajectories,
                      truth_markers, fragmentation);
   out << fmt::format("swaps             {}\n", swaps);
+  if (labels_compared) {
+    out << fmt::format("labels            {:.3f}% of output points correctly named, {:.3f}% wrongly ({} named of {}; "
+                       "worst frame {:.1f}% correct)\n",
+                       100.0 * correct_share, 100.0 * wrong_share, named_points, result_points,
+                       100.0 * worst_frame_correct_share);
+  }
   return out.str();
 }
 

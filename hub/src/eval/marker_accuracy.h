@@ -44,6 +44,17 @@ struct MarkerEvalReport {
   size_t swaps = 0;
   bool visibility_used = false;
   double gate_mm = 0.0;
+  // Labelling, when the result names some of its columns with the truth's names: an output point
+  // is correctly named when its column's name is the name of the truth marker it matched; wrongly
+  // named when its column carries a truth name but it matched another marker or none. Shares are
+  // of all output points in aligned frames (unnamed points count in neither).
+  bool labels_compared = false;
+  size_t named_points = 0;
+  size_t correctly_named = 0;
+  size_t wrongly_named = 0;
+  double correct_share = 0.0;
+  double wrong_share = 0.0;
+  double worst_frame_correct_share = 0.0;  // the lowest share of one frame (frames with points)
 
   nlohmann::json ToJson() const;
   std::string ToText() const;

@@ -134,7 +134,8 @@ HubService::HubService(ServeOptions options)
       registry_(RegistryOf(options_, rig_)),
       controls_(ControlsOf(options_, start_ns_)),
       live_(rig_, options_.rate_hz, options_.recon,
-            options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file)),
+            options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file),
+            options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
       captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
   std::error_code ec;

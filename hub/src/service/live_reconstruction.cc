@@ -15,8 +15,13 @@ TrackerOptions TrackerAt(double rate_hz) {
 }  // namespace
 
 LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon,
-                                       std::vector<RigidBodyDefinition> bodies)
-    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies)) {}
+                                       std::vector<RigidBodyDefinition> bodies, std::optional<MarkerSet> labels)
+    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies)) {
+  if (labels) {
+    frame_.label_names = std::make_shared<const std::vector<std::string>>(labels->names);
+    labeller_.emplace(std::move(*labels));
+  }
+}
 
 void LiveReconstruction::Run(const FrameSet& set) {
   frame_.frame_number = set.frame_number;
@@ -40,6 +45,19 @@ void LiveReconstruction::Run(const FrameSet& set) {
     out.views = points_[i].num_views;
     out.marker = identities[i].marker;
     out.provisional_track = identities[i].provisional_track;
+    out.label = -1;
+  }
+  if (labeller_) {
+    // Names follow the confirmed tracks (the tracker's marker numbers); a provisional point is
+    // named only by its segment partners, for its own frame.
+    positions_.resize(points_.size());
+    tracks_.resize(points_.size());
+    for (size_t i = 0; i < points_.size(); ++i) {
+      positions_[i] = points_[i].point_in_world;
+      tracks_[i] = identities[i].marker;
+    }
+    const std::vector<int>& labels = labeller_->Update(positions_, tracks_);
+    for (size_t i = 0; i < points_.size(); ++i) frame_.points[i].label = labels[i];
   }
   if (bodies_.bodies().empty()) return;
   positions_.resize(points_.size());

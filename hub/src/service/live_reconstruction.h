@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
 #include "bodies/body_tracker.h"
+#include "labels/marker_labeller.h"
 #include "recon/reconstructor.h"
 #include "track/tracker.h"
 
@@ -27,6 +30,7 @@ struct LivePoint {
   int views = 0;
   int marker = -1;                     // confirmed track's marker (0-based column), else -1
   uint64_t provisional_track = 0;      // tentative track's serial, 0 when none
+  int label = -1;                      // index into LiveFrame::label_names (--labels), -1: unnamed
   bool provisional() const { return marker < 0; }
 };
 
@@ -51,13 +55,15 @@ struct LiveFrame {
   std::vector<LivePoint> points;
   std::vector<TrackSample> samples;    // confirmed markers' samples (may reach back in time)
   std::vector<LiveBody> bodies;        // one per defined rigid body, in the bodies file's order
+  // The marker set's names (serve --labels), shared by every frame; null without a marker set.
+  std::shared_ptr<const std::vector<std::string>> label_names;
 };
 
 class LiveReconstruction {
  public:
   // The rig must outlive this object. Throws std::invalid_argument on bad options.
   LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon = {},
-                     std::vector<RigidBodyDefinition> bodies = {});
+                     std::vector<RigidBodyDefinition> bodies = {}, std::optional<MarkerSet> labels = {});
 
   // One assembled frame set; frame numbers must increase. now_ns() is read when the result is
   // complete. The returned frame stays valid until the next call.
@@ -76,6 +82,8 @@ class LiveReconstruction {
   Reconstructor reconstructor_;
   Tracker tracker_;
   BodyTracker bodies_;
+  std::optional<MarkerLabeller> labeller_;
+  std::vector<int64_t> tracks_;
   std::vector<ReconstructedPoint> points_;
   std::vector<Eigen::Vector3d> positions_;
   LiveFrame frame_;

@@ -25,7 +25,7 @@ void VisitFrame(const service::LiveFrame& frame, uint32_t parts, uint64_t* point
     for (const service::LiveBody& b : frame.bodies) body_count += b.tracked;
   if (points_dropped) *points_dropped += points ? frame.points.size() - point_count : 0;
   sink.Frame(frame.frame_number, frame.trigger_time_ns, point_count, body_count);
-  for (size_t i = 0; i < point_count; ++i) sink.Point(frame.points[i]);
+  for (size_t i = 0; i < point_count; ++i) sink.Point(frame.points[i], frame.label_names.get());
   if (bodies)
     for (const service::LiveBody& b : frame.bodies)
       if (b.tracked) sink.Body(b);
@@ -34,8 +34,10 @@ void VisitFrame(const service::LiveFrame& frame, uint32_t parts, uint64_t* point
 struct ShapeSink {
   std::vector<OscMessageShape>* out;
   void Frame(uint64_t, uint64_t, size_t, size_t) { out->push_back({"/mocap/frame", "hhii"}); }
-  void Point(const service::LivePoint& p) {
-    out->push_back(p.marker >= 0 ? OscMessageShape{"/mocap/marker", "iffffi"} : OscMessageShape{"/mocap/point", "hffffi"});
+  void Point(const service::LivePoint& p, const std::vector<std::string>* names) {
+    OscMessageShape shape = p.marker >= 0 ? OscMessageShape{"/mocap/marker", "iffffi"} : OscMessageShape{"/mocap/point", "hffffi"};
+    if (names != nullptr) shape.types += "s";
+    out->push_back(shape);
   }
   void Body(const service::LiveBody&) { out->push_back({"/mocap/rigidbody", "sffffffff"}); }
 };
@@ -51,7 +53,7 @@ struct BundleSink {
     lo_message_add_int32(m, static_cast<int32_t>(bodies));
     Add("/mocap/frame", m);
   }
-  void Point(const service::LivePoint& p) {
+  void Point(const service::LivePoint& p, const std::vector<std::string>* names) {
     lo_message m = lo_message_new();
     if (p.marker >= 0)
       lo_message_add_int32(m, p.marker + 1);
@@ -62,6 +64,11 @@ struct BundleSink {
     lo_message_add_float(m, static_cast<float>(p.position.z()));
     lo_message_add_float(m, static_cast<float>(p.rms_px));
     lo_message_add_int32(m, p.views);
+    // With a marker set (serve --labels): the point's name last, empty when it has none.
+    if (names != nullptr)
+      lo_message_add_string(m, p.label >= 0 && static_cast<size_t>(p.label) < names->size()
+                                   ? (*names)[static_cast<size_t>(p.label)].c_str()
+                                   : "");
     Add(p.marker >= 0 ? "/mocap/marker" : "/mocap/point", m);
   }
   void Body(const service::LiveBody& b) {

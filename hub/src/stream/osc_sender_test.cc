@@ -52,6 +52,12 @@ TEST(OscSender, AddressSpace) {
   EXPECT_EQ(shape[4].path, "/mocap/rigidbody");  // the lost body is left out
   EXPECT_EQ(shape[4].types, "sffffffff");
   EXPECT_EQ(OscBundleShape(Frame(), kPartBodies).size(), 2u);
+  // With a marker set every point message ends with the point's name.
+  service::LiveFrame named = Frame();
+  named.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"Head"});
+  const auto named_shape = OscBundleShape(named, kPartPoints);
+  EXPECT_EQ(named_shape[1].types, "iffffis");
+  EXPECT_EQ(named_shape[2].types, "hffffis");
   service::LiveFrame many;
   many.points.resize(kMaxOscPoints + 10);
   EXPECT_EQ(OscBundleShape(many, kPartPoints).size(), 1 + kMaxOscPoints);

@@ -9,7 +9,7 @@
 namespace mocap::stream {
 namespace {
 
-void FillPoint(const service::LivePoint& in, v1::Point* out) {
+void FillPoint(const service::LivePoint& in, const std::vector<std::string>* names, v1::Point* out) {
   out->set_x(static_cast<float>(in.position.x()));
   out->set_y(static_cast<float>(in.position.y()));
   out->set_z(static_cast<float>(in.position.z()));
@@ -17,6 +17,8 @@ void FillPoint(const service::LivePoint& in, v1::Point* out) {
   out->set_views(static_cast<uint32_t>(in.views));
   if (in.marker >= 0) out->set_marker(in.marker + 1);
   out->set_provisional_track(in.provisional_track);
+  if (names != nullptr && in.label >= 0 && static_cast<size_t>(in.label) < names->size())
+    out->set_label((*names)[static_cast<size_t>(in.label)].substr(0, 63));  // the field's nanopb limit
 }
 
 void FillBody(const service::LiveBody& in, v1::RigidBody* out) {
@@ -53,7 +55,7 @@ EncodedFrame EncodeStreamFrame(const service::LiveFrame& frame, uint32_t parts, 
     size_t size = out.ByteSizeLong() + 8;  // + room for points_dropped
     for (const service::LivePoint& point : frame.points) {
       v1::Point p;
-      FillPoint(point, &p);
+      FillPoint(point, (parts & kPartLabels) && frame.label_names ? frame.label_names.get() : nullptr, &p);
       const size_t cost = p.ByteSizeLong() + 3;
       if (size + cost > max_bytes) {
         out.set_points_dropped(out.points_dropped() + 1);

@@ -81,6 +81,20 @@ TEST(StreamEncoding, EveryFieldSurvivesTheRoundTrip) {
   EXPECT_EQ(m.points_dropped(), 0u);
 }
 
+TEST(StreamEncoding, NamesOnlyWithTheLabelsPart) {
+  service::LiveFrame f = Frame(3);
+  f.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"R.ASIS", "Head"});
+  f.points[1].label = 1;
+  f.points[2].label = 0;
+  const v1::StreamFrame named = Parse(EncodeStreamFrame(f, kPartPoints | kPartLabels));
+  ASSERT_EQ(named.points_size(), 3);
+  EXPECT_EQ(named.points(0).label(), "");
+  EXPECT_EQ(named.points(1).label(), "Head");
+  EXPECT_EQ(named.points(2).label(), "R.ASIS");
+  const v1::StreamFrame plain = Parse(EncodeStreamFrame(f, kPartPoints));
+  EXPECT_EQ(plain.points(1).label(), "");
+}
+
 TEST(StreamEncoding, OnlyThePartsAskedFor) {
   const service::LiveFrame f = Frame(5);
   const v1::StreamFrame points = Parse(EncodeStreamFrame(f, kPartPoints));

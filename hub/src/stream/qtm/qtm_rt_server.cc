@@ -20,6 +20,7 @@
 
 #include "ingest/udp_socket.h"
 #include "io/calibration_json.h"
+#include "labels/marker_set.h"
 #include "util/log.h"
 
 namespace mocap::stream::qtm {
@@ -58,12 +59,14 @@ struct QtmRtServer::Client {
   bool dead = false;       // close now
 };
 
-RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file) {
+RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file,
+                      const std::string& labels_file) {
   RtSystem system;
   system.rate_hz = rate_hz;
   system.rig = LoadRigJson(calibration_path);
   system.axis_upwards = AxisUpwards(system.rig);
   if (!bodies_file.empty()) system.bodies = ReadBodiesFile(bodies_file);
+  if (!labels_file.empty()) system.label_names = ReadMarkerSetFile(labels_file).names;
   return system;
 }
 
@@ -81,6 +84,8 @@ void QtmRtOptions::Check() const {
 QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
     : options_((options.Check(), std::move(options))), queue_(options_.queue_frames) {
   state_.system = std::move(system);
+  if (!state_.system.label_names.empty())
+    state_.names.UseMarkerSet(std::make_shared<const std::vector<std::string>>(state_.system.label_names));
   const HostPort where = ParseHostPort(options_.listen);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;

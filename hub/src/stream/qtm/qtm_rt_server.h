@@ -69,7 +69,8 @@ struct QtmRtStats {
 
 // What the server tells clients about the system: serve's rate and the calibration's cameras
 // (their up direction gives AxisUpwards). Throws std::runtime_error if the file cannot be read.
-RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file = "");
+RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file = "",
+                      const std::string& labels_file = "");
 
 class QtmRtServer {
  public:

@@ -44,13 +44,12 @@ void Finish(std::string* component, std::string* packet_body) {
 }
 
 std::string Labelled3d(const service::LiveFrame& frame, const RtNames& names, bool residual, uint16_t drop) {
-  const std::vector<int>& columns = names.label_columns();
-  std::vector<const service::LivePoint*> by_label(columns.size(), nullptr);
+  std::vector<const service::LivePoint*> by_label(names.label_count(), nullptr);
   for (const service::LivePoint& p : frame.points) {
-    const int label = p.marker >= 0 ? names.LabelOf(p.marker) : -1;
-    if (label >= 0) by_label[static_cast<size_t>(label)] = &p;
+    const int label = names.LabelOf(p);
+    if (label >= 0 && static_cast<size_t>(label) < by_label.size()) by_label[static_cast<size_t>(label)] = &p;
   }
-  std::string out = ComponentStart(residual ? k3dRes : k3d, static_cast<uint32_t>(columns.size()), drop);
+  std::string out = ComponentStart(residual ? k3dRes : k3d, static_cast<uint32_t>(by_label.size()), drop);
   for (const service::LivePoint* p : by_label) {
     if (p) {
       PutVector(&out, p->position);
@@ -105,6 +104,7 @@ std::string SixD(const service::LiveFrame& frame, const RtNames& names, Componen
 }  // namespace
 
 void RtNames::Update(const service::LiveFrame& frame) {
+  if (frame.label_names && !set_names_) set_names_ = frame.label_names;
   for (const service::LivePoint& p : frame.points) {
     if (p.marker < 0 || index_of_column_.count(p.marker) || columns_.size() >= kMaxLabels) continue;
     index_of_column_[p.marker] = static_cast<int>(columns_.size());
@@ -114,12 +114,19 @@ void RtNames::Update(const service::LiveFrame& frame) {
     if (!bodies_.count(b.id) && bodies_.size() < kMaxBodies) bodies_[b.id] = b.name;
 }
 
-int RtNames::LabelOf(int column) const {
-  const auto it = index_of_column_.find(column);
+int RtNames::LabelOf(const service::LivePoint& point) const {
+  if (set_names_) return point.label;
+  if (point.marker < 0) return -1;
+  const auto it = index_of_column_.find(point.marker);
   return it == index_of_column_.end() ? -1 : it->second;
 }
 
-std::string RtNames::LabelName(int column) {
+std::string RtNames::label_name(size_t label) const {
+  if (set_names_) return label < set_names_->size() ? (*set_names_)[label] : std::string();
+  return label < columns_.size() ? ColumnName(columns_[label]) : std::string();
+}
+
+std::string RtNames::ColumnName(int column) {
   char name[16];
   std::snprintf(name, sizeof name, "M%03d", column + 1);
   return name;

@@ -2,8 +2,10 @@
 // and 6D-Euler components and their residual variants, in the little-endian layout.
 //
 // How the hub's result maps onto them:
-//  - Labels are the confirmed markers (LiveFrame marker columns) in the order they were first
-//    seen, named M001, M002, ... after the column (column 0 is M001). The list only grows, so a
+//  - With a marker set (serve --labels) the labels are its names, in its order, and a point
+//    carries the label of its name. Without one, labels are the confirmed markers (LiveFrame
+//    marker columns) in the order they were first seen, named M001, M002, ... after the column
+//    (column 0 is M001). The list only grows, so a
 //    client that read the labels earlier still indexes the labelled components correctly; a
 //    label not seen in a frame is NaN (all bits set, as the protocol says).
 //  - 3D no labels carries every point of the frame, confirmed or not (the hub's labels are
@@ -23,6 +25,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,15 +44,18 @@ class RtNames {
   static constexpr size_t kMaxBodies = 1024;
 
   void Update(const service::LiveFrame& frame);
-  // Marker columns in label order.
-  const std::vector<int>& label_columns() const { return columns_; }
-  // Label index of a marker column, -1 if it has none.
-  int LabelOf(int column) const;
-  static std::string LabelName(int column);
+  // The labels are a marker set's names from now on (serve --labels: known before any frame).
+  void UseMarkerSet(std::shared_ptr<const std::vector<std::string>> names) { set_names_ = std::move(names); }
+  size_t label_count() const { return set_names_ ? set_names_->size() : columns_.size(); }
+  std::string label_name(size_t label) const;
+  // Label index of a point, -1 if it has none.
+  int LabelOf(const service::LivePoint& point) const;
+  static std::string ColumnName(int column);
   // Bodies by id: id -> name.
   const std::map<uint32_t, std::string>& bodies() const { return bodies_; }
 
  private:
+  std::shared_ptr<const std::vector<std::string>> set_names_;  // the marker set's names, or null
   std::vector<int> columns_;
   std::map<int, int> index_of_column_;
   std::map<uint32_t, std::string> bodies_;

@@ -81,10 +81,9 @@ void General(std::ostringstream& x, const RtSystem& s) {
 
 void ThreeD(std::ostringstream& x, const RtSystem& s, const RtNames& names) {
   x << "<The_3D>\n<AxisUpwards>" << s.axis_upwards << "</AxisUpwards>\n<CalibrationTime></CalibrationTime>\n"
-    << "<Labels>" << names.label_columns().size() << "</Labels>\n";
-  int i = 0;
-  for (int column : names.label_columns())
-    x << "<Label>\n<Name>" << RtNames::LabelName(column) << "</Name>\n<RGBColor>" << Colour(i++)
+    << "<Labels>" << names.label_count() << "</Labels>\n";
+  for (size_t i = 0; i < names.label_count(); ++i)
+    x << "<Label>\n<Name>" << XmlEscape(names.label_name(i)) << "</Name>\n<RGBColor>" << Colour(static_cast<int>(i))
       << "</RGBColor>\n</Label>\n";
   x << "<Bones></Bones>\n</The_3D>\n";
 }

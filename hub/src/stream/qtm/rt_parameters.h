@@ -28,6 +28,7 @@ struct RtSystem {
   Rig rig;
   std::string axis_upwards = "+Z";
   std::vector<RigidBodyDefinition> bodies;  // serve --bodies: their markers go into the 6D XML
+  std::vector<std::string> label_names;     // serve --labels: the 3D labels from the start
 };
 
 // "+X", "-Y", ... of a rig (see above); "+Z" for an empty rig.

@@ -179,8 +179,10 @@ TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
   second.cameras = 3;
   second.points = {Point(7, 8, 9, 1), Point(10, 11, 12, -1, 5), Point(13, 14, 15, 9)};
   names.Update(second);
-  ASSERT_EQ(names.label_columns(), (std::vector<int>{4, 1, 9}));
-  EXPECT_EQ(RtNames::LabelName(4), "M005");
+  ASSERT_EQ(names.label_count(), 3u);
+  EXPECT_EQ(names.label_name(0), "M005");
+  EXPECT_EQ(names.label_name(1), "M002");
+  EXPECT_EQ(names.label_name(2), "M010");
 
   std::string packet = EncodeDataPacket(second, k3d | k3dRes, names, 4);
   const std::vector<testing::Packet> packets = testing::SplitPackets(&packet);
@@ -203,6 +205,36 @@ TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
   EXPECT_EQ(res.type, 9u);
   ASSERT_EQ(res.data.size(), 3u * 16);
   EXPECT_FLOAT_EQ(F32(res.data, 16 + 12), 0.25f);
+}
+
+TEST(RtFrame, WithAMarkerSetTheLabelsAreItsNames) {
+  service::LiveFrame frame;
+  frame.frame_number = 3;
+  frame.cameras = 4;
+  frame.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"R.ASIS", "L&ASIS", "Head"});
+  frame.points = {Point(1, 2, 3, 0), Point(4, 5, 6, 1), Point(7, 8, 9, -1, 3)};
+  frame.points[0].label = 2;  // Head
+  frame.points[2].label = 0;  // R.ASIS, a provisional point named by its segment partners
+  RtNames names;
+  names.Update(frame);
+  ASSERT_EQ(names.label_count(), 3u);
+  EXPECT_EQ(names.label_name(1), "L&ASIS");
+  std::string packet = EncodeDataPacket(frame, k3d, names, 4);
+  const std::vector<testing::Packet> packets = testing::SplitPackets(&packet);
+  ASSERT_EQ(packets.size(), 1u);
+  const testing::Frame f = testing::ReadFrame(packets[0].body);
+  ASSERT_EQ(f.components.size(), 1u);
+  const testing::Component& c = f.components[0];
+  ASSERT_EQ(c.count, 3u);
+  EXPECT_FLOAT_EQ(F32(c.data, 0), 7.0f);   // R.ASIS
+  EXPECT_TRUE(std::isnan(F32(c.data, 12)));  // L&ASIS: no point has it
+  EXPECT_FLOAT_EQ(F32(c.data, 24), 1.0f);  // Head
+  RtSystem system;
+  system.rate_hz = 100.0;
+  const std::string xml = ParametersXml(system, names, k3dParameters, 25);
+  EXPECT_NE(xml.find("<Labels>3</Labels>"), std::string::npos);
+  EXPECT_NE(xml.find("<Name>R.ASIS</Name>"), std::string::npos);
+  EXPECT_NE(xml.find("<Name>L&amp;ASIS</Name>"), std::string::npos);
 }
 
 TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {

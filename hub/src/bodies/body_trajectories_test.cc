@@ -1,0 +1,61 @@
+// Body pose files: what WriteBodyPoses writes, ParseBodyPoses reads back; anything else is
+// refused with the line and the reason.
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "bodies/body_trajectories.h"
+
+namespace mocap {
+namespace {
+
+TEST(BodyPoses, RoundTrip) {
+  RigidBodyDefinition body;
+  body.name = "wand";
+  body.markers = {{0, 0, 0}, {100, 0, 0}, {0, 80, 0}};
+  BodyPoseRow row;
+  row.frame_number = 41;
+  BodyPose pose;
+  pose.tracked = true;
+  pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  pose.pivot = {10.5, -20.25, 1000.0};
+  pose.mean_error_mm = 0.25;
+  pose.markers = 3;
+  row.poses = {pose};
+  const std::string path = (std::filesystem::temp_directory_path() / "body_poses_round_trip.tsv").string();
+  WriteBodyPoses(path, {body}, {row}, 100.0);
+  const std::vector<BodyPoseRecord> read = ReadBodyPoses(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_EQ(read[0].frame, 42u);
+  EXPECT_EQ(read[0].body, "wand");
+  EXPECT_TRUE(read[0].tracked);
+  EXPECT_FALSE(read[0].predicted);
+  EXPECT_TRUE(read[0].pivot.isApprox(pose.pivot, 1e-6));
+  EXPECT_LT(read[0].orientation.angularDistance(pose.orientation), 1e-5);
+  EXPECT_EQ(read[0].markers, 3u);
+}
+
+TEST(BodyPoses, RefusesOtherFilesWithTheLine) {
+  const std::string header = "frame\ttime_s\tbody\ttracked\tpredicted\tx\ty\tz\tqx\tqy\tqz\tqw\tmean_error_mm\tmarkers\n";
+  auto reason = [](const std::string& text) {
+    try {
+      ParseBodyPoses(text, "poses.tsv");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(reason("frame\tbody\n").find("line 1: not a body pose file"), std::string::npos);
+  EXPECT_NE(reason(header + "1\t0\tw\t1\t0\t1\t2\t3\t0\t0\t0\t1\t0\n").find("line 2: expected 14"), std::string::npos);
+  EXPECT_NE(reason(header + "1\t0\tw\t1\t0\t1\t2\tz\t0\t0\t0\t1\t0\t3\n").find("column 8"), std::string::npos);
+  EXPECT_NE(reason(header + "1\t0\tw\t1\t0\t1\t2\t3\t0\t0\t0\t2\t0\t3\n").find("unit quaternion"), std::string::npos);
+  EXPECT_NE(reason(header + "1\t0\tw\t2\t0\t1\t2\t3\t0\t0\t0\t1\t0\t3\n").find("0 or 1"), std::string::npos);
+  EXPECT_NE(reason("").find("empty"), std::string::npos);
+  EXPECT_EQ(reason(header + "1\t0\tw\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\n"), "accepted");  // an untracked row
+}
+
+}  // namespace
+}  // namespace mocap

@@ -1,0 +1,453 @@
+// Labelling a whole recording (see trial_labeller.h).
+#include "labels/trial_labeller.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "util/assignment.h"
+
+namespace mocap {
+namespace {
+
+struct Run {
+  size_t column = 0;
+  size_t first = 0, last = 0;  // frame indices, inclusive
+  std::map<int, double> support;
+  double total = 0.0;
+  int label = -1;
+};
+
+// Distance statistics of two runs over the frames they share.
+struct RunPair {
+  double mean = 0.0, sd = 0.0;
+  int frames = 0;
+};
+
+// How far two runs' distance is from what the set says of their names: in units of the spread
+// the set and the runs allow (plus `relative` of the distance: another subject's markers sit
+// elsewhere), squared and capped so that one odd pair cannot outweigh the rest.
+double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair, double relative) {
+  if (a < 0 || b < 0 || pair.frames < 10) return 0.0;
+  const MarkerDistance* d = set.Distance(a, b);
+  if (d == nullptr) return 0.0;
+  // Another subject (a loose fit): only pairs steady in the set compare; how far apart two
+  // joints' markers swing depends on the activity and the body, their rigidity does not.
+  if (relative > 0.05 && d->sd > 5.0) return 0.0;
+  // Both how long the distance is and how much it varies: a pair that is steady in the set must
+  // be steady in the data too (rigidity does not change from one subject to another).
+  const double spread = d->sd + 3.0 + relative * d->mean;
+  const double z_mean = (pair.mean - d->mean) / (spread + pair.sd);
+  const double z_sd = (pair.sd - d->sd) / (d->sd + 3.0);
+  return std::min(z_mean * z_mean + z_sd * z_sd, 25.0);
+}
+
+// The runs' names as a whole, by their distances: swaps of two runs' names, and moves to a name no
+// overlapping run holds, while they lower the total cost (local search on the quadratic
+// assignment the distances pose). Fixes what the mean shape gets wrong along a chain of markers
+// that moves far from its mean pose (an arm serving), where the distances are right.
+// Returns the share of a distance the subject's markers may differ from the set's (see below).
+double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<int64_t>& run_at,
+                         std::vector<Run>* runs_in, std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
+  std::vector<Run>& runs = *runs_in;
+  const size_t r_count = runs.size();
+  if (r_count < 2 || r_count > 2000) return 0.15;  // bounded: pairs grow with the square
+  const size_t columns = in.NumMarkers();
+  std::vector<RunPair> pairs(r_count * r_count);
+  std::vector<double> sum(r_count * r_count, 0.0), sum_squares(r_count * r_count, 0.0);
+  std::vector<int64_t> present;
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    present.clear();
+    for (size_t c = 0; c < columns; ++c)
+      if (run_at[f * columns + c] >= 0) present.push_back(static_cast<int64_t>(c));
+    for (size_t x = 0; x < present.size(); ++x)
+      for (size_t y = x + 1; y < present.size(); ++y) {
+        size_t i = static_cast<size_t>(run_at[f * columns + static_cast<size_t>(present[x])]);
+        size_t j = static_cast<size_t>(run_at[f * columns + static_cast<size_t>(present[y])]);
+        if (i > j) std::swap(i, j);
+        const double d = (in.At(f, static_cast<size_t>(present[x])) - in.At(f, static_cast<size_t>(present[y]))).norm();
+        sum[i * r_count + j] += d, sum_squares[i * r_count + j] += d * d, ++pairs[i * r_count + j].frames;
+      }
+  }
+  for (size_t i = 0; i < r_count; ++i)
+    for (size_t j = i + 1; j < r_count; ++j) {
+      RunPair& p = pairs[i * r_count + j];
+      if (p.frames == 0) continue;
+      p.mean = sum[i * r_count + j] / p.frames;
+      p.sd = std::sqrt(std::max(0.0, sum_squares[i * r_count + j] / p.frames - p.mean * p.mean));
+      pairs[j * r_count + i] = p;
+    }
+  // How well the set's distances fit this subject: the spread of the ratio of steady pairs'
+  // distances (as named now) to the set's. The same subject: about 1 %; another: 10-20 %.
+  double relative = 0.1;
+  {
+    std::vector<double> log_ratio;
+    for (size_t i = 0; i < r_count; ++i)
+      for (size_t j = i + 1; j < r_count; ++j) {
+        const RunPair& p = pairs[i * r_count + j];
+        const MarkerDistance* d = set.Distance(runs[i].label, runs[j].label);
+        if (p.frames >= 10 && d != nullptr && d->sd < 5.0 && p.sd < 5.0 && d->mean > 0.0)
+          log_ratio.push_back(std::abs(std::log(p.mean / d->mean)));
+      }
+    if (log_ratio.size() >= 5) {
+      std::nth_element(log_ratio.begin(), log_ratio.begin() + log_ratio.size() / 2, log_ratio.end());
+      relative = std::clamp(3.0 * log_ratio[log_ratio.size() / 2], 0.01, 0.15);
+    }
+  }
+  // A run's cost with a name: its distances to every other named run, and a little for straying
+  // from the name its frames supported.
+  auto cost_of = [&](size_t i, int label, size_t skip, int skip_label) {
+    double c = 0.0;
+    for (size_t j = 0; j < r_count; ++j) {
+      if (j == i) continue;
+      const int other = j == skip ? skip_label : runs[j].label;
+      c += PairCost(set, label, other, pairs[i * r_count + j], relative);
+    }
+    const auto it = runs[i].support.find(label);
+    const double share = runs[i].total > 0.0 && it != runs[i].support.end() ? it->second / runs[i].total : 0.0;
+    return c + 0.5 * (1.0 - share);
+  };
+  auto free_for = [&](int label, size_t i, size_t ignore) {
+    for (size_t j = 0; j < r_count; ++j)
+      if (j != i && j != ignore && runs[j].label == label && runs[i].first <= runs[j].last && runs[j].first <= runs[i].last)
+        return false;
+    return true;
+  };
+  // A run left without a name costs as much as a poor fit to every named run it meets (the mean
+  // pair cost that makes a name not worth giving).
+  constexpr double kUnnamedPairCost = 4.0;
+  auto unnamed_cost = [&](size_t i) {
+    double c = 0.0;
+    for (size_t j = 0; j < r_count; ++j)
+      if (j != i && runs[j].label >= 0 && pairs[i * r_count + j].frames >= 10) c += kUnnamedPairCost;
+    return c;
+  };
+  auto total_cost = [&]() {
+    double c = 0.0;
+    for (size_t i = 0; i < r_count; ++i) {
+      if (runs[i].label < 0) {
+        c += unnamed_cost(i);
+        continue;
+      }
+      for (size_t j = i + 1; j < r_count; ++j) c += PairCost(set, runs[i].label, runs[j].label, pairs[i * r_count + j], relative);
+      const auto it = runs[i].support.find(runs[i].label);
+      c += 0.5 * (1.0 - (runs[i].total > 0.0 && it != runs[i].support.end() ? it->second / runs[i].total : 0.0));
+    }
+    return c;
+  };
+  // Short runs' names are set aside while the long runs settle theirs (a short run holding a
+  // name must not block the long runs' exchanges), then take names by the moves below.
+  std::vector<int> short_label(r_count, -1);
+  for (size_t i = 0; i < r_count; ++i)
+    if (2 * (runs[i].last - runs[i].first + 1) < in.NumFrames()) short_label[i] = runs[i].label, runs[i].label = -1;
+  // First all long runs (half the recording or more: they overlap each other) at once: each
+  // run's cost for every name given the others' names, solved one to one; kept while the total
+  // falls. This moves whole chains of names that single swaps cannot.
+  std::vector<size_t> long_runs;
+  for (size_t i = 0; i < r_count; ++i)
+    if (2 * (runs[i].last - runs[i].first + 1) >= in.NumFrames()) long_runs.push_back(i);
+  const size_t labels = set.NumMarkers();
+  for (int round = 0; round < 10 && long_runs.size() >= 2; ++round) {
+    Eigen::MatrixXd cost(long_runs.size(), labels);
+    for (size_t x = 0; x < long_runs.size(); ++x) {
+      const size_t i = long_runs[x];
+      for (size_t a = 0; a < labels; ++a) {
+        bool blocked = false;  // held by a short run overlapping this one
+        for (size_t j = 0; j < r_count && !blocked; ++j)
+          blocked = runs[j].label == static_cast<int>(a) && 2 * (runs[j].last - runs[j].first + 1) < in.NumFrames() &&
+                    runs[i].first <= runs[j].last && runs[j].first <= runs[i].last;
+        cost(x, a) = blocked ? 1e9 : cost_of(i, static_cast<int>(a), i, static_cast<int>(a));
+      }
+    }
+    const std::vector<int> match = SolveAssignment(cost, 1e8);
+    const double before = total_cost();
+    std::vector<int> old(long_runs.size());
+    for (size_t x = 0; x < long_runs.size(); ++x) {
+      old[x] = runs[long_runs[x]].label;
+      if (match[x] >= 0) runs[long_runs[x]].label = match[x];
+    }
+    if (total_cost() >= before - 1e-6) {
+      for (size_t x = 0; x < long_runs.size(); ++x) runs[long_runs[x]].label = old[x];
+      break;
+    }
+  }
+  for (size_t i = 0; i < r_count; ++i)
+    if (short_label[i] >= 0 && free_for(short_label[i], i, i)) runs[i].label = short_label[i];
+  for (int sweep = 0; sweep < 20; ++sweep) {
+    bool improved = false;
+    for (size_t i = 0; i < r_count; ++i) {
+      for (size_t j = i + 1; j < r_count && runs[i].label >= 0; ++j) {
+        if (runs[j].label < 0 || runs[i].label < 0) continue;
+        const int li = runs[i].label, lj = runs[j].label;
+        if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+        const double before = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
+        const double after = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
+        if (after < before - 1e-6) {
+          runs[i].label = lj, runs[j].label = li;
+          improved = true;
+        }
+      }
+      for (int u = 0; u < static_cast<int>(set.NumMarkers()); ++u) {
+        const int li = runs[i].label;
+        if (u == li || !free_for(u, i, i)) continue;
+        const double now = li >= 0 ? cost_of(i, li, i, li) : unnamed_cost(i);
+        if (cost_of(i, u, i, u) < now - 1e-6) {
+          runs[i].label = u;
+          improved = true;
+        }
+      }
+    }
+    if (!improved) break;
+  }
+  // Two overlapping runs whose names could be exchanged at almost no cost cannot be told apart
+  // (a pair of markers whose distances to the rest are alike, placed differently on this
+  // subject): both lose their names rather than carry a coin toss.
+  constexpr double kAmbiguityMargin = 2.0;
+  std::vector<char> ambiguous(r_count, 0);
+  for (size_t i = 0; i < r_count; ++i)
+    for (size_t j = i + 1; j < r_count; ++j) {
+      const int li = runs[i].label, lj = runs[j].label;
+      if (li < 0 || lj < 0 || pairs[i * r_count + j].frames < 10) continue;
+      if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+      const double now = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
+      const double exchanged = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
+      if (exchanged - now < kAmbiguityMargin) ambiguous[i] = ambiguous[j] = 1;
+    }
+  for (size_t i = 0; i < r_count; ++i)
+    if (ambiguous[i]) runs[i].label = -1;
+  // A name whose distances fit worse than leaving the run unnamed is taken back: never a guess.
+  for (size_t i = 0; i < r_count; ++i) {
+    if (runs[i].label < 0) continue;
+    double c = 0.0;
+    int n = 0;
+    for (size_t j = 0; j < r_count; ++j)
+      if (j != i && runs[j].label >= 0 && pairs[i * r_count + j].frames >= 10 &&
+          set.Distance(runs[i].label, runs[j].label) != nullptr)
+        c += PairCost(set, runs[i].label, runs[j].label, pairs[i * r_count + j], relative), ++n;
+    if (n > 0 && c / n > kUnnamedPairCost) runs[i].label = -1;
+  }
+  for (auto& t : *taken) t.clear();
+  for (const Run& run : runs)
+    if (run.label >= 0) (*taken)[static_cast<size_t>(run.label)].push_back({run.first, run.last});
+  return relative;
+}
+
+// In one frame, the named points (label per point, -1: none) whose distances to the other named
+// points break most of the set's steady pairs lose their names for that frame: a run the tracker
+// swapped with another marker is not carried under the wrong name. Steady: an sd of at most 5 mm
+// in the set, or 15 mm when the set fits this subject closely (relative <= 2 %: the same person,
+// whose looser pairs are still known well). Returns how many.
+size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
+                       std::vector<int>* labels) {
+  std::vector<size_t> drop;
+  for (size_t p = 0; p < points.size(); ++p) {
+    const int a = (*labels)[p];
+    if (a < 0) continue;
+    int checks = 0, breaks = 0;
+    for (size_t q = 0; q < points.size(); ++q) {
+      const MarkerDistance* d = q == p || (*labels)[q] < 0 ? nullptr : set.Distance(a, (*labels)[q]);
+      if (d == nullptr || d->sd > (relative <= 0.02 ? 15.0 : 5.0) || d->mean > 500.0) continue;
+      ++checks;
+      breaks += std::abs((points[p] - points[q]).norm() - d->mean) > 3.0 * d->sd + 5.0 + relative * d->mean;
+    }
+    if (checks >= 2 && 2 * breaks > checks) drop.push_back(p);
+  }
+  for (size_t p : drop) (*labels)[p] = -1;
+  return drop.size();
+}
+
+// Splits named runs where they start or stop breaking their steady distances for at least
+// `min_frames` frames (the tracker swapped two markers there): the broken part becomes a run of
+// its own without a name, to be named again by the refinement. Returns whether any was split.
+bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double relative, size_t min_frames,
+                     std::vector<Run>* runs, std::vector<int64_t>* run_at) {
+  const size_t columns = in.NumMarkers();
+  std::vector<char> broken(in.points.size(), 0);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> labels, original;
+  std::vector<size_t> which;
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    points.clear(), labels.clear(), which.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = (*run_at)[f * columns + c];
+      if (r < 0) continue;
+      points.push_back(in.At(f, c));
+      labels.push_back((*runs)[static_cast<size_t>(r)].label);
+      which.push_back(c);
+    }
+    original = labels;
+    DropBrokenNames(set, relative, points, &labels);
+    for (size_t i = 0; i < which.size(); ++i)
+      broken[f * columns + which[i]] = original[i] >= 0 && labels[i] < 0;
+  }
+  bool split = false;
+  const size_t count = runs->size();
+  for (size_t r = 0; r < count; ++r) {
+    if ((*runs)[r].label < 0) continue;
+    const size_t column = (*runs)[r].column;
+    // Pieces of equal state; short flickers join their neighbours.
+    std::vector<std::pair<size_t, size_t>> pieces;  // [first, last]
+    std::vector<char> state;
+    for (size_t f = (*runs)[r].first; f <= (*runs)[r].last; ++f) {
+      const char b = broken[f * columns + column];
+      if (!state.empty() && state.back() == b) {
+        pieces.back().second = f;
+      } else {
+        pieces.push_back({f, f});
+        state.push_back(b);
+      }
+    }
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (pieces[i].second - pieces[i].first + 1 < min_frames && pieces.size() > 1) state[i] = i > 0 ? state[i - 1] : 0;
+    std::vector<std::pair<size_t, size_t>> merged;
+    std::vector<char> merged_state;
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (!merged.empty() && merged_state.back() == state[i]) merged.back().second = pieces[i].second;
+      else merged.push_back(pieces[i]), merged_state.push_back(state[i]);
+    }
+    if (merged.size() < 2) continue;
+    split = true;
+    const int label = (*runs)[r].label;
+    for (size_t i = 0; i < merged.size(); ++i) {
+      size_t target = r;
+      if (i == 0) {
+        (*runs)[r].last = merged[0].second;
+        (*runs)[r].label = merged_state[0] ? -1 : label;
+      } else {
+        target = runs->size();
+        Run piece;
+        piece.column = column;
+        piece.first = merged[i].first, piece.last = merged[i].second;
+        piece.label = merged_state[i] ? -1 : label;
+        if (piece.label >= 0) piece.support[label] = 1.0, piece.total = 1.0;
+        runs->push_back(piece);
+      }
+      for (size_t f = merged[i].first; f <= merged[i].second; ++f)
+        if ((*run_at)[f * columns + column] >= 0) (*run_at)[f * columns + column] = static_cast<int64_t>(target);
+    }
+  }
+  return split;
+}
+
+}  // namespace
+
+TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& set, const LabellerOptions& options) {
+  MarkerLabeller labeller(set, options);
+  const size_t columns = in.NumMarkers();
+  std::vector<Run> runs;
+  std::vector<int64_t> run_of_column(columns, -1);
+  std::vector<int64_t> run_at(in.points.size(), -1);  // per (frame, column)
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int64_t> tracks;
+  std::vector<size_t> column_of_point;
+  std::vector<char> broken(columns, 0);
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    points.clear(), tracks.clear(), column_of_point.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      if (!in.Has(f, c)) {
+        run_of_column[c] = -1;
+        continue;
+      }
+      if (run_of_column[c] < 0 || broken[c]) {
+        run_of_column[c] = static_cast<int64_t>(runs.size());
+        runs.push_back(Run{c, f, f, {}, 0.0, -1});
+        broken[c] = 0;
+      }
+      Run& run = runs[static_cast<size_t>(run_of_column[c])];
+      run.last = f;
+      run_at[f * columns + c] = run_of_column[c];
+      points.push_back(in.At(f, c));
+      tracks.push_back(run_of_column[c]);
+      column_of_point.push_back(c);
+    }
+    const std::vector<int>& labels = labeller.Update(points, tracks);
+    const std::vector<int>& proposals = labeller.proposals();
+    for (size_t p = 0; p < points.size(); ++p) {
+      Run& run = runs[static_cast<size_t>(tracks[p])];
+      // A frame holding a name counts twice a vote: it passed the swap guard.
+      if (labels[p] >= 0) run.support[labels[p]] += 2.0, run.total += 2.0;
+      if (proposals[p] >= 0) run.support[proposals[p]] += 1.0, run.total += 1.0;
+      if (labels[p] < 0 && proposals[p] < 0) run.total += 1.0;
+    }
+    for (int64_t track : labeller.revoked()) broken[runs[static_cast<size_t>(track)].column] = 1;
+  }
+
+  // One name per run: the best supported first, never two overlapping runs with one name.
+  std::vector<std::tuple<double, size_t, int>> candidates;  // (support, run, label)
+  for (size_t r = 0; r < runs.size(); ++r)
+    for (const auto& [label, support] : runs[r].support)
+      if (2.0 * support >= runs[r].total) candidates.emplace_back(support, r, label);
+  std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
+  std::vector<std::vector<std::pair<size_t, size_t>>> taken(set.NumMarkers());
+  TrialLabelling out;
+  for (const auto& [support, r, label] : candidates) {
+    Run& run = runs[r];
+    if (run.label >= 0) continue;
+    bool overlaps = false;
+    for (const auto& [first, last] : taken[static_cast<size_t>(label)])
+      overlaps = overlaps || (run.first <= last && first <= run.last);
+    if (overlaps) continue;
+    run.label = label;
+    taken[static_cast<size_t>(label)].push_back({run.first, run.last});
+    ++out.named_runs;
+  }
+
+  double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  // Runs the tracker swapped mid-way: split where they break their distances, then named again.
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  out.runs = runs.size();
+  out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
+
+  // Columns: the names placed, in the set's order, then the input columns left with data.
+  std::vector<int> column_of_label(set.NumMarkers(), -1);
+  MarkerTrajectories& named = out.named;
+  named.rate_hz = in.rate_hz;
+  for (size_t a = 0; a < set.NumMarkers(); ++a)
+    if (!taken[a].empty()) {
+      column_of_label[a] = static_cast<int>(named.names.size());
+      named.names.push_back(set.names[a]);
+    }
+  out.names_placed = named.names.size();
+  // Per frame and input column the name its point carries (-1: none), after the frame check.
+  std::vector<int> label_at(in.points.size(), -1);
+  std::vector<int> leftover_column(columns, -1);
+  std::vector<Eigen::Vector3d> frame_points;
+  std::vector<int> frame_labels;
+  std::vector<size_t> frame_columns;
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    frame_points.clear(), frame_labels.clear(), frame_columns.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = run_at[f * columns + c];
+      if (r < 0) continue;
+      frame_points.push_back(in.At(f, c));
+      frame_labels.push_back(runs[static_cast<size_t>(r)].label);
+      frame_columns.push_back(c);
+    }
+    out.frame_names_dropped += DropBrokenNames(set, relative, frame_points, &frame_labels);
+    for (size_t i = 0; i < frame_columns.size(); ++i) {
+      label_at[f * columns + frame_columns[i]] = frame_labels[i];
+      if (frame_labels[i] < 0) leftover_column[frame_columns[i]] = 0;
+    }
+  }
+  for (size_t c = 0; c < columns; ++c)
+    if (leftover_column[c] == 0) {
+      leftover_column[c] = static_cast<int>(named.names.size());
+      named.names.push_back(in.names[c]);
+    }
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    const size_t row = named.AddFrame(in.frame_numbers[f]);
+    for (size_t c = 0; c < columns; ++c) {
+      if (run_at[f * columns + c] < 0) continue;
+      const int label = label_at[f * columns + c];
+      const int column = label >= 0 ? column_of_label[static_cast<size_t>(label)] : leftover_column[c];
+      named.At(row, static_cast<size_t>(column)) = in.At(f, c);
+      ++out.points;
+      out.named_points += label >= 0;
+    }
+  }
+  out.stats = labeller.stats();
+  return out;
+}
+
+}  // namespace mocap
