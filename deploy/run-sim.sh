@@ -2,7 +2,7 @@
 # README command (1): the main job on a simulated rig. Builds the programs, places an 8-camera
 # ring around a walking subject and, by default, runs it end to end as real processes: renders
 # every camera's frames, replays them through one mocap-node per camera (own network namespace
-# when possible) to mocap-hub record over UDP, reconstructs the TRC and prints its accuracy and
+# when possible) to mocap-hub serve over UDP, reconstructs the TRC and prints its accuracy and
 # latency (deploy/sim-session.sh). MOCAP_SIM_PATH=project runs the 2D-projection path instead.
 # Environment: MOCAP_BUILD_DIR (default build), MOCAP_SIM_DIR (default sim-run),
 # MOCAP_MOTION (a TRC to use instead of the default walk), MOCAP_CAMERAS (default 8),
@@ -39,7 +39,7 @@ if [ -z "$motion" ]; then
 fi
 
 if [ "$path" = e2e ]; then
-    echo "path: rendered frames -> $cameras mocap-node processes -> mocap-hub record (UDP) -> reconstruct -> eval"
+    echo "path: rendered frames -> $cameras mocap-node processes -> mocap-hub serve (UDP) -> reconstruct -> eval"
     deploy/sim-session.sh --motion "$motion" --cameras "$cameras" --out "$out" --bin "$build/bin"
     echo
     echo "TRC:  $out/session/filled.trc"

@@ -5,11 +5,11 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "common/fail.h"
 #include "node/version.h"
 
 enum setting_type { T_U32, T_U16, T_I32, T_I64, T_U64, T_DOUBLE, T_BOOL, T_STRING, T_CUSTOM };
@@ -107,23 +107,11 @@ void mn_config_defaults(struct mn_config *cfg)
     cfg->log_level = MN_LOG_INFO;
 }
 
-static int fail(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err, errlen, fmt, ap);
-    va_end(ap);
-    errno = EINVAL;
-    return -1;
-}
-
 static int copy_string(char *dst, size_t cap, const char *src, char *why, size_t whylen)
 {
     size_t n = strlen(src);
     if (n >= cap)
-        return fail(why, whylen, "too long (%zu characters, at most %zu)", n, cap - 1);
+        return mn_fail(why, whylen, "too long (%zu characters, at most %zu)", n, cap - 1);
     memcpy(dst, src, n + 1);
     return 0;
 }
@@ -142,20 +130,20 @@ static int set_source(struct mn_config *cfg, const char *value, char *why, size_
             continue;
         const char *arg = value + plen;
         if (*arg == '\0')
-            return fail(why, whylen, "'%s' lacks its argument", kinds[i].prefix);
+            return mn_fail(why, whylen, "'%s' lacks its argument", kinds[i].prefix);
         if (kinds[i].kind == MN_SOURCE_LIBCAMERA) {
             char *end;
             errno = 0;
             unsigned long idx = strtoul(arg, &end, 10);
             if (errno != 0 || *end != '\0' || !isdigit((unsigned char)arg[0]) || idx > 63)
-                return fail(why, whylen, "libcamera camera index '%s' is not 0..63", arg);
+                return mn_fail(why, whylen, "libcamera camera index '%s' is not 0..63", arg);
         }
         if (copy_string(cfg->source_arg, sizeof(cfg->source_arg), arg, why, whylen) < 0)
             return -1;
         cfg->source_kind = kinds[i].kind;
         return 0;
     }
-    return fail(why, whylen, "'%s' is not v4l2:/dev/videoN, libcamera:N or replay:DIR", value);
+    return mn_fail(why, whylen, "'%s' is not v4l2:/dev/videoN, libcamera:N or replay:DIR", value);
 }
 
 static int parse_double(const char *s, double *out)
@@ -191,7 +179,7 @@ static int set_sync(struct mn_config *cfg, const char *value, char *why, size_t 
     if (strncmp(value, "sim:", 4) == 0) {
         double rate;
         if (parse_double(value + 4, &rate) < 0 || rate < 0.1 || rate > 1000.0)
-            return fail(why, whylen, "sim rate '%s' is not a number in 0.1..1000 Hz", value + 4);
+            return mn_fail(why, whylen, "sim rate '%s' is not a number in 0.1..1000 Hz", value + 4);
         cfg->sync_kind = MN_SYNC_SIM;
         cfg->rate_hz = rate;
         return 0;
@@ -201,17 +189,17 @@ static int set_sync(struct mn_config *cfg, const char *value, char *why, size_t 
         const char *colon = strrchr(chip, ':');
         uint64_t line;
         if (colon == NULL || colon == chip || parse_u64(colon + 1, &line) < 0 || line > 1023)
-            return fail(why, whylen, "'%s' is not gpio:CHIP:LINE (LINE 0..1023)", value);
+            return mn_fail(why, whylen, "'%s' is not gpio:CHIP:LINE (LINE 0..1023)", value);
         size_t n = (size_t)(colon - chip);
         if (n >= sizeof(cfg->gpio_chip))
-            return fail(why, whylen, "gpio chip name too long");
+            return mn_fail(why, whylen, "gpio chip name too long");
         memcpy(cfg->gpio_chip, chip, n);
         cfg->gpio_chip[n] = '\0';
         cfg->gpio_line = (uint32_t)line;
         cfg->sync_kind = MN_SYNC_GPIO;
         return 0;
     }
-    return fail(why, whylen, "'%s' is not gpio:CHIP:LINE, sim:RATE or none", value);
+    return mn_fail(why, whylen, "'%s' is not gpio:CHIP:LINE, sim:RATE or none", value);
 }
 
 static int set_hub(struct mn_config *cfg, const char *value, char *why, size_t whylen)
@@ -220,10 +208,10 @@ static int set_hub(struct mn_config *cfg, const char *value, char *why, size_t w
     uint64_t port;
     if (colon == NULL || colon == value || parse_u64(colon + 1, &port) < 0 || port < 1 ||
         port > 65535)
-        return fail(why, whylen, "'%s' is not HOST:PORT (PORT 1..65535)", value);
+        return mn_fail(why, whylen, "'%s' is not HOST:PORT (PORT 1..65535)", value);
     size_t n = (size_t)(colon - value);
     if (n >= sizeof(cfg->hub_host))
-        return fail(why, whylen, "hub host name too long");
+        return mn_fail(why, whylen, "hub host name too long");
     memcpy(cfg->hub_host, value, n);
     cfg->hub_host[n] = '\0';
     cfg->hub_port = (uint16_t)port;
@@ -233,7 +221,7 @@ static int set_hub(struct mn_config *cfg, const char *value, char *why, size_t w
 static int set_log_level(struct mn_config *cfg, const char *value, char *why, size_t whylen)
 {
     if (mn_log_level_parse(value, &cfg->log_level) < 0)
-        return fail(why, whylen, "'%s' is not error, warning, notice, info or debug", value);
+        return mn_fail(why, whylen, "'%s' is not error, warning, notice, info or debug", value);
     return 0;
 }
 
@@ -270,16 +258,16 @@ static int set_integer(const struct setting *s, void *field, const char *value, 
     errno = 0;
     long long v = strtoll(value, &end, 10);
     if (errno != 0 || end == value || *end != '\0')
-        return fail(why, whylen, "'%s' is not an integer", value);
+        return mn_fail(why, whylen, "'%s' is not an integer", value);
     if ((double)v < s->min || (double)v > s->max)
-        return fail(why, whylen, "%lld is out of range %.0f..%.0f", v, s->min, s->max);
+        return mn_fail(why, whylen, "%lld is out of range %.0f..%.0f", v, s->min, s->max);
     switch (s->type) {
     case T_U32: *(uint32_t *)field = (uint32_t)v; break;
     case T_U16: *(uint16_t *)field = (uint16_t)v; break;
     case T_I32: *(int32_t *)field = (int32_t)v; break;
     case T_I64: *(int64_t *)field = (int64_t)v; break;
     case T_U64: *(uint64_t *)field = (uint64_t)v; break;
-    default: return fail(why, whylen, "internal: not an integer setting");
+    default: return mn_fail(why, whylen, "internal: not an integer setting");
     }
     return 0;
 }
@@ -289,7 +277,7 @@ int mn_config_set(struct mn_config *cfg, const char *key, const char *value, con
 {
     const struct setting *s = find_setting(key);
     if (s == NULL)
-        return fail(err, errlen, "%s: unknown setting '%s'", origin, key);
+        return mn_fail(err, errlen, "%s: unknown setting '%s'", origin, key);
     char why[MN_CONFIG_ERR / 2];
     why[0] = '\0';
     void *field = (char *)cfg + s->offset;
@@ -305,16 +293,16 @@ int mn_config_set(struct mn_config *cfg, const char *key, const char *value, con
     case T_DOUBLE: {
         double v;
         if (parse_double(value, &v) < 0)
-            rc = fail(why, sizeof(why), "'%s' is not a number", value);
+            rc = mn_fail(why, sizeof(why), "'%s' is not a number", value);
         else if (v < s->min || v > s->max)
-            rc = fail(why, sizeof(why), "%g is out of range %g..%g", v, s->min, s->max);
+            rc = mn_fail(why, sizeof(why), "%g is out of range %g..%g", v, s->min, s->max);
         else
             *(double *)field = v;
         break;
     }
     case T_BOOL:
         if (parse_bool(value, (bool *)field) < 0)
-            rc = fail(why, sizeof(why), "'%s' is not yes/no/true/false/1/0/on/off", value);
+            rc = mn_fail(why, sizeof(why), "'%s' is not yes/no/true/false/1/0/on/off", value);
         break;
     case T_STRING:
         rc = copy_string(field, MN_CONFIG_STR, value, why, sizeof(why));
@@ -324,7 +312,7 @@ int mn_config_set(struct mn_config *cfg, const char *key, const char *value, con
         break;
     }
     if (rc < 0)
-        return fail(err, errlen, "%s: %s: %s", origin, key, why);
+        return mn_fail(err, errlen, "%s: %s: %s", origin, key, why);
     return 0;
 }
 
@@ -365,12 +353,12 @@ int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char
         lineno++;
         snprintf(origin, sizeof(origin), "%s:%u", path, lineno);
         if (len > 4096) {
-            rc = fail(err, errlen, "%s: line longer than 4096 characters", origin);
+            rc = mn_fail(err, errlen, "%s: line longer than 4096 characters", origin);
             break;
         }
         /* getline counts bytes, strlen stops at the first NUL: a mismatch is a binary file. */
         if (strlen(line) != (size_t)len) {
-            rc = fail(err, errlen, "%s: NUL byte in line (not a text file?)", origin);
+            rc = mn_fail(err, errlen, "%s: NUL byte in line (not a text file?)", origin);
             break;
         }
         char *hash = strchr(line, '#');
@@ -381,14 +369,14 @@ int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char
             continue;
         char *eq = strchr(text, '=');
         if (eq == NULL) {
-            rc = fail(err, errlen, "%s: expected 'key = value', got '%s'", origin, text);
+            rc = mn_fail(err, errlen, "%s: expected 'key = value', got '%s'", origin, text);
             break;
         }
         *eq = '\0';
         char *key = trim(text);
         char *value = trim(eq + 1);
         if (*key == '\0' || *value == '\0') {
-            rc = fail(err, errlen, "%s: expected 'key = value' with both parts", origin);
+            rc = mn_fail(err, errlen, "%s: expected 'key = value' with both parts", origin);
             break;
         }
         if (mn_config_set(cfg, key, value, origin, err, errlen) < 0) {
@@ -415,7 +403,7 @@ int mn_config_load_keys(struct mn_config *cfg, char *err, size_t errlen)
     if (mn_keyfile_load(cfg->key_file, &cfg->keys, err, errlen) < 0)
         return -1;
     if (cfg->keys.node_id != cfg->node_id)
-        return fail(err, errlen, "key file %s is for node %u, this node is %u", cfg->key_file,
+        return mn_fail(err, errlen, "key file %s is for node %u, this node is %u", cfg->key_file,
                     cfg->keys.node_id, cfg->node_id);
     return 0;
 }
@@ -423,29 +411,29 @@ int mn_config_load_keys(struct mn_config *cfg, char *err, size_t errlen)
 int mn_config_check(const struct mn_config *cfg, char *err, size_t errlen)
 {
     if (cfg->min_area > cfg->max_area)
-        return fail(err, errlen, "min_area %u is larger than max_area %u", cfg->min_area,
+        return mn_fail(err, errlen, "min_area %u is larger than max_area %u", cfg->min_area,
                     cfg->max_area);
     if (cfg->reopen_min_ms > cfg->reopen_max_ms)
-        return fail(err, errlen, "reopen_min_ms %u is larger than reopen_max_ms %u",
+        return mn_fail(err, errlen, "reopen_min_ms %u is larger than reopen_max_ms %u",
                     cfg->reopen_min_ms, cfg->reopen_max_ms);
     if ((cfg->width == 0) != (cfg->height == 0))
-        return fail(err, errlen, "width and height must be given together");
+        return mn_fail(err, errlen, "width and height must be given together");
     if (cfg->as_fast_as_possible && cfg->source_kind != MN_SOURCE_REPLAY)
-        return fail(err, errlen, "as_fast_as_possible only applies to a replay source");
+        return mn_fail(err, errlen, "as_fast_as_possible only applies to a replay source");
     if (cfg->replay_loop && cfg->source_kind != MN_SOURCE_REPLAY)
-        return fail(err, errlen, "replay_loop only applies to a replay source");
+        return mn_fail(err, errlen, "replay_loop only applies to a replay source");
     /* A real trigger period is shorter than one frame's readout at these rates anyway; the
      * pairing window must leave the neighbouring edges outside it. */
     if (cfg->sync_kind != MN_SYNC_NONE &&
         llabs((long long)cfg->trigger_delay_us) * cfg->rate_hz > 10.0 * 1e6)
-        return fail(err, errlen, "trigger_delay_us %d is more than 10 trigger periods",
+        return mn_fail(err, errlen, "trigger_delay_us %d is more than 10 trigger periods",
                     cfg->trigger_delay_us);
     if (cfg->key_file[0] == '\0' && !cfg->insecure_dev_wire)
-        return fail(err, errlen,
+        return mn_fail(err, errlen,
                     "no wire key: set key_file (made by `mocap-hub keys new ID --out DIR`), or "
                     "insecure_dev_wire = yes for development only");
     if (cfg->key_file[0] != '\0' && cfg->insecure_dev_wire)
-        return fail(err, errlen, "key_file and insecure_dev_wire exclude each other");
+        return mn_fail(err, errlen, "key_file and insecure_dev_wire exclude each other");
     return 0;
 }
 
@@ -502,7 +490,7 @@ enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, 
         if (strcmp(argv[i], "--config") != 0)
             continue;
         if (i + 1 >= argc) {
-            fail(err, errlen, "command line: --config needs a FILE");
+            mn_fail(err, errlen, "command line: --config needs a FILE");
             return MN_CONFIG_ARGS_ERROR;
         }
         if (mn_config_load_file(cfg, argv[i + 1], err, errlen) < 0)
@@ -518,7 +506,7 @@ enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, 
         }
         const char *key = flag_key(argv[i], keybuf, sizeof(keybuf));
         if (key == NULL) {
-            fail(err, errlen, "command line: unexpected argument '%s'", argv[i]);
+            mn_fail(err, errlen, "command line: unexpected argument '%s'", argv[i]);
             return MN_CONFIG_ARGS_ERROR;
         }
         snprintf(origin, sizeof(origin), "command line %s", argv[i]);
@@ -530,7 +518,7 @@ enum mn_config_args_result mn_config_from_args(struct mn_config *cfg, int argc, 
             value = "yes";
         } else {
             if (i + 1 >= argc) {
-                fail(err, errlen, "%s: needs a value", origin);
+                mn_fail(err, errlen, "%s: needs a value", origin);
                 return MN_CONFIG_ARGS_ERROR;
             }
             value = argv[++i];

@@ -3,23 +3,12 @@
 
 #include <errno.h>
 #include <fcntl.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int fail(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-
-static int fail(char *err, size_t errlen, const char *fmt, ...)
-{
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(err, errlen, fmt, ap);
-	va_end(ap);
-	errno = EINVAL;
-	return -1;
-}
+#include "common/fail.h"
 
 static int hex_value(char c)
 {
@@ -85,7 +74,7 @@ int mn_keyfile_parse(const char *text, size_t len, const char *origin, struct mn
 	unsigned line = 0;
 	size_t pos = 0;
 	if (len > MN_KEYFILE_MAX_BYTES)
-		return fail(err, errlen, "%s: larger than %u bytes", origin, MN_KEYFILE_MAX_BYTES);
+		return mn_fail(err, errlen, "%s: larger than %u bytes", origin, MN_KEYFILE_MAX_BYTES);
 	while (pos < len) {
 		line++;
 		size_t end = pos;
@@ -107,7 +96,7 @@ int mn_keyfile_parse(const char *text, size_t len, const char *origin, struct mn
 			continue;
 		const char *eq = memchr(s, '=', n);
 		if (eq == NULL)
-			return fail(err, errlen, "%s:%u: expected `key = value`", origin, line);
+			return mn_fail(err, errlen, "%s:%u: expected `key = value`", origin, line);
 		size_t kn = (size_t)(eq - s);
 		while (kn > 0 && is_space(s[kn - 1]))
 			kn--;
@@ -120,31 +109,31 @@ int mn_keyfile_parse(const char *text, size_t len, const char *origin, struct mn
 		if (kn == 4 && memcmp(s, "node", 4) == 0) {
 			unsigned long id;
 			if (kf->node_id != 0)
-				return fail(err, errlen, "%s:%u: node given twice", origin, line);
+				return mn_fail(err, errlen, "%s:%u: node given twice", origin, line);
 			if (parse_uint(v, vn, 1, 4095, &id) < 0)
-				return fail(err, errlen, "%s:%u: node must be 1..4095", origin, line);
+				return mn_fail(err, errlen, "%s:%u: node must be 1..4095", origin, line);
 			kf->node_id = (uint32_t)id;
 		} else if (kn == 3 && memcmp(s, "key", 3) == 0) {
 			struct mn_key key;
 			if (kf->n_keys == MN_KEYFILE_MAX_KEYS)
-				return fail(err, errlen, "%s:%u: more than %d keys", origin, line,
+				return mn_fail(err, errlen, "%s:%u: more than %d keys", origin, line,
 					    MN_KEYFILE_MAX_KEYS);
 			if (parse_key(v, vn, &key) < 0)
-				return fail(err, errlen,
+				return mn_fail(err, errlen,
 					    "%s:%u: key must be `ID HEX` (id 1..255, 64 hex digits)",
 					    origin, line);
 			if (mn_keyfile_find(kf, key.id) != NULL)
-				return fail(err, errlen, "%s:%u: key id %u given twice", origin, line,
+				return mn_fail(err, errlen, "%s:%u: key id %u given twice", origin, line,
 					    key.id);
 			kf->keys[kf->n_keys++] = key;
 		} else {
-			return fail(err, errlen, "%s:%u: unknown key '%.*s'", origin, line, (int)kn, s);
+			return mn_fail(err, errlen, "%s:%u: unknown key '%.*s'", origin, line, (int)kn, s);
 		}
 	}
 	if (kf->node_id == 0)
-		return fail(err, errlen, "%s: no `node = ID` line", origin);
+		return mn_fail(err, errlen, "%s: no `node = ID` line", origin);
 	if (kf->n_keys == 0)
-		return fail(err, errlen, "%s: no `key = ID HEX` line", origin);
+		return mn_fail(err, errlen, "%s: no `key = ID HEX` line", origin);
 	return 0;
 }
 
@@ -161,11 +150,11 @@ int mn_keyfile_load(const char *path, struct mn_keyfile *kf, char *err, size_t e
 	struct stat st;
 	if (fstat(fd, &st) < 0 || !S_ISREG(st.st_mode)) {
 		close(fd);
-		return fail(err, errlen, "key file %s: not a regular file", path);
+		return mn_fail(err, errlen, "key file %s: not a regular file", path);
 	}
 	if (st.st_mode & (S_IRWXG | S_IRWXO)) {
 		close(fd);
-		return fail(err, errlen, "key file %s: mode %03o lets others read it; chmod 600 it",
+		return mn_fail(err, errlen, "key file %s: mode %03o lets others read it; chmod 600 it",
 			    path, (unsigned)(st.st_mode & 0777));
 	}
 	size_t len = 0;

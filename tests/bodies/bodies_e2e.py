@@ -16,12 +16,11 @@ import os
 import re
 import xml.etree.ElementTree as ET
 import shutil
-import subprocess
 import sys
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, wait_for, websocket_messages  # noqa: E402
+from live_rig import Rig, read_trc, run, wait_for, websocket_messages  # noqa: E402
 
 import mocap_stream  # noqa: E402
 import qtm_rt  # noqa: E402
@@ -34,10 +33,7 @@ DRONE = [(0, 0, 0), (150, 0, 0), (30, 110, 0), (70, 40, -35), (-40, 60, 20)]
 
 
 def hub(*args, check=True):
-    out = subprocess.run([os.path.join(BIN, "mocap-hub"), *args], capture_output=True, text=True, timeout=300)
-    if check and out.returncode != 0:
-        raise AssertionError(f"mocap-hub {' '.join(args)}: {out.stderr}")
-    return out
+    return run(BIN, *args, check=check, timeout=300)
 
 
 def rot(axis_angle):
@@ -78,20 +74,6 @@ def pose(body, f, centre):
     r = rot(((0, 1, 0), 0.9 * s + body)) if body == 0 else matmul(rot(((0, 1, 0), -0.7 * s)), rot(((1, 0, 0), 0.4 * math.sin(s))))
     t = [centre[0] + 250 * math.cos(0.6 * s + 2 * body), centre[1] + 900 + 150 * body, centre[2] + 250 * math.sin(0.6 * s + 2 * body)]
     return r, t
-
-
-def read_trc(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    names = [n for n in lines[3].split("\t")[2:] if n]
-    rows = []
-    for line in lines[5:]:
-        cells = line.split("\t")
-        if len(cells) < 2 or not cells[0].strip():
-            continue
-        rows.append([tuple(float(v) for v in cells[2 + 3 * m:5 + 3 * m]) if cells[2 + 3 * m].strip() else None
-                     for m in range(len(names))])
-    return names, rows, lines
 
 
 class BodiesE2e(unittest.TestCase):

@@ -12,9 +12,11 @@ usage: sim_bodies_e2e.py BIN_DIR WORK_DIR"""
 import json
 import os
 import shutil
-import subprocess
 import sys
 import unittest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
+from live_rig import SIM_FAULTS, run  # noqa: E402
 
 BIN = WORK = None
 MOTIONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "motions")
@@ -22,15 +24,10 @@ BODIES = {"version": 1, "bodies": [
     {"name": "wand", "markers": [[0, 0, 0], [110, 0, 0], [30, 75, 0], [45, 20, 60]]},
     {"name": "drone", "markers": [[0, 0, 0], [95, 10, 0], [20, 115, 5], [70, 60, -40], [-35, 50, 25]]},
     {"name": "tool", "markers": [[0, 0, 0], [60, 0, 0], [0, 40, 0], [85, 55, 20], [30, 90, 45], [-20, 35, 70]]}]}
-FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
-          "--drop-frames", "0.002"]
 
 
 def hub(*args):
-    out = subprocess.run([os.path.join(BIN, "mocap-hub"), *args], capture_output=True, text=True, timeout=600)
-    if out.returncode != 0:
-        raise AssertionError(f"mocap-hub {' '.join(args)}: {out.stderr}")
-    return out.stdout
+    return run(BIN, *args, timeout=600).stdout
 
 
 def bodies_report(name, motion):
@@ -41,7 +38,7 @@ def bodies_report(name, motion):
         json.dump(BODIES, f)
     rig, session, out = (os.path.join(work, n) for n in ("rig.json", "session", "out.trc"))
     hub("sim", "rig", "--motion", motion, "--cameras", "8", "-o", rig)
-    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, "--bodies", bodies, *FAULTS)
+    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, "--bodies", bodies, *SIM_FAULTS)
     hub("reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", out,
         "--bodies", bodies)
     report = json.loads(hub("eval", "--truth", os.path.join(session, "truth.trc"), "--result", out, "--session",

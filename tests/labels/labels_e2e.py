@@ -19,28 +19,20 @@ import math
 import os
 import re
 import shutil
-import subprocess
 import sys
 import unittest
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, wait_for, websocket_messages  # noqa: E402
+from live_rig import SIM_FAULTS, Rig, read_trc, run, wait_for, websocket_messages  # noqa: E402
 
 import mocap_stream  # noqa: E402
 import qtm_rt  # noqa: E402
 
 BIN = WORK = None
 MOTIONS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "data", "motions")
-FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
-          "--drop-frames", "0.002"]
-
-
 def hub(*args):
-    out = subprocess.run([os.path.join(BIN, "mocap-hub"), *args], capture_output=True, text=True, timeout=600)
-    if out.returncode != 0:
-        raise AssertionError(f"mocap-hub {' '.join(args)}: {out.stderr}")
-    return out.stdout
+    return run(BIN, *args, timeout=600).stdout
 
 
 def rename(path, out, names_of):
@@ -88,20 +80,6 @@ def first_part(path, out, share):
         f.write("\n".join(lines[:5] + [""] + keep) + "\n")
 
 
-def read_trc(path):
-    with open(path) as f:
-        lines = f.read().splitlines()
-    names = [n for n in lines[3].split("\t")[2:] if n]
-    rows = []
-    for line in lines[5:]:
-        cells = line.split("\t")
-        if len(cells) < 2 or not cells[0].strip():
-            continue
-        rows.append([tuple(float(v) for v in cells[2 + 3 * m:5 + 3 * m]) if cells[2 + 3 * m].strip() else None
-                     for m in range(len(names))])
-    return names, rows
-
-
 def labelled_reconstruction(name, motion, template_trials):
     """Learns a set, projects `motion` with faults, reconstructs with --labels; the eval report."""
     work = os.path.join(WORK, name)
@@ -110,7 +88,7 @@ def labelled_reconstruction(name, motion, template_trials):
     hub("labels", "learn", *template_trials, "-o", marker_set)
     rig, session = os.path.join(work, "rig.json"), os.path.join(work, "session")
     hub("sim", "rig", "--motion", motion, "--cameras", "8", "-o", rig)
-    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, *FAULTS)
+    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, *SIM_FAULTS)
     out = os.path.join(work, "named.trc")
     print(hub("reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", out,
               "--labels", marker_set).strip().splitlines()[-1], file=sys.stderr)
@@ -180,7 +158,7 @@ class LabelsE2e(unittest.TestCase):
             xml = asyncio.run(asyncio.wait_for(self.qtm_3d_parameters(rt_port), 60))
         finally:
             live.stop()
-        truth_names, truth_rows = read_trc(self.motion)
+        truth_names, truth_rows, _ = read_trc(self.motion)
         # Each live frame against the truth frame it shows (the replay loops): the frame whose
         # markers lie nearest its points.
         correct = wrong = points = 0

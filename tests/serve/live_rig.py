@@ -38,10 +38,15 @@ def wait_for(what, predicate, timeout=10.0, step=0.05):
     raise AssertionError(f"timed out after {timeout} s waiting for {what}")
 
 
-def run(bin_dir, *args, check=True, env=None):
+# The faults of the hub issue's accuracy runs (`sim project` options).
+SIM_FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
+              "--drop-frames", "0.002"]
+
+
+def run(bin_dir, *args, check=True, env=None, timeout=60):
     """mocap-hub ARGS from bin_dir; raises on a non-zero exit unless check is False."""
     result = subprocess.run([os.path.join(bin_dir, "mocap-hub"), *args], capture_output=True, text=True,
-                            timeout=60, env=env)
+                            timeout=timeout, env=env)
     if check and result.returncode != 0:
         raise AssertionError(f"mocap-hub {' '.join(args)} exited {result.returncode}: {result.stderr}")
     return result
@@ -124,10 +129,10 @@ def websocket_messages(port, path, count, timeout=10.0):
     return messages
 
 
-def http(port, method, path, body=b"", headers=""):
+def raw_request(port, request):
+    """One raw HTTP request (bytes as given, nothing normalised) -> (status, headers, body)."""
     s = socket.create_connection(("127.0.0.1", port), timeout=10)
-    s.sendall(f"{method} {path} HTTP/1.1\r\nHost: x\r\nContent-Length: {len(body)}\r\n{headers}"
-              f"Connection: close\r\n\r\n".encode() + body)
+    s.sendall(request)
     data = b""
     while True:
         chunk = s.recv(65536)
@@ -135,8 +140,31 @@ def http(port, method, path, body=b"", headers=""):
             break
         data += chunk
     s.close()
-    head, _, payload = data.partition(b"\r\n\r\n")
-    return int(head.split()[1]), payload
+    head, _, body = data.partition(b"\r\n\r\n")
+    lines = head.decode("latin-1").split("\r\n")
+    headers = {k.strip().lower(): v.strip() for k, _, v in (line.partition(":") for line in lines[1:])}
+    return int(lines[0].split()[1]), headers, body
+
+
+def http(port, method, path, body=b"", headers=""):
+    status, _, payload = raw_request(port, f"{method} {path} HTTP/1.1\r\nHost: x\r\nContent-Length: {len(body)}\r\n"
+                                           f"{headers}Connection: close\r\n\r\n".encode() + body)
+    return status, payload
+
+
+def read_trc(path):
+    """A TRC as (marker names, rows of per-marker (x, y, z) or None for a gap, the file's lines)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    names = [n for n in lines[3].split("\t")[2:] if n]
+    rows = []
+    for line in lines[5:]:
+        cells = line.split("\t")
+        if len(cells) < 2 or not cells[0].strip():
+            continue
+        rows.append([tuple(float(v) for v in cells[2 + 3 * m:5 + 3 * m]) if cells[2 + 3 * m].strip() else None
+                     for m in range(len(names))])
+    return names, rows, lines
 
 
 class Rig:

@@ -24,7 +24,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, http, render_scene, wait_for  # noqa: E402
+from live_rig import Rig, http, render_scene, wait_for, raw_request  # noqa: E402
 
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
@@ -62,23 +62,6 @@ def trc_markers_per_frame(path):
         cells = line.split("\t")
         present[int(cells[0])] = sum(1 for m in range(count) if cells[2 + 3 * m].strip())
     return present
-
-
-def raw_request(port, request):
-    """One raw HTTP request (bytes as given, nothing normalised) -> (status, headers, body)."""
-    s = socket.create_connection(("127.0.0.1", port), timeout=10)
-    s.sendall(request)
-    data = b""
-    while True:
-        chunk = s.recv(65536)
-        if not chunk:
-            break
-        data += chunk
-    s.close()
-    head, _, body = data.partition(b"\r\n\r\n")
-    lines = head.decode("latin-1").split("\r\n")
-    headers = {k.strip().lower(): v.strip() for k, _, v in (line.partition(":") for line in lines[1:])}
-    return int(lines[0].split()[1]), headers, body
 
 
 class WebConsoleTest(unittest.TestCase):
