@@ -147,8 +147,8 @@ void RunServe(ServeArgs& args, bool web_root_given) {
   }
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
+    if (streams.udp) streams.udp->Publish(shared);  // first: it may send at once (the others queue)
     http.Publish(shared);
-    if (streams.udp) streams.udp->Publish(shared);
     if (streams.osc) streams.osc->Publish(shared);
     if (qtm_rt) qtm_rt->Publish(shared);
   });

@@ -275,6 +275,11 @@ void HubService::Publish(const FrameSet& set) {
   blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
   const LiveFrame& frame = live_.Process(set, RealtimeNowNs);
+  {
+    // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
+    std::lock_guard<std::mutex> lock(subscribers_mutex_);
+    for (auto& [id, subscriber] : subscribers_) subscriber(frame);
+  }
   processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
   ++frame_sets_;
   points_published_ += frame.points.size();
@@ -287,8 +292,6 @@ void HubService::Publish(const FrameSet& set) {
     if (camera.trigger_time_ns && camera.send_time_ns >= camera.trigger_time_ns)
       trigger_to_send_ms_.Add(static_cast<double>(camera.send_time_ns - camera.trigger_time_ns) * 1e-6);
   if (captures_.running()) captures_.AddPublished(frame);
-  std::lock_guard<std::mutex> lock(subscribers_mutex_);
-  for (auto& [id, subscriber] : subscribers_) subscriber(frame);
 }
 
 void HubService::Tick(uint64_t now) {
