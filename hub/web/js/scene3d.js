@@ -245,7 +245,8 @@ export class Scene3D {
     if (!this.showIds) return;
     for (const p of this.points) {
       const id = p[3];
-      const text = this.names ? this.names[id] || '?' : markerLabel(id, p[4]);
+      // A live point's name (serve --labels: its eighth element) wins; playback names by column.
+      const text = p[7] || (this.names ? this.names[id] || '?' : markerLabel(id, p[4]));
       put(v.set(p[0], p[1], p[2]).clone(), text, p[4] ? '#f0c07a' : '#bdf0d2');
     }
   }
