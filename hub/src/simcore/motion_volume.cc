@@ -1,6 +1,7 @@
 // Motion bounding box.
 #include "simcore/motion_volume.h"
 
+#include <cstdio>
 #include <stdexcept>
 
 namespace mocap {
@@ -17,6 +18,13 @@ MotionVolume ComputeMotionVolume(const MarkerTrajectories& motion, int up_axis) 
     any = true;
   }
   if (!any) throw std::runtime_error("the motion has no marker positions");
+  const double side = (volume.max - volume.min).maxCoeff();
+  if (!(side <= kMaxVolumeSideMm) || !volume.Center().allFinite()) {
+    char text[160];
+    std::snprintf(text, sizeof text, "the motion spans %.3g mm: more than a capture volume can (1 km); check its "
+                  "units and values", side);
+    throw std::runtime_error(text);
+  }
   if (up_axis < 0) {
     up_axis = DetectUpAxis(motion);
     if (up_axis < 0) {

@@ -17,7 +17,12 @@ struct MotionVolume {
   Eigen::Vector3d Up() const { return Eigen::Vector3d::Unit(up_axis); }
 };
 
-// Bounding box of every present point. Throws std::runtime_error when the motion has no points.
+// No side of a capture volume is longer than this (1 km): beyond it a coordinate is an error (a
+// wrong unit, a corrupt value such as 1e308), not a motion cameras can be placed around.
+constexpr double kMaxVolumeSideMm = 1e6;
+
+// Bounding box of every present point. Throws std::runtime_error when the motion has no points
+// or spans more than kMaxVolumeSideMm on an axis.
 // up_axis < 0 detects it with DetectUpAxis (io/marker_trajectories.h), and throws when it
 // cannot be detected.
 MotionVolume ComputeMotionVolume(const MarkerTrajectories& motion, int up_axis = -1);

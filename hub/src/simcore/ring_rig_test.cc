@@ -34,6 +34,13 @@ TEST(MotionVolumeTest, DetectsEachUpAxis) {
   empty.AddFrame(0);
   EXPECT_EQ(DetectUpAxis(empty), -1);
   EXPECT_THROW(ComputeMotionVolume(empty), std::runtime_error);
+  // A corrupt coordinate (1e308) or one in the wrong unit far away is refused, not given a rig
+  // with non-finite poses.
+  for (double wild : {1e308, -1e308, 5e6}) {
+    MarkerTrajectories motion = Motion(2);
+    motion.At(10, 0).x() = wild;
+    EXPECT_THROW(ComputeMotionVolume(motion, 2), std::runtime_error) << wild;
+  }
 }
 
 TEST(RingRigTest, EveryCameraSeesTheWholeMotionUpright) {
