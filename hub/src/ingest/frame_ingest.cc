@@ -20,12 +20,12 @@ FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAss
 }
 
 const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* session) {
-  last_off_clock_ = false;
-  last_rejected_by_auth_ = false;
+  last_outcome_ = IngestOutcome::kAccepted;
   const WireOpened opened = auth_.Open(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
   if (!opened.ok) return RefuseUnauthentic(opened.reason, d);
   decoded_ = wire::Decode(opened.payload, opened.payload_size);
   if (!decoded_.ok) {
+    last_outcome_ = IngestOutcome::kMalformed;
     if (stats_.malformed++ == 0) {
       stats_.first_malformed_reason = decoded_.reason;
       stats_.first_malformed_source = d.FromString();
@@ -54,7 +54,7 @@ const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* ses
     if (!assembler_.OnSessionClock(number, d.receive_time_ns)) {
       ++ns.off_clock_frames;
       ns.off_clock_s = assembler_.ClockOffsetS(number, d.receive_time_ns);
-      last_off_clock_ = true;
+      last_outcome_ = IngestOutcome::kOffClock;
       return decoded_;
     }
   }
@@ -70,7 +70,7 @@ const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* ses
 }
 
 const wire::DecodeResult& FrameIngest::RefuseUnauthentic(const std::string& reason, const Datagram& d) {
-  last_rejected_by_auth_ = true;
+  last_outcome_ = IngestOutcome::kUnauthentic;
   decoded_.ok = false;
   decoded_.reason = reason;
   decoded_.packet.Clear();

@@ -25,6 +25,14 @@ namespace mocap {
 // it names none (e.g. a HubAnnounce).
 uint32_t SenderNodeId(const v1::Packet& packet);
 
+// What became of the last datagram given to FrameIngest::Add.
+enum class IngestOutcome {
+  kAccepted,     // decoded and attributed (or counted as an unknown node's)
+  kMalformed,    // refused by the wire rules
+  kUnauthentic,  // refused by the envelope: forged, replayed, stale, plain, or speaking for another node
+  kOffClock,     // a marker frame numbered off the session clock: counted for its node, not used
+};
+
 class FrameIngest {
  public:
   // cameras: the node ids of the calibration; assembly.Check() must hold (std::invalid_argument);
@@ -41,10 +49,7 @@ class FrameIngest {
   std::vector<FrameSet> Flush();
 
   bool IsCamera(uint32_t node_id) const { return stats_.nodes.count(node_id) != 0; }
-  // Whether the last datagram given to Add() was a marker frame refused as off the session clock.
-  bool last_off_clock() const { return last_off_clock_; }
-  // The last datagram Add refused was refused by the authentication (not the wire rules).
-  bool last_rejected_by_auth() const { return last_rejected_by_auth_; }
+  IngestOutcome last_outcome() const { return last_outcome_; }
   WireAuth& auth() { return auth_; }
   const WireAuth& auth() const { return auth_; }
   const IngestStats& stats() const { return stats_; }
@@ -55,9 +60,8 @@ class FrameIngest {
   const wire::DecodeResult& RefuseUnauthentic(const std::string& reason, const Datagram& d);
 
   WireAuth auth_;
-  bool last_rejected_by_auth_ = false;
   wire::DecodeResult decoded_;
-  bool last_off_clock_ = false;
+  IngestOutcome last_outcome_ = IngestOutcome::kAccepted;
   wire::ChunkAssembler chunks_;
   FrameSetAssembler assembler_;
   IngestStats stats_;

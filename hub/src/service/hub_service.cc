@@ -68,7 +68,7 @@ SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns
 }
 
 // The node's reception figures, or zeros for a node outside the calibration.
-const NodeStats& OffClock(const IngestStats& stats, uint32_t node) {
+const NodeStats& ReceptionOf(const IngestStats& stats, uint32_t node) {
   static const NodeStats kNone;
   auto it = stats.nodes.find(node);
   return it == stats.nodes.end() ? kNone : it->second;
@@ -218,14 +218,14 @@ void HubService::HandleDatagram(const Datagram& d) {
   const wire::DecodeResult& decoded = ingest_.Add(d, captures_.writer());
   const std::string source = d.FromString();
   if (!decoded.ok) {
-    if (ingest_.last_rejected_by_auth())
+    if (ingest_.last_outcome() == IngestOutcome::kUnauthentic)
       registry_.OnUnauthentic(source, decoded.reason, d.receive_time_ns);
     else
       registry_.OnMalformed(source, decoded.reason, d.receive_time_ns);
     return;
   }
   const v1::Packet& packet = decoded.packet;
-  if (ingest_.last_off_clock()) {
+  if (ingest_.last_outcome() == IngestOutcome::kOffClock) {
     OnOffClockFrame(packet.marker_frame(), d);
     return;
   }
@@ -574,6 +574,7 @@ void HubService::AddStatusSection(const std::string& name, std::function<nlohman
 
 nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
   const uint64_t now = RealtimeNowNs();
+  const NodeStats& reception = ReceptionOf(ingest_.stats(), n.id);
   nlohmann::json j = {
       {"id", n.id},
       {"address", n.address},
@@ -586,8 +587,8 @@ nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
       {"frames_sent", n.frames_sent},
       {"frames_dropped", n.frames_dropped},
       {"last_frame", n.last_frame_number},
-      {"off_clock_frames", OffClock(ingest_.stats(), n.id).off_clock_frames},
-      {"off_clock_s", OffClock(ingest_.stats(), n.id).off_clock_s},
+      {"off_clock_frames", reception.off_clock_frames},
+      {"off_clock_s", reception.off_clock_s},
       {"last_seen_s", n.last_seen_ns && now > n.last_seen_ns ? static_cast<double>(now - n.last_seen_ns) * 1e-9 : 0.0},
       {"times_lost", n.times_lost},
       {"restarts", n.restarts},
