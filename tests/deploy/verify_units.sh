@@ -11,7 +11,7 @@ rm -rf "$work"
 mkdir -p "$work"
 status=0
 for unit in mocap-node.service mocap-hub.service; do
-    sed "s|/usr/local/bin/|$bin/|g" "$deploy/$unit" > "$work/$unit"
+    sed "s|/usr/bin/|$bin/|g" "$deploy/$unit" > "$work/$unit"
     if ! out=$(systemd-analyze verify "$work/$unit" 2>&1) || [ -n "$out" ]; then
         echo "verify_units: $unit: $out" >&2
         status=1
