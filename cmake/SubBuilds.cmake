@@ -37,6 +37,14 @@ ExternalProject_Add(mocap_cross_aarch64
     INSTALL_COMMAND ""
     USES_TERMINAL_BUILD ON)
 
+# The arm64 mocap-node package from the cross build, beside the native packages.
+add_custom_target(package-arm64
+    COMMAND ${CMAKE_COMMAND} --build ${CMAKE_BINARY_DIR}/cross-aarch64 --target package
+    COMMAND ${CMAKE_COMMAND} -E copy_directory ${CMAKE_BINARY_DIR}/cross-aarch64/packages ${CMAKE_BINARY_DIR}/packages
+    DEPENDS mocap_cross_aarch64
+    COMMENT "mocap-node arm64 package from the aarch64 cross build"
+    USES_TERMINAL)
+
 # Pull the sub-builds' tests into this build's ctest run (ctest's subdirs() in CTestTestfile).
 file(WRITE ${CMAKE_BINARY_DIR}/SubBuildTests.cmake
     "subdirs(\"${CMAKE_BINARY_DIR}/sanitize\")\nsubdirs(\"${CMAKE_BINARY_DIR}/cross-aarch64\")\n")
