@@ -41,6 +41,11 @@ HOST_PACKAGES=(
     systemd
     # build cache: a fresh clone rebuilds from it in minutes
     ccache
+    # Debian packages by CPack (dpkg-shlibdeps computes their library dependencies)
+    dpkg-dev
+    # provisioning over SSH (deploy/provision), and its test (label deploy): Debian machines
+    # made by debootstrap, booted in systemd-nspawn containers (systemd-container)
+    openssh-client debootstrap systemd-container
 )
 
 # arm64 multiarch libraries that the cross-built firmware and its tests link against.
