@@ -40,7 +40,8 @@ ExternalProject_Add(mocap_cross_aarch64
 # The arm64 mocap-node package from the cross build, beside the native packages.
 add_custom_target(package-arm64
     COMMAND ${CMAKE_COMMAND} --build ${CMAKE_BINARY_DIR}/cross-aarch64 --target package
-    COMMAND ${CMAKE_COMMAND} -E copy_directory ${CMAKE_BINARY_DIR}/cross-aarch64/packages ${CMAKE_BINARY_DIR}/packages
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/packages
+    COMMAND sh -c "cp ${CMAKE_BINARY_DIR}/cross-aarch64/packages/*.deb ${CMAKE_BINARY_DIR}/packages/"
     DEPENDS mocap_cross_aarch64
     COMMENT "mocap-node arm64 package from the aarch64 cross build"
     USES_TERMINAL)
