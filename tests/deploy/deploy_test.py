@@ -306,7 +306,7 @@ class DeployTest(unittest.TestCase):
         p = self.provision(packages)
         self.assertEqual(p.returncode, 0)
         changes = [line for line in p.stdout.splitlines()
-                   if re.search(r"\b(changed|installed|upgraded|restarted|new:)", line)]
+                   if re.search(r"\b(changed|installed|upgraded|downgraded|restarted|new:)", line)]
         self.assertEqual(changes, [], "a second provision run changed something")
         self.assertEqual(self.main_pids(), pids, "a second provision run restarted a service")
 
@@ -461,7 +461,8 @@ class DeployTest(unittest.TestCase):
         with open(control, "w") as f:
             f.write(text.replace(f"Version: {version}", f"Version: {version}+broken1"))
         os.remove(os.path.join(tree, "DEBIAN", "md5sums"))
-        run(["dpkg-deb", "--root-owner-group", "-b", tree, os.path.join(out, f"mocap-node_{version}+broken1_amd64.deb")])
+        arch = re.search(r"^Architecture: (.*)$", text, re.M).group(1)
+        run(["dpkg-deb", "--root-owner-group", "-b", tree, os.path.join(out, f"mocap-node_{version}+broken1_{arch}.deb")])
         shutil.rmtree(tree)
         shutil.copy(self.debs["mocap-hub"], out)
         return out
