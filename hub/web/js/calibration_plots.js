@@ -76,6 +76,7 @@ function axes(svg, box, xRange, yRange, xLabel, yLabel) {
 
 function niceLabel(v) {
   const a = Math.abs(v);
+  if (a < 1e-9) return '0';
   if (a >= 100) return v.toFixed(0);
   if (a >= 1) return v.toFixed(1);
   return v.toFixed(a >= 0.1 ? 2 : 3);
@@ -95,7 +96,7 @@ function residualPlot(f) {
   const top = Math.max(...cams.map((c) => c.residuals ? c.residuals.p95_px : 0),
     ...cams.map((c) => c.reprojection_rms_px || 0), f.rating_thresholds.reprojection_rms_px.Good) * 1.1;
   const box = { left: 50, top: 10, width: w - 60, height: h - 50 };
-  const { sx, sy } = axes(svg, box, [0, cams.length], [0, top], 'camera', 'px');
+  const { sx, sy } = axes(svg, box, [0, cams.length], [0, top], 'camera (bars labelled with the id)', 'px');
   cams.forEach((c, i) => {
     const rms = c.reprojection_rms_px || 0;
     svg.append(svgEl('rect', { x: sx(i + 0.2), y: sy(rms), width: sx(i + 0.8) - sx(i + 0.2), height: sy(0) - sy(rms),
