@@ -30,6 +30,7 @@ from live_rig import Rig, http, render_scene, wait_for, raw_request  # noqa: E40
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.common.exceptions import NoSuchElementException, StaleElementReferenceException  # noqa: E402
 
 BIN = WORK = None
 CAMERAS = 4
@@ -238,6 +239,13 @@ class WebConsoleTest(unittest.TestCase):
         time.sleep(0.3)
         self.shot("calibration")
 
+    def click_fresh(self, selector):
+        try:
+            self.page.find_element(By.CSS_SELECTOR, selector).click()
+            return True
+        except (StaleElementReferenceException, NoSuchElementException):
+            return False
+
     def swap_node_frames(self, frames):
         """Every node replays `frames` from now on (the same rig, another scene)."""
         for node_id, process in list(self.rig.nodes.items()):
@@ -306,6 +314,17 @@ class WebConsoleTest(unittest.TestCase):
             time.sleep(0.3)
             self.shot("calibration_report")
             self.js("window.scrollTo(0, 0)")
+            # The stand-alone report page serve wrote beside the session (as calibrate wand --report
+            # writes it) draws the same plots with nothing loaded from anywhere.
+            self.page.get("file://" + os.path.join(WORK, "sessions", "web_wand", "wand_report.html"))
+            plots = wait_for("the stand-alone report's plots", lambda: self.page.find_elements(
+                By.CSS_SELECTOR, "figure.plot") or None)
+            self.assertEqual(len(plots), 4)
+            self.assertEqual(len(self.page.find_elements(By.CSS_SELECTOR, "table.report-cameras tbody tr")), CAMERAS)
+            self.assertEqual(len(self.page.find_elements(By.CSS_SELECTOR, ".coverage-maps svg")), CAMERAS)
+            self.page.set_window_size(1400, 1700)
+            self.shot("wand_report")
+            self.page.set_window_size(1400, 860)
         finally:
             # A wanding left running (a failure above) would hold the capture the next test needs.
             http(self.rig.api_port, "POST", "/api/calibration/wand/stop", b'{"solve": false}')
@@ -334,7 +353,10 @@ class WebConsoleTest(unittest.TestCase):
         row = wait_for("the session's row",
                        lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-session='web_take']"))[0]
         self.assertEqual(row.find_elements(By.TAG_NAME, "td")[1].text, "complete")
-        row.find_element(By.CSS_SELECTOR, "button[data-action=files]").click()
+        # The list may be drawn again under the click (the page refreshes it on its own): find the
+        # button afresh until a click lands.
+        wait_for("a click on the session's files", lambda: self.click_fresh(
+            "tr[data-session='web_take'] button[data-action=files]"))
         files = wait_for("its files",
                          lambda: self.page.find_elements(By.CSS_SELECTOR, "#session-details tr[data-file]"))
         names = {f.get_attribute("data-file") for f in files}

@@ -102,7 +102,8 @@ CoverageAdvice WandCoverage::Advise(size_t index, size_t min_samples, double cov
   CoverageAdvice advice;
   const double share = c.Share(options_.cell_samples);
   char figures[96];
-  std::snprintf(figures, sizeof(figures), "coverage %.0f %% of %.0f %%, %zu/%zu samples", 100.0 * share,
+  // The share rounded down, so that a camera short of its target never reads as having reached it.
+  std::snprintf(figures, sizeof(figures), "coverage %.0f %% of %.0f %%, %zu/%zu samples", std::floor(100.0 * share),
                 100.0 * coverage_target, c.samples, min_samples);
   const std::string camera = "camera " + std::to_string(c.id) + ": ";
   if (c.samples >= min_samples && share >= coverage_target) {

@@ -113,7 +113,7 @@ export class WandingPanel {
       'data-samples': cam.samples, 'data-coverage': cam.coverage,
     },
     el('figcaption', { text: `camera ${cam.id}: ${cam.samples}/${c.min_samples} samples, ` +
-      `${formatNumber(100 * cam.coverage, 0)} % of ${formatNumber(100 * c.coverage_target, 0)} % covered` }),
+      `${Math.floor(100 * cam.coverage)} % of ${formatNumber(100 * c.coverage_target, 0)} % covered` }),
     coverageMap(cam.counts, g.columns, g.rows, g.cell_samples, 200),
     el('div', { class: 'advice', text: cam.enough ? 'enough' : cam.advice.replace(/^camera \d+: /, '') }))));
   }
