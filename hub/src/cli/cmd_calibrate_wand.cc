@@ -111,9 +111,10 @@ void RunCalibrateWand(CalibrateWandArgs args) {
   // The report is written whatever the outcome: a refused camera is what it helps to explain.
   if (!args.report_dir.empty()) {
     const std::string title = std::filesystem::path(args.session).filename().string();
-    WriteWandReport(WandReportFigures(result, wand, thresholds, title), args.report_dir + "/wand_report.html",
-                    args.report_dir + "/wand_figures.json");
-    if (!args.json) std::printf("report: %s/wand_report.html\n", args.report_dir.c_str());
+    const std::filesystem::path dir(args.report_dir);
+    WriteWandReport(WandReportFigures(result, wand, thresholds, title), (dir / "wand_report.html").string(),
+                    (dir / "wand_figures.json").string());
+    if (!args.json) std::printf("report: %s\n", (dir / "wand_report.html").string().c_str());
   }
   if (!result.AllAccepted() && !args.allow_partial) {
     std::string reasons;

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <thread>
@@ -137,9 +138,10 @@ void RunLiveWanding(const LiveWandingArgs& args) {
     PrintWandReport(report);
   }
   if (!args.report_dir.empty()) {
-    SaveSessionFile(args.api, args.session, "wand_report.html", args.report_dir + "/wand_report.html");
-    SaveSessionFile(args.api, args.session, "wand_figures.json", args.report_dir + "/wand_figures.json");
-    if (!args.json) std::printf("report: %s/wand_report.html\n", args.report_dir.c_str());
+    const std::filesystem::path dir(args.report_dir);
+    SaveSessionFile(args.api, args.session, "wand_report.html", (dir / "wand_report.html").string());
+    SaveSessionFile(args.api, args.session, "wand_figures.json", (dir / "wand_figures.json").string());
+    if (!args.json) std::printf("report: %s\n", (dir / "wand_report.html").string().c_str());
   }
   const bool all_accepted = state["solve"].value("all_accepted", false);
   if (!all_accepted && !args.allow_partial) {
