@@ -71,6 +71,19 @@ class LiveWandingTest(unittest.TestCase):
         # Before any wanding: nothing to solve or apply.
         status, body = http(rig.api_port, "POST", "/api/calibration/wand/apply")
         self.assertEqual(status, 409, body)
+        # Stopping the wanding's capture ends the wanding too (and solves what was recorded).
+        status, body = http(rig.api_port, "POST", "/api/calibration/wand/start",
+                            json.dumps({"name": "wand0", "wand_length_mm": WAND_MM}).encode())
+        self.assertEqual(status, 200, body)
+        self.assertEqual(json.loads(body)["state"], "collecting")
+        status, body = http(rig.api_port, "POST", "/api/capture/start", b'{"name": "other"}')
+        self.assertEqual(status, 409, body)  # the wanding holds the capture
+        time.sleep(0.5)
+        rig.hub("capture", "stop")
+        wanding = lambda: json.loads(http(rig.api_port, "GET", "/api/calibration/wand")[1])  # noqa: E731
+        ended = wait_for("the wanding to end with its capture", lambda: wanding()["state"] != "collecting" and wanding())
+        self.assertEqual(ended["stop_reason"], "its capture was stopped")
+        wait_for("its solve to end", lambda: wanding()["state"] in ("solved", "failed"), timeout=60)
         started = time.monotonic()
         result = rig.hub("calibrate", "wand", "wand1", "--live", "--wand-length", str(WAND_MM),
                          "--min-samples", "300", "--coverage-target", "0.35", "--timeout", "120",

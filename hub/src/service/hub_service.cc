@@ -339,7 +339,10 @@ void HubService::Tick(uint64_t now) {
     it = blobs_waiters_.erase(it);
   }
   if (wanding_) {
-    const std::string reason = wanding_->StopReason(now);
+    std::string reason = wanding_->StopReason(now);
+    // An operator who stops the wanding's capture (capture stop) ends the wanding with it.
+    if (reason.empty() && !(captures_.running() && captures_.name() == wand_options_.session))
+      reason = "its capture was stopped";
     if (!reason.empty()) FinishWanding(reason, true);
   }
   PollWandSolve();
