@@ -16,6 +16,8 @@ every process the test starts is killed at the end."""
 import json
 import os
 import shutil
+import signal
+import subprocess
 import sys
 import time
 import unittest
@@ -84,6 +86,22 @@ class LiveWandingTest(unittest.TestCase):
         ended = wait_for("the wanding to end with its capture", lambda: wanding()["state"] != "collecting" and wanding())
         self.assertEqual(ended["stop_reason"], "its capture was stopped")
         wait_for("its solve to end", lambda: wanding()["state"] in ("solved", "failed"), timeout=60)
+        # Ctrl-C on calibrate wand --live cancels the wanding in serve as well.
+        client = subprocess.Popen([os.path.join(BIN, "mocap-hub"), "calibrate", "wand", "wand_interrupted", "--live",
+                                   "--wand-length", str(WAND_MM), "--min-samples", "100000"],
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=rig.env)
+        try:
+            wait_for("the client's wanding", lambda: wanding()["session"] == "wand_interrupted"
+                     and wanding()["state"] == "collecting")
+            client.send_signal(signal.SIGINT)
+            _, err = client.communicate(timeout=10)
+        finally:
+            if client.poll() is None:
+                client.kill()
+                client.wait()
+        self.assertEqual(client.returncode, 1, err)
+        self.assertIn("interrupted", err)
+        self.assertEqual(wanding()["state"], "cancelled")
         started = time.monotonic()
         result = rig.hub("calibrate", "wand", "wand1", "--live", "--wand-length", str(WAND_MM),
                          "--min-samples", "300", "--coverage-target", "0.35", "--timeout", "120",

@@ -1,7 +1,10 @@
-// `calibrate wand`'s report printing and live mode (see wand_client.h).
+// `calibrate wand`'s report printing and live mode (see wand_client.h). Ctrl-C (or SIGTERM)
+// while collecting cancels the wanding in serve.
 #include "cli/wand_client.h"
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +18,9 @@ namespace mocap {
 namespace {
 
 using nlohmann::json;
+
+std::atomic<bool> g_interrupted{false};
+void OnInterrupt(int) { g_interrupted.store(true); }
 
 double Num(const json& j, const char* key) { return j.contains(key) && j[key].is_number() ? j[key].get<double>() : 0.0; }
 
@@ -87,6 +93,10 @@ void RunLiveWanding(const LiveWandingArgs& args) {
   json start = args.start;
   start["name"] = args.session;
   json state = CallApiJson(args.api, "POST", "/api/calibration/wand/start", start);
+  // Ctrl-C while collecting cancels the wanding in serve too, rather than leaving it running.
+  g_interrupted.store(false);
+  std::signal(SIGINT, OnInterrupt);
+  std::signal(SIGTERM, OnInterrupt);
   if (!args.json)
     std::printf("wanding %s: wave the wand through the volume; serve stops when every camera has enough\n",
                 args.session.c_str());
@@ -97,6 +107,11 @@ void RunLiveWanding(const LiveWandingArgs& args) {
   const double timeout_s = state["collection"].value("timeout_s", 3600.0);
   const auto collect_deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s + 30.0);
   while (Text(state, "state") == "collecting") {
+    if (g_interrupted.load()) {
+      CallApiJson(args.api, "POST", "/api/calibration/wand/stop", json{{"solve", false}});
+      throw std::runtime_error("interrupted: wanding " + args.session + " cancelled (its recording stays in serve's "
+                               "sessions directory)");
+    }
     if (std::chrono::steady_clock::now() > collect_deadline)
       throw std::runtime_error("serve kept collecting past its timeout; stop it with POST /api/calibration/wand/stop");
     const auto now = std::chrono::steady_clock::now();
