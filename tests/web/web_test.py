@@ -4,6 +4,7 @@ loopback (tests/serve/live_rig.py), Debian's Chromium headless driven through se
 Debian's chromedriver. Asserts on the page what an operator relies on: the node rows are the
 running nodes, a threshold typed into the page reaches the node's status, the camera views show
 blobs and the auto-mask's regions, the 3D view draws every marker of the frame it shows, a
+live wanding started in the page fills each camera's coverage map and ends in the report's plots, a
 captured and reconstructed session plays (and scrubs) with the TRC's markers, its files download
 byte for byte, a second browser sees the same, and the page reconnects by itself after serve
 restarts. Prints the figures (page load, frame rates, traffic per client) and saves screenshots
@@ -29,6 +30,7 @@ from live_rig import Rig, http, render_scene, wait_for, raw_request  # noqa: E40
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.common.exceptions import NoSuchElementException, StaleElementReferenceException  # noqa: E402
 
 BIN = WORK = None
 CAMERAS = 4
@@ -237,6 +239,97 @@ class WebConsoleTest(unittest.TestCase):
         time.sleep(0.3)
         self.shot("calibration")
 
+    def click_fresh(self, selector):
+        try:
+            self.page.find_element(By.CSS_SELECTOR, selector).click()
+            return True
+        except (StaleElementReferenceException, NoSuchElementException):
+            return False
+
+    def swap_node_frames(self, frames):
+        """Every node replays `frames` from now on (the same rig, another scene)."""
+        for node_id, process in list(self.rig.nodes.items()):
+            process.kill()
+            process.wait()
+        self.rig.frames = frames
+        for node_id in range(1, CAMERAS + 1):
+            self.rig.start_node(node_id)
+        wait_for("every node running again", lambda: len([n for n in self.rig.nodes_json().values()
+                                                          if n["state"] == "running"]) == CAMERAS, timeout=15)
+
+    def test_6_wanding_coverage_then_the_report(self):
+        # The nodes replay a wand waved through the same rig.
+        wand = os.path.join(WORK, "wand.trc")
+        self.rig.hub("sim", "wand", "--rig", os.path.join(WORK, "rig.json"), "-o", os.path.join(WORK, "wand_projected"),
+                     "--motion", wand, "--frames", "3000", "--rate", str(RATE), "--wand-length", "500", "--seed", "5")
+        self.rig.hub("sim", "render", "--motion", wand, "--rig", os.path.join(WORK, "rig.json"), "-o",
+                     os.path.join(WORK, "wand_frames"))
+        walk_frames = self.rig.frames
+        self.swap_node_frames(os.path.join(WORK, "wand_frames"))
+        try:
+            self.go("calibration")
+            for field, value in (("wand-name", "web_wand"), ("wand-min-samples", "250"), ("wand-coverage", "35"),
+                                 ("wand-timeout", "120")):
+                box = self.page.find_element(By.ID, field)
+                box.clear()
+                box.send_keys(value)
+            self.page.find_element(By.ID, "wand-start").click()
+            # The cards are drawn again at every poll: read them in one go.
+            state = lambda: self.js("return document.getElementById('wanding-state').dataset.state")  # noqa: E731
+            cameras = lambda: self.js("""return [...document.querySelectorAll('#wanding-cameras figure')].map(f => ({
+                id: Number(f.dataset.cameraId), samples: Number(f.dataset.samples), enough: f.classList.contains('enough'),
+                covered: f.querySelectorAll('rect.covered').length, cells: f.querySelectorAll('rect.cell').length}))""")  # noqa: E731
+            wait_for("the wanding to start", lambda: state() == "collecting")
+            # Each camera's card fills as the wand is seen: samples grow, cells turn green.
+            wait_for("samples in every camera", lambda: len(cameras()) == CAMERAS and all(
+                c["samples"] > 60 for c in cameras()), timeout=30)
+            self.assertEqual({c["id"] for c in cameras()}, set(range(1, CAMERAS + 1)))
+            self.shot("calibration_wanding")
+            wait_for("the solve", lambda: state() in ("solved", "failed"), timeout=120)
+            state_text = self.js("return document.getElementById('wanding-state').textContent")
+            self.assertEqual(state(), "solved", state_text)
+            self.assertIn("every camera has enough", state_text)
+            for c in cameras():
+                self.assertTrue(c["enough"], c)
+                self.assertGreaterEqual(c["samples"], 250)
+                self.assertGreaterEqual(c["covered"], 0.35 * c["cells"])
+            # The report's plots, drawn from the session's wand_figures.json.
+            report = wait_for("the report's plots", lambda: self.page.find_elements(
+                By.CSS_SELECTOR, "#wand-report figure.plot") or None, timeout=10)
+            self.assertEqual({f.get_attribute("data-plot") for f in report},
+                             {"residuals", "wand-length", "layout-top", "layout-side"})
+            figures = json.loads(http(self.rig.api_port, "GET", "/api/sessions/web_wand/files/wand_figures.json")[1])
+            rows = self.page.find_elements(By.CSS_SELECTOR, "#wand-report table.report-cameras tbody tr")
+            self.assertEqual([r.find_element(By.CSS_SELECTOR, "td.rating").text for r in rows],
+                             [c["rating"] for c in figures["cameras"]])
+            residual_bars = self.page.find_elements(By.CSS_SELECTOR, "#wand-report figure[data-plot=residuals] rect.bar")
+            self.assertEqual(len(residual_bars), CAMERAS)
+            layout = self.page.find_elements(By.CSS_SELECTOR, "#wand-report figure[data-plot=layout-top] circle.camera")
+            self.assertEqual(len(layout), CAMERAS)
+            histogram = self.page.find_elements(By.CSS_SELECTOR, "#wand-report figure[data-plot=wand-length] rect.bar")
+            self.assertEqual(len(histogram), len(figures["wand_length_histogram"]["counts"]))
+            maps = self.page.find_elements(By.CSS_SELECTOR, "#wand-report .coverage-maps svg")
+            self.assertEqual(len(maps), CAMERAS)
+            self.js("document.getElementById('wand-report').scrollIntoView()")
+            time.sleep(0.3)
+            self.shot("calibration_report")
+            self.js("window.scrollTo(0, 0)")
+            # The stand-alone report page serve wrote beside the session (as calibrate wand --report
+            # writes it) draws the same plots with nothing loaded from anywhere.
+            self.page.get("file://" + os.path.join(WORK, "sessions", "web_wand", "wand_report.html"))
+            plots = wait_for("the stand-alone report's plots", lambda: self.page.find_elements(
+                By.CSS_SELECTOR, "figure.plot") or None)
+            self.assertEqual(len(plots), 4)
+            self.assertEqual(len(self.page.find_elements(By.CSS_SELECTOR, "table.report-cameras tbody tr")), CAMERAS)
+            self.assertEqual(len(self.page.find_elements(By.CSS_SELECTOR, ".coverage-maps svg")), CAMERAS)
+            self.page.set_window_size(1400, 1700)
+            self.shot("wand_report")
+            self.page.set_window_size(1400, 860)
+        finally:
+            # A wanding left running (a failure above) would hold the capture the next test needs.
+            http(self.rig.api_port, "POST", "/api/calibration/wand/stop", b'{"solve": false}')
+            self.swap_node_frames(walk_frames)
+
     def test_7_a_captured_session_plays_and_downloads(self):
         self.go("sessions")
         name = self.page.find_element(By.ID, "capture-name")
@@ -260,7 +353,10 @@ class WebConsoleTest(unittest.TestCase):
         row = wait_for("the session's row",
                        lambda: self.page.find_elements(By.CSS_SELECTOR, "tr[data-session='web_take']"))[0]
         self.assertEqual(row.find_elements(By.TAG_NAME, "td")[1].text, "complete")
-        row.find_element(By.CSS_SELECTOR, "button[data-action=files]").click()
+        # The list may be drawn again under the click (the page refreshes it on its own): find the
+        # button afresh until a click lands.
+        wait_for("a click on the session's files", lambda: self.click_fresh(
+            "tr[data-session='web_take'] button[data-action=files]"))
         files = wait_for("its files",
                          lambda: self.page.find_elements(By.CSS_SELECTOR, "#session-details tr[data-file]"))
         names = {f.get_attribute("data-file") for f in files}

@@ -358,8 +358,15 @@ class WandSolver {
     std::vector<double> all_length_errors;
     std::vector<size_t> views_used(n_, 0);
     ReprojectionSum total;
+    WandCalibrationFigures& figures = result_.figures;
+    figures = WandCalibrationFigures{};
+    figures.coverage_grid = grid;
+    figures.coverage.assign(n_, std::vector<uint32_t>(static_cast<size_t>(grid * grid), 0));
+    figures.residuals_px.assign(n_, {});
+    const size_t centre_step = frames_.size() / 2000 + 1;
     const size_t last = wand_.MarkerCount() - 1;
     for (size_t f = 0; f < frames_.size(); ++f) {
+      if (f % centre_step == 0) figures.wand_centres.push_back(poses_[f].centre);
       std::vector<PointView> first, second;
       for (const WandView& view : frames_[f].views) {
         const Camera& camera = cameras_[view.camera];
@@ -367,10 +374,14 @@ class WandSolver {
         for (size_t k = 0; k < view.pixels.size(); ++k) {
           camera_sums[view.camera].Add(camera, poses_[f].Marker(wand_, k), view.pixels[k]);
           total.Add(camera, poses_[f].Marker(wand_, k), view.pixels[k]);
+          Eigen::Vector2d projected;
+          if (camera.ProjectToPixel(poses_[f].Marker(wand_, k), &projected))
+            figures.residuals_px[view.camera].push_back(static_cast<float>((projected - view.pixels[k]).norm()));
           const int cx = std::clamp(static_cast<int>(view.pixels[k].x() * grid / camera.intrinsics.width), 0, grid - 1);
           const int cy =
               std::clamp(static_cast<int>(view.pixels[k].y() * grid / camera.intrinsics.height), 0, grid - 1);
           cells[view.camera][static_cast<size_t>(cy * grid + cx)] = true;
+          ++figures.coverage[view.camera][static_cast<size_t>(cy * grid + cx)];
         }
         // Normalized coordinates again: the intrinsics may have been refined.
         first.push_back({camera.ProjectionMatrix(), camera.UndistortPixel(view.pixels[0])});
@@ -382,6 +393,7 @@ class WandSolver {
       all_length_errors.push_back(error);
       for (const WandView& view : frames_[f].views) length_errors[view.camera].push_back(error);
     }
+    figures.wand_length_errors_mm = all_length_errors;
     result_.wand_length = SummarizeLengthErrors(all_length_errors);
     result_.reprojection_rms_px = total.RmsPx();
     result_.unprojected_observations = total.unprojected;

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "calib/wand_bundle_adjustment.h"
 #include "calib/wand_initialization.h"
 #include "calib/wand_observations.h"
@@ -63,6 +65,15 @@ struct CameraCalibrationReport {
   LengthErrorStats wand_length;  // frames this camera took part in
 };
 
+// The raw figures behind the report's plots (wand_report.h), from the final evaluation.
+struct WandCalibrationFigures {
+  int coverage_grid = 0;                             // cells per side
+  std::vector<std::vector<uint32_t>> coverage;       // per camera (rig order): sightings per cell, row-major
+  std::vector<std::vector<float>> residuals_px;      // per camera: reprojection error length per observation
+  std::vector<double> wand_length_errors_mm;         // per used frame, signed
+  std::vector<Eigen::Vector3d> wand_centres;         // solved wand centres (at most 2000, evenly spread)
+};
+
 struct WandCalibrationResult {
   Rig rig;  // accepted cameras; world frame = reference camera's frame
   uint32_t reference_camera_id = 0;
@@ -80,6 +91,7 @@ struct WandCalibrationResult {
   double select_seconds = 0.0;
   double initialize_seconds = 0.0;
   double bundle_seconds = 0.0;
+  WandCalibrationFigures figures;
 
   bool AllAccepted() const;
 };

@@ -1,6 +1,7 @@
 // End-to-end tests of the calibration commands through the mocap-hub executable: a simulated
 // wand session with an L-frame, calibrate wand, calibrate world and eval-calibration without
-// any alignment; refusals and bad input end as one line on stderr with a non-zero status.
+// any alignment (and the --report page's figures); refusals and bad input end as one line on
+// stderr with a non-zero status.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -34,11 +35,20 @@ TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {
   ASSERT_EQ(wave.status, 0) << wave.err;
   EXPECT_TRUE(std::filesystem::exists(dir_ + "/wand/calibration.json"));
 
-  const HubRun wand = Hub("calibrate wand wand --intrinsics rig.json --wand-length 500 -o cal.json --json");
+  const HubRun wand =
+      Hub("calibrate wand wand --intrinsics rig.json --wand-length 500 -o cal.json --json --report report");
   ASSERT_EQ(wand.status, 0) << wand.err;
   const nlohmann::json report = nlohmann::json::parse(wand.out);
   EXPECT_EQ(report["cameras"].size(), 8u);
-  for (const auto& camera : report["cameras"]) EXPECT_TRUE(camera["accepted"].get<bool>()) << camera.dump();
+  for (const auto& camera : report["cameras"]) {
+    EXPECT_TRUE(camera["accepted"].get<bool>()) << camera.dump();
+    EXPECT_NE(camera["rating"].get<std::string>(), "Poor") << camera.dump();
+  }
+  // --report: the page and its figures, one entry per camera as in the printed report.
+  const nlohmann::json figures = nlohmann::json::parse(ReadAll(dir_ + "/report/wand_figures.json"));
+  EXPECT_EQ(figures["cameras"].size(), 8u);
+  EXPECT_EQ(figures["rating"], report["rating"]);
+  EXPECT_NE(ReadAll(dir_ + "/report/wand_report.html").find("renderWandReport"), std::string::npos);
   EXPECT_LT(report["reprojection_rms_px"].get<double>(), 0.25);
 
   const HubRun world = Hub("calibrate world wand --calibration cal.json -o world.json");
@@ -71,6 +81,10 @@ TEST_F(CalibrateCliTest, BadInputIsOneLineWithNonZeroStatus) {
   ExpectOneLineError(Hub("calibrate import-mcd bad.mcd -o session"), "19 values");
   ExpectOneLineError(Hub("calibrate intrinsics nothing-here -o out.json"), "nothing-here");
   ExpectOneLineError(Hub("sim wand --rig missing.json -o s --wand-length 20"), "--wand-length");
+  ExpectOneLineError(Hub("calibrate wand s --wand-length 500 -o out.json"), "--intrinsics");
+  ExpectOneLineError(Hub("calibrate wand s --intrinsics x.json --wand-length 500 -o out.json --apply"), "--live");
+  // Live wanding needs a serve to talk to: nothing listens on port 9 of loopback.
+  ExpectOneLineError(Hub("calibrate wand w --live --wand-length 500 --api 127.0.0.1:9"), "127.0.0.1:9");
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/out.json"));
 }
 

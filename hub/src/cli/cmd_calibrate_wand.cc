@@ -1,7 +1,10 @@
-// `calibrate wand` (camera poses by bundle adjustment of a wand session, with a per-camera
-// report) and `calibrate world` (the world frame from an L-frame or floor markers).
+// `calibrate wand` (camera poses by bundle adjustment of a wand session, with a rated per-camera
+// report and, with --report, an HTML page of plots; with --live the session is recorded and
+// solved by a running serve, see wand_client.h) and `calibrate world` (the world frame from an
+// L-frame or floor markers).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -13,9 +16,12 @@
 
 #include "calib/intrinsics.h"
 #include "calib/wand_calibration.h"
+#include "calib/wand_report.h"
 #include "calib/world_frame.h"
+#include "cli/api_client.h"
 #include "cli/calibrate_helpers.h"
 #include "cli/commands.h"
+#include "cli/wand_client.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
 #include "recon/reconstructor.h"
@@ -36,59 +42,38 @@ struct CalibrateWandArgs {
   bool allow_partial = false;
   bool json = false;
   WandCalibrationOptions options;
+  std::string report_dir;
+  // --live
+  bool live = false;
+  std::string api;
+  size_t min_samples = 300;
+  double coverage_target = 0.4;
+  double timeout_s = 300.0;
+  bool apply = false;
+  bool save = false;
 };
 
-nlohmann::json LengthJson(const LengthErrorStats& s) {
-  return {{"frames", s.count},      {"mean_mm", s.mean_mm},         {"rms_mm", s.rms_mm},
-          {"median_abs_mm", s.median_abs_mm}, {"p95_abs_mm", s.p95_abs_mm}, {"max_abs_mm", s.max_abs_mm}};
-}
-
-nlohmann::json ReportJson(const WandCalibrationResult& result, const WandGeometry& wand) {
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const CameraCalibrationReport& c : result.cameras) {
-    cameras.push_back({{"id", c.id},
-                       {"accepted", c.accepted},
-                       {"reason", c.reason},
-                       {"views_selected", c.views_selected},
-                       {"views_used", c.views_used},
-                       {"reprojection_rms_px", c.reprojection_rms_px},
-                       {"coverage", c.coverage},
-                       {"wand_length_error", LengthJson(c.wand_length)}});
-  }
-  return {{"method", "wand"},
-          {"wand_length_mm", wand.LengthMm()},
-          {"wand_markers", wand.MarkerCount()},
-          {"reference_camera", result.reference_camera_id},
-          {"frames", result.frames_in},
-          {"frames_selected", result.frames_selected},
-          {"frames_used", result.frames_used},
-          {"reprojection_rms_px", result.reprojection_rms_px},
-          {"reprojection_rms_definition", "2-D error length per observation"},
-          {"wand_length_error", LengthJson(result.wand_length)},
-          {"solver_iterations", result.solver_iterations},
-          {"seconds", result.select_seconds + result.initialize_seconds + result.bundle_seconds},
-          {"cameras", cameras}};
-}
-
-void PrintReport(const WandCalibrationResult& result) {
-  size_t accepted = 0;
-  for (const auto& c : result.cameras) accepted += c.accepted ? 1 : 0;
-  std::printf("calibrate wand: %zu/%zu cameras accepted, reference camera %u, %zu of %zu frames used "
-              "(%zu selected), %d solver iterations, %.1f s\n",
-              accepted, result.cameras.size(), result.reference_camera_id, result.frames_used, result.frames_in,
-              result.frames_selected, result.solver_iterations,
-              result.select_seconds + result.initialize_seconds + result.bundle_seconds);
-  std::printf("%6s %7s %7s %8s %9s %12s %12s  %s\n", "camera", "views", "used", "rms_px", "coverage",
-              "len_rms_mm", "len_p95_mm", "status");
-  for (const auto& c : result.cameras) {
-    std::printf("%6u %7zu %7zu %8.3f %8.0f%% %12.3f %12.3f  %s\n", c.id, c.views_selected, c.views_used,
-                c.reprojection_rms_px, 100.0 * c.coverage, c.wand_length.rms_mm, c.wand_length.p95_abs_mm,
-                c.accepted ? "ok" : ("REFUSED: " + c.reason).c_str());
-  }
-  const LengthErrorStats& w = result.wand_length;
-  std::printf("reprojection RMS %.3f px (2-D error length per observation); wand length error over %zu frames: mean %+.3f mm, "
-              "rms %.3f mm, median |e| %.3f mm, p95 %.3f mm, max %.3f mm\n",
-              result.reprojection_rms_px, w.count, w.mean_mm, w.rms_mm, w.median_abs_mm, w.p95_abs_mm, w.max_abs_mm);
+// --live: serve records the session and solves it; the same options travel in the start request.
+void RunLiveCalibrateWand(const CalibrateWandArgs& args) {
+  if (args.reference_camera_id >= 0) throw UsageError("--reference-camera is for the offline solve");
+  if (args.save && !args.apply) throw UsageError("--save needs --apply");
+  LiveWandingArgs live;
+  live.api = args.api;
+  live.session = args.session;
+  live.output = args.output;
+  live.report_dir = args.report_dir;
+  live.apply = args.apply;
+  live.save = args.save;
+  live.allow_partial = args.allow_partial;
+  live.json = args.json;
+  live.start = {{"wand_length_mm", args.wand_length_mm},
+                {"middle_marker_mm", args.middle_marker_mm},
+                {"min_samples", args.min_samples},
+                {"coverage_target", args.coverage_target},
+                {"timeout_s", args.timeout_s},
+                {"refine_intrinsics", args.refine}};
+  if (!args.intrinsics.empty()) live.start["intrinsics"] = ReadJsonFile(args.intrinsics);
+  RunLiveWanding(live);
 }
 
 void RunCalibrateWand(CalibrateWandArgs args) {
@@ -96,6 +81,13 @@ void RunCalibrateWand(CalibrateWandArgs args) {
                                 ? WandGeometry::ThreeMarker(args.wand_length_mm, args.middle_marker_mm)
                                 : WandGeometry::TwoMarker(args.wand_length_mm);
   CheckOptions(wand);
+  if (args.live) {
+    RunLiveCalibrateWand(args);
+    return;
+  }
+  if (args.intrinsics.empty()) throw UsageError("--intrinsics is required (but for --live)");
+  if (args.output.empty()) throw UsageError("-o/--output is required (but for --live)");
+  if (args.apply || args.save) throw UsageError("--apply and --save go with --live");
   args.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(args.refine);
   const Rig intrinsics = LoadRigJson(args.intrinsics);
   if (args.reference_camera_id >= 0) {
@@ -109,11 +101,20 @@ void RunCalibrateWand(CalibrateWandArgs args) {
   CheckOptions(args.options);
   const std::vector<FrameSet> frames = LoadFramesReporting(args.session);
   const WandCalibrationResult result = CalibrateWand(frames, intrinsics, wand, args.options);
-  const nlohmann::json report = ReportJson(result, wand);
+  const RatingThresholds thresholds;
+  const nlohmann::json report = WandResultJson(result, wand, thresholds);
   if (args.json) {
     std::printf("%s\n", report.dump().c_str());
   } else {
-    PrintReport(result);
+    PrintWandReport(report);
+  }
+  // The report is written whatever the outcome: a refused camera is what it helps to explain.
+  if (!args.report_dir.empty()) {
+    const std::string title = std::filesystem::path(args.session).filename().string();
+    const std::filesystem::path dir(args.report_dir);
+    WriteWandReport(WandReportFigures(result, wand, thresholds, title), (dir / "wand_report.html").string(),
+                    (dir / "wand_figures.json").string());
+    if (!args.json) std::printf("report: %s\n", (dir / "wand_report.html").string().c_str());
   }
   if (!result.AllAccepted() && !args.allow_partial) {
     std::string reasons;
@@ -123,18 +124,7 @@ void RunCalibrateWand(CalibrateWandArgs args) {
     throw std::runtime_error("calibration refused, nothing written (--allow-partial writes the accepted cameras): " +
                              reasons);
   }
-  nlohmann::json document = RigToJson(result.rig);
-  for (auto& camera : document["cameras"]) {
-    for (const auto& c : result.cameras) {
-      if (c.id == camera["id"].get<uint32_t>()) {
-        camera["reprojection_rms_px"] = c.reprojection_rms_px;
-        camera["wand_views"] = c.views_used;
-        camera["coverage"] = c.coverage;
-      }
-    }
-  }
-  document["calibration"] = report;
-  WriteJsonFile(document, args.output);
+  WriteJsonFile(WandCalibrationDocument(result, report), args.output);
 }
 
 // ---- calibrate world ------------------------------------------------------------------------
@@ -216,12 +206,16 @@ void AddCalibrateWandCommand(CLI::App& app) {
   CLI::App* command = calibrate.add_subcommand("wand", "Camera poses from a wand session by bundle adjustment");
   auto args = std::make_shared<CalibrateWandArgs>();
   WandCalibrationOptions& o = args->options;
-  command->add_option("session", args->session, "Session directory with the wand waving")->required();
-  command->add_option("--intrinsics", args->intrinsics, "Calibration JSON giving each camera's intrinsics")
+  command->add_option("session", args->session,
+                      "Session directory with the wand waving (with --live: the name serve records it under)")
       ->required();
+  command->add_option("--intrinsics", args->intrinsics,
+                      "Calibration JSON giving each camera's intrinsics (with --live: default serve's calibration)");
   command->add_option("--wand-length", args->wand_length_mm, "Distance between the wand's end markers, mm")
       ->required();
-  command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
+  command->add_option("-o,--output", args->output, "Calibration JSON to write (optional with --live)");
+  command->add_option("--report", args->report_dir,
+                      "Directory for wand_report.html (plots) and wand_figures.json (their figures)");
   command->add_option("--middle-marker", args->middle_marker_mm,
                       "Third marker this far from the first end, mm (0 = two-marker wand)")
       ->capture_default_str();
@@ -238,6 +232,22 @@ void AddCalibrateWandCommand(CLI::App& app) {
   command->add_option("--threads", o.bundle.num_threads, "Solver threads")->capture_default_str();
   command->add_flag("--allow-partial", args->allow_partial, "Write the accepted cameras even if some are refused");
   command->add_flag("--json", args->json, "Print the report as one JSON object on stdout");
+  command->add_flag("--live", args->live,
+                    "Wand through a running serve: per-camera samples, coverage and advice while waving, then its "
+                    "solve and rating");
+  AddApiOption(*command, &args->api);
+  command->add_option("--min-samples", args->min_samples, "--live: wand samples every camera needs")
+      ->check(CLI::Range(10, 1000000))
+      ->capture_default_str();
+  command->add_option("--coverage-target", args->coverage_target,
+                      "--live: share of every camera's image the wand must cover before serve stops")
+      ->check(CLI::Range(0.05, 1.0))
+      ->capture_default_str();
+  command->add_option("--timeout", args->timeout_s, "--live: stop collecting after this many seconds, s")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
+  command->add_flag("--apply", args->apply, "--live: switch serve's live reconstruction to the new calibration");
+  command->add_flag("--save", args->save, "--live with --apply: also write it over serve's --calibration file");
   command->callback([args] { RunCalibrateWand(*args); });
 }
 

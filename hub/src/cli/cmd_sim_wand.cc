@@ -1,5 +1,6 @@
 // `sim wand`: a calibration wand (and optionally an L-frame) waved through a rig's volume,
-// projected with the simulator's camera faults into a session.
+// projected with the simulator's camera faults into a session (and, with --motion, written as
+// TRC so that `sim render` makes camera frames of it for nodes to replay).
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "cli/progress.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
+#include "io/trc.h"
 #include "sim/project_session.h"
 #include "simcore/wand.h"
 
@@ -24,6 +26,7 @@ struct SimWandArgs {
   std::string rig;
   std::string output;
   std::string lframe;
+  std::string motion;  // also write the wand's motion as TRC (for `sim render`)
   bool json = false;
   WandMotionOptions wand;
   ProjectOptions project;
@@ -39,6 +42,7 @@ void RunSimWand(SimWandArgs args) {
   const Rig rig = LoadRigJson(args.rig);
   args.project.seed = args.wand.seed;
   const MarkerTrajectories motion = MakeWandMotion(rig, args.wand);
+  if (!args.motion.empty()) WriteTrc(motion, args.motion);
   ProgressBar progress("sim wand", motion.NumFrames());
   const ProjectSessionStats stats =
       ProjectSession(motion, rig, args.project, args.output, [&](size_t done, size_t) { progress.Update(done); });
@@ -90,6 +94,8 @@ void AddSimWandCommand(CLI::App& app) {
                       "L-frame markers in world mm, 'x,y,z;x,y,z;...' (default: 4-marker L on the floor)");
   AddCameraFaultOptions(command, &p);
   command->add_option("--seed", w.seed, "Seed of the path and of every fault")->capture_default_str();
+  command->add_option("--motion", args->motion,
+                      "Also write the wand's motion as TRC, to render camera frames from (sim render)");
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
   command->callback([args] { RunSimWand(*args); });
 }

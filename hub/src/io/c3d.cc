@@ -355,7 +355,9 @@ MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string
     if (labels == nullptr || labels->type != -1 || labels->dims.size() != 2 || labels->dims[1] == 0) break;
     const size_t width = labels->dims[0];
     for (size_t i = 0; i < labels->dims[1] && out.names.size() < points; ++i) {
-      std::string name(reinterpret_cast<const char*>(&labels->data[i * width]), width);
+      // Labels of width 0 hold no bytes at all: no name to read (and no element to point at).
+      std::string name = width == 0 ? std::string()
+                                     : std::string(reinterpret_cast<const char*>(&labels->data[i * width]), width);
       name.erase(name.find_last_not_of(" \0", std::string::npos, 2) + 1);
       out.names.push_back(name.empty() ? DefaultMarkerName(out.names.size()) : name);
     }

@@ -6,6 +6,8 @@
 #include <optional>
 #include <vector>
 
+#include "calib/wand_bundle_adjustment.h"
+#include "io/calibration_json.h"
 #include "service/api_error.h"
 #include "service/capture.h"
 
@@ -155,6 +157,7 @@ std::string FileType(const std::string& file) {
   if (ext == "tsv") return "text/tab-separated-values; charset=utf-8";
   if (ext == "json") return "application/json";
   if (ext == "csv") return "text/csv; charset=utf-8";
+  if (ext == "html") return "text/html; charset=utf-8";  // the wand calibration report
   return "application/octet-stream";
 }
 
@@ -172,6 +175,87 @@ ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector
   response.file = api.SessionFile(name, file);
   response.content_type = FileType(file);
   return response;
+}
+
+std::optional<double> NumberField(const json& body, const std::string& name, double lo, double hi) {
+  if (!body.contains(name)) return std::nullopt;
+  const json& v = body[name];
+  if (!v.is_number()) throw ApiError(400, "'" + name + "' must be a number");
+  const double value = v.get<double>();
+  if (!(value >= lo && value <= hi))
+    throw ApiError(400, "'" + name + "' must be within " + json(lo).dump() + ".." + json(hi).dump());
+  return value;
+}
+
+// POST /api/calibration/wand/start: the wanding's settings; ranges are checked again (and
+// completely) by WandingOptions::Check in the service.
+WandingOptions WandingFromBody(const std::string& text) {
+  const json body = ParseBody(text, {"name", "wand_length_mm", "middle_marker_mm", "min_samples", "coverage_target",
+                                     "timeout_s", "refine_intrinsics", "intrinsics", "grid_columns", "grid_rows",
+                                     "cell_samples"});
+  WandingOptions o;
+  if (!body.contains("name") || !body["name"].is_string()) throw ApiError(400, "'name' (a string) is required");
+  o.session = body["name"].get<std::string>();
+  if (!body.contains("wand_length_mm")) throw ApiError(400, "'wand_length_mm' is required");
+  o.wand_length_mm = *NumberField(body, "wand_length_mm", 10.0, 5000.0);
+  o.middle_marker_mm = NumberField(body, "middle_marker_mm", 0.0, 5000.0).value_or(0.0);
+  o.min_samples = static_cast<size_t>(IntegerField(body, "min_samples", 10, 1'000'000).value_or(300));
+  o.coverage_target = NumberField(body, "coverage_target", 0.05, 1.0).value_or(o.coverage_target);
+  o.timeout_s = NumberField(body, "timeout_s", 1.0, 3600.0).value_or(o.timeout_s);
+  o.coverage.columns = static_cast<int>(IntegerField(body, "grid_columns", 1, 64).value_or(o.coverage.columns));
+  o.coverage.rows = static_cast<int>(IntegerField(body, "grid_rows", 1, 64).value_or(o.coverage.rows));
+  o.coverage.cell_samples = static_cast<int>(IntegerField(body, "cell_samples", 1, 100000).value_or(o.coverage.cell_samples));
+  if (body.contains("refine_intrinsics")) {
+    if (!body["refine_intrinsics"].is_string())
+      throw ApiError(400, "'refine_intrinsics' must be none, focal-principal or all");
+    o.refine_intrinsics = body["refine_intrinsics"].get<std::string>();
+  }
+  if (body.contains("intrinsics")) {
+    try {
+      o.intrinsics = RigFromJson(body["intrinsics"], "'intrinsics'");
+    } catch (const std::exception& e) {
+      throw ApiError(400, e.what());
+    }
+  }
+  o.Check();
+  return o;
+}
+
+// /api/calibration/wand[/start|/stop|/solve|/apply]
+ApiResponse RouteWanding(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
+  if (s.size() == 3) {
+    RequireMethod(r, "GET");
+    return Json(api.Wanding());
+  }
+  if (s.size() != 4) throw ApiError(404, "no such path: " + r.path);
+  RequireMethod(r, "POST");
+  if (s[3] == "start") return Json(api.StartWanding(WandingFromBody(r.body)));
+  if (s[3] == "solve") {
+    const json body = ParseBody(r.body, {"refine_intrinsics"});
+    std::string refine;
+    if (body.contains("refine_intrinsics")) {
+      if (!body["refine_intrinsics"].is_string())
+        throw ApiError(400, "'refine_intrinsics' must be none, focal-principal or all");
+      refine = body["refine_intrinsics"].get<std::string>();
+      try {
+        IntrinsicsRefinementFromName(refine);
+      } catch (const std::invalid_argument& e) {
+        throw ApiError(400, e.what());
+      }
+    }
+    return Json(api.SolveWanding(refine));
+  }
+  if (s[3] == "stop" || s[3] == "apply") {
+    const char* flag = s[3] == "stop" ? "solve" : "save";
+    const json body = ParseBody(r.body, {flag});
+    bool value = s[3] == "stop";  // stop solves unless told not to; apply saves only when told
+    if (body.contains(flag)) {
+      if (!body[flag].is_boolean()) throw ApiError(400, std::string("'") + flag + "' must be true or false");
+      value = body[flag].get<bool>();
+    }
+    return Json(s[3] == "stop" ? api.StopWanding(value) : api.ApplyWandCalibration(value));
+  }
+  throw ApiError(404, "no such path: " + r.path);
 }
 
 ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
@@ -217,6 +301,7 @@ ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
     RequireMethod(r, "GET");
     return Json(api.Calibration());
   }
+  if (what == "calibration" && s.size() >= 3 && s[2] == "wand") return RouteWanding(api, r, s);
   if (what == "blobs" && s.size() == 2) {
     RequireMethod(r, "GET");
     return Json(api.Blobs());

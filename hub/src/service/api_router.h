@@ -18,6 +18,14 @@
 //   GET    /api/sessions/NAME/files/FILE    one of them (the response names the file to send)
 //   GET    /api/calibration                 the cameras: intrinsics, pose, centre
 //   GET    /api/blobs                       every camera's 2D blobs of the next frame set, masks
+//   POST   /api/calibration/wand/start      {"name", "wand_length_mm", "middle_marker_mm", "min_samples",
+//                                            "coverage_target", "timeout_s", "refine_intrinsics",
+//                                            "intrinsics": {calibration JSON}, "grid_columns",
+//                                            "grid_rows", "cell_samples"} (name and length required)
+//   GET    /api/calibration/wand            the wanding: coverage per camera, advice, the solve
+//   POST   /api/calibration/wand/stop       {"solve": true|false} (default true)
+//   POST   /api/calibration/wand/solve      {"refine_intrinsics"}: solve the recorded wanding again
+//   POST   /api/calibration/wand/apply      {"save": true|false} (default false)
 //
 // Errors: {"error": "reason"} with 400 (bad JSON, unknown field, value out of range), 404 (no
 // such path or node), 405 (wrong method), 409, 413 (body over 64 KiB), 504, 500.

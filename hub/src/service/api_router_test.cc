@@ -161,5 +161,85 @@ TEST(ApiRouter, OversizedBodiesAndInvalidTextAreAnswered) {
   EXPECT_EQ(r.response.status, 400);
 }
 
+TEST(ApiRouter, WandingCarriesItsSettings) {
+  FakeServiceApi api;
+  const Routed started = Send(api, "POST", "/api/calibration/wand/start",
+                              R"({"name": "wand1", "wand_length_mm": 500, "min_samples": 200, "coverage_target": 0.5,
+                                  "timeout_s": 90, "grid_columns": 10, "refine_intrinsics": "focal-principal"})");
+  ASSERT_EQ(started.response.status, 200) << started.response.body;
+  EXPECT_EQ(api.last_wanding.session, "wand1");
+  EXPECT_DOUBLE_EQ(api.last_wanding.wand_length_mm, 500.0);
+  EXPECT_EQ(api.last_wanding.min_samples, 200u);
+  EXPECT_DOUBLE_EQ(api.last_wanding.coverage_target, 0.5);
+  EXPECT_DOUBLE_EQ(api.last_wanding.timeout_s, 90.0);
+  EXPECT_EQ(api.last_wanding.coverage.columns, 10);
+  EXPECT_EQ(api.last_wanding.coverage.rows, 6);  // the default stays
+  EXPECT_EQ(api.last_wanding.refine_intrinsics, "focal-principal");
+  EXPECT_FALSE(api.last_wanding.intrinsics.has_value());
+  EXPECT_EQ(Send(api, "GET", "/api/calibration/wand").body["called"], "wanding");
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/stop").body["called"], "wandstop");
+  EXPECT_TRUE(api.last_flag);  // stopping solves unless told not to
+  Send(api, "POST", "/api/calibration/wand/stop", R"({"solve": false})");
+  EXPECT_FALSE(api.last_flag);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/apply").body["called"], "wandapply");
+  EXPECT_FALSE(api.last_flag);  // applying saves only when told
+  Send(api, "POST", "/api/calibration/wand/apply", R"({"save": true})");
+  EXPECT_TRUE(api.last_flag);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/solve").body["called"], "wandsolve");
+  EXPECT_EQ(api.last_name, "");  // the refinement the wanding started with
+  Send(api, "POST", "/api/calibration/wand/solve", R"({"refine_intrinsics": "all"})");
+  EXPECT_EQ(api.last_name, "all");
+}
+
+TEST(ApiRouter, WandingIntrinsicsAreACalibrationDocument) {
+  FakeServiceApi api;
+  const std::string camera =
+      R"({"id": 3, "width": 640, "height": 400, "fx": 500, "fy": 500, "cx": 320, "cy": 200,
+          "distortion": [0, 0, 0, 0, 0], "rotation": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "translation": [0, 0, 0]})";
+  ASSERT_EQ(Send(api, "POST", "/api/calibration/wand/start",
+                 R"({"name": "w", "wand_length_mm": 300, "intrinsics": {"cameras": [)" + camera + "]}}")
+                .response.status,
+            200);
+  ASSERT_TRUE(api.last_wanding.intrinsics.has_value());
+  EXPECT_EQ(api.last_wanding.intrinsics->cameras.at(0).id, 3u);
+  const Routed bad = Send(api, "POST", "/api/calibration/wand/start",
+                          R"({"name": "w", "wand_length_mm": 300, "intrinsics": {"cameras": [{"id": 1}]}})");
+  EXPECT_EQ(bad.response.status, 400);
+  EXPECT_TRUE(bad.body.contains("error"));
+}
+
+TEST(ApiRouter, BadWandingRequestsAreRefusedBeforeTheService) {
+  const char* bodies[] = {R"({"wand_length_mm": 500})",                        // no name
+                          R"({"name": "w"})",                                  // no length
+                          R"({"name": "../w", "wand_length_mm": 500})",        // a path, not a name
+                          R"({"name": "w", "wand_length_mm": 5})",             // too short
+                          R"({"name": "w", "wand_length_mm": "500"})",         // not a number
+                          R"({"name": "w", "wand_length_mm": 500, "coverage_target": 1.5})",
+                          R"({"name": "w", "wand_length_mm": 500, "min_samples": 2})",
+                          R"({"name": "w", "wand_length_mm": 500, "timeout_s": 0})",
+                          R"({"name": "w", "wand_length_mm": 500, "middle_marker_mm": 600})",
+                          R"({"name": "w", "wand_length_mm": 500, "refine_intrinsics": "some"})",
+                          R"({"name": "w", "wand_length_mm": 500, "grid_rows": 0})",
+                          R"({"name": "w", "wand_length_mm": 500, "colour": "red"})",
+                          "[1]", "{"};
+  for (const char* body : bodies) {
+    FakeServiceApi api;
+    const Routed r = Send(api, "POST", "/api/calibration/wand/start", body);
+    EXPECT_EQ(r.response.status, 400) << body;
+    EXPECT_TRUE(r.body.contains("error")) << body;
+    EXPECT_TRUE(api.calls.empty()) << body;
+  }
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "GET", "/api/calibration/wand/start").response.status, 405);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand").response.status, 405);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/solve", R"({"refine_intrinsics": "most"})").response.status, 400);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/solve", R"({"refine_intrinsics": 2})").response.status, 400);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/refine").response.status, 404);
+  EXPECT_EQ(Send(api, "GET", "/api/calibration/wand/stop/now").response.status, 404);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/stop", R"({"solve": 1})").response.status, 400);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/apply", R"({"keep": true})").response.status, 400);
+  EXPECT_TRUE(api.calls.empty());
+}
+
 }  // namespace
 }  // namespace mocap::service

@@ -30,6 +30,8 @@ class Captures {
   // `base` is the session description every capture starts from (rate, epoch, cameras).
   Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base);
 
+  // The calibration file copied into the sessions started from now on (a new one was applied).
+  void SetCalibrationFile(std::string calibration_file) { calibration_file_ = std::move(calibration_file); }
   // Sessions a killed service left capturing are marked interrupted; returns their names.
   std::vector<std::string> RecoverInterrupted();
   // Throws ApiError: 400 bad name, 409 a capture is running or the session exists, 500 I/O.
@@ -44,6 +46,8 @@ class Captures {
   void AddPublished(const LiveFrame& frame);
 
   bool running() const { return writer_ != nullptr; }
+  const std::string& name() const { return name_; }  // the running capture's
+  const std::string& dir() const { return dir_; }
   nlohmann::json Current(uint64_t now_ns) const;  // null when none
   nlohmann::json List() const;                    // every session directory with its state
   // One session: its summary as in List() plus "files": [{"name", "bytes"}] (the regular files

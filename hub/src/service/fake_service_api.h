@@ -18,6 +18,8 @@ class FakeServiceApi : public ServiceApi {
   uint32_t last_number = 0;
   bool last_thresholded = false;
   std::string last_name;
+  WandingOptions last_wanding;
+  bool last_flag = false;
   uint32_t known_node = 1;  // other ids answer 404, as the service does
 
   nlohmann::json Status() override { return Call("status"); }
@@ -59,6 +61,23 @@ class FakeServiceApi : public ServiceApi {
   }
   nlohmann::json Calibration() override { return Call("calibration"); }
   nlohmann::json Blobs() override { return Call("blobs"); }
+  nlohmann::json StartWanding(const WandingOptions& options) override {
+    last_wanding = options;
+    return Call("wandstart");
+  }
+  nlohmann::json Wanding() override { return Call("wanding"); }
+  nlohmann::json StopWanding(bool solve) override {
+    last_flag = solve;
+    return Call("wandstop");
+  }
+  nlohmann::json SolveWanding(const std::string& refine_intrinsics) override {
+    last_name = refine_intrinsics;
+    return Call("wandsolve");
+  }
+  nlohmann::json ApplyWandCalibration(bool save) override {
+    last_flag = save;
+    return Call("wandapply");
+  }
 
  private:
   nlohmann::json Call(const std::string& what, uint32_t node = 0) {

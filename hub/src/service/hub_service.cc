@@ -1,11 +1,13 @@
 // The live hub's loop and its requests (see hub_service.h).
 #include "service/hub_service.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <utility>
 
+#include "calib/wand_bundle_adjustment.h"
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
@@ -33,6 +35,13 @@ std::vector<uint32_t> CameraIds(const Rig& rig) {
   std::vector<uint32_t> ids;
   for (const Camera& c : rig.cameras) ids.push_back(c.id);
   return ids;
+}
+
+bool SameCameras(const Rig& a, const Rig& b) {
+  std::vector<uint32_t> x = CameraIds(a), y = CameraIds(b);
+  std::sort(x.begin(), x.end());
+  std::sort(y.begin(), y.end());
+  return x == y;
 }
 
 NodeRegistryOptions RegistryOf(const ServeOptions& o, const Rig& rig) {
@@ -129,13 +138,14 @@ struct HubService::MaskJob {
 HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
       rig_(LoadRigOrThrow(options_.calibration)),
+      calibration_source_(options_.calibration),
       start_ns_(RealtimeNowNs()),
       ingest_(CameraIds(rig_), AssemblyOf(options_, EpochOf(options_)), options_.auth),
       registry_(RegistryOf(options_, rig_)),
       controls_(ControlsOf(options_, start_ns_)),
-      live_(rig_, options_.rate_hz, options_.recon,
-            options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file),
-            options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
+      bodies_(options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file)),
+      labels_(options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
+      live_(MakeLive()),
       captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
   std::error_code ec;
@@ -155,6 +165,10 @@ HubService::HubService(ServeOptions options)
 }
 
 HubService::~HubService() = default;
+
+std::unique_ptr<LiveReconstruction> HubService::MakeLive() const {
+  return std::make_unique<LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_);
+}
 
 void HubService::WarnAboutMissingKeys() const {
   log::Info("wire authenticated with the keys of {} nodes from {}", ingest_.auth().KeyedNodes().size(),
@@ -274,7 +288,8 @@ void HubService::Publish(const FrameSet& set) {
   for (auto& wait : blobs_waiters_) wait->promise.set_value(BlobsSnapshot{set, masks_});
   blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
-  const LiveFrame& frame = live_.Process(set, RealtimeNowNs);
+  if (wanding_) wanding_->Add(set);
+  const LiveFrame& frame = live_->Process(set, RealtimeNowNs);
   {
     // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
     std::lock_guard<std::mutex> lock(subscribers_mutex_);
@@ -323,6 +338,14 @@ void HubService::Tick(uint64_t now) {
     (*it)->promise.set_value(BlobsSnapshot{std::nullopt, masks_});
     it = blobs_waiters_.erase(it);
   }
+  if (wanding_) {
+    std::string reason = wanding_->StopReason(now);
+    // An operator who stops the wanding's capture (capture stop) ends the wanding with it.
+    if (reason.empty() && !(captures_.running() && captures_.name() == wand_options_.session))
+      reason = "its capture was stopped";
+    if (!reason.empty()) FinishWanding(reason, true);
+  }
+  PollWandSolve();
   if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
     FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
                     " frame sets arrived in time (are the nodes running?)",
@@ -535,7 +558,7 @@ nlohmann::json HubService::Status() {
         {"late_frames", ingest_.assembler().late_frames()},
         {"points_published", points_published_},
         {"provisional_points_published", provisional_published_},
-        {"markers_confirmed", live_.tracker().NumMarkers()},
+        {"markers_confirmed", live_->tracker().NumMarkers()},
         {"malformed_datagrams", registry_.malformed_total()},
         {"unknown_datagrams", registry_.unknown_total()},
         {"unauthentic_datagrams", registry_.unauthentic_total()},
@@ -746,7 +769,7 @@ std::string HubService::SessionFile(const std::string& name, const std::string& 
 }
 
 nlohmann::json HubService::Calibration() {
-  // The rig never changes while serving: no need to go through the loop.
+  std::lock_guard<std::mutex> lock(rig_mutex_);
   nlohmann::json cameras = nlohmann::json::array();
   for (const Camera& c : rig_.cameras) {
     const CameraIntrinsics& k = c.intrinsics;
@@ -765,11 +788,12 @@ nlohmann::json HubService::Calibration() {
                        {"translation", {c.translation.x(), c.translation.y(), c.translation.z()}},
                        {"centre", {centre.x(), centre.y(), centre.z()}}});
   }
-  return {{"units", "mm"}, {"file", options_.calibration}, {"cameras", cameras}};
+  return {{"units", "mm"}, {"file", calibration_source_}, {"cameras", cameras}};
 }
 
 nlohmann::json HubService::BlobsJson(const BlobsSnapshot& snapshot) const {
   const FrameSet* set = snapshot.set ? &*snapshot.set : nullptr;
+  std::lock_guard<std::mutex> lock(rig_mutex_);
   nlohmann::json cameras = nlohmann::json::array();
   for (const Camera& c : rig_.cameras) {
     nlohmann::json blobs = nlohmann::json::array();
@@ -808,6 +832,172 @@ nlohmann::json HubService::Blobs() {
     return future;
   });
   return BlobsJson(Await(std::move(answer), kBlobsWaitSeconds + 1.0));
+}
+
+// ---- live wanding ----
+
+nlohmann::json HubService::WandingJson() const {
+  nlohmann::json j = {{"state", wand_state_},
+                      {"session", wand_options_.session},
+                      {"wand_length_mm", wand_options_.wand_length_mm},
+                      {"middle_marker_mm", wand_options_.middle_marker_mm},
+                      {"stop_reason", wand_stop_reason_},
+                      {"applied", wand_applied_},
+                      {"saved_to", wand_saved_.empty() ? nlohmann::json(nullptr) : nlohmann::json(wand_saved_)}};
+  j["collection"] = wanding_ ? wanding_->Json(RealtimeNowNs()) : wand_collected_;
+  if (wand_job_ && wand_job_->done()) {
+    const WandSolveOutcome& o = wand_job_->outcome();
+    j["solve"] = {{"ok", o.ok},
+                  {"error", o.error},
+                  {"seconds", o.seconds},
+                  {"all_accepted", o.all_accepted},
+                  {"report", o.report},
+                  {"files", o.ok ? nlohmann::json{{"calibration", "wand_calibration.json"},
+                                                  {"report", "wand_report.html"},
+                                                  {"figures", "wand_figures.json"}}
+                                 : nlohmann::json(nullptr)}};
+  } else {
+    j["solve"] = nullptr;
+  }
+  return j;
+}
+
+void HubService::FinishWanding(const std::string& reason, bool solve) {
+  const uint64_t now = RealtimeNowNs();
+  wand_collected_ = wanding_->Json(now);
+  wand_stop_reason_ = reason;
+  wanding_.reset();
+  if (captures_.running() && captures_.name() == wand_options_.session) {
+    const nlohmann::json summary = captures_.Stop(ingest_.stats(), now);
+    log::Info("wanding {}: {}; {} frame sets captured", wand_options_.session, reason, summary.value("frame_sets", 0));
+  }
+  if (!solve) {
+    wand_state_ = "cancelled";
+    return;
+  }
+  StartWandSolve();
+}
+
+void HubService::StartWandSolve() {
+  WandSolveInput input;
+  input.session_dir = (std::filesystem::path(captures_.dir()) / wand_options_.session).string();
+  input.title = wand_options_.session;
+  input.intrinsics = wand_options_.intrinsics ? *wand_options_.intrinsics : rig_;
+  input.wand = wand_options_.Wand();
+  input.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(wand_options_.refine_intrinsics);
+  input.options.bundle.num_threads = 1;  // one core for the solve, the other for the frame path
+  input.thresholds = wand_options_.thresholds;
+  wand_job_ = std::make_unique<WandSolveJob>(std::move(input));
+  wand_state_ = "solving";
+}
+
+void HubService::PollWandSolve() {
+  if (wand_state_ != "solving" || !wand_job_ || !wand_job_->done()) return;
+  const WandSolveOutcome& o = wand_job_->outcome();
+  wand_state_ = o.ok ? "solved" : "failed";
+  if (o.ok)
+    log::Info("wanding {}: solved in {:.1f} s, rig rated {}, {}", wand_options_.session, o.seconds,
+              o.report.value("rating", ""), o.all_accepted ? "every camera accepted" : "some cameras refused");
+  else
+    log::Warn("wanding {}: no calibration: {}", wand_options_.session, o.error);
+}
+
+nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
+  return OnLoop([this, requested] {
+    if (wanding_) throw ApiError(409, "wanding " + wand_options_.session + " is running already");
+    if (wand_state_ == "solving") throw ApiError(409, "the last wanding is still being solved");
+    if (requested.intrinsics) {
+      if (!SameCameras(*requested.intrinsics, rig_))
+        throw ApiError(400, "'intrinsics' must hold the same cameras as the calibration serve runs with");
+    }
+    const uint64_t now = RealtimeNowNs();
+    auto collection = std::make_unique<WandCollection>(rig_, requested, now);  // checks the options
+    captures_.Start(requested.session, ingest_.stats(), now);
+    wanding_ = std::move(collection);
+    wand_options_ = requested;
+    wand_state_ = "collecting";
+    wand_stop_reason_.clear();
+    wand_collected_ = nullptr;
+    wand_job_.reset();
+    wand_applied_ = false;
+    wand_saved_.clear();
+    log::Info("wanding {} started: {:.1f} mm wand, {} samples and {:.0f} % coverage per camera, timeout {:.0f} s",
+              requested.session, requested.wand_length_mm, requested.min_samples, 100.0 * requested.coverage_target,
+              requested.timeout_s);
+    return WandingJson();
+  });
+}
+
+nlohmann::json HubService::Wanding() {
+  return OnLoop([this] {
+    PollWandSolve();
+    return WandingJson();
+  });
+}
+
+nlohmann::json HubService::StopWanding(bool solve) {
+  return OnLoop([this, solve] {
+    if (!wanding_) throw ApiError(409, "no wanding is running");
+    FinishWanding(solve ? "stopped on request" : "cancelled on request", solve);
+    return WandingJson();
+  });
+}
+
+nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
+  return OnLoop([this, refine_intrinsics] {
+    PollWandSolve();
+    if (wand_state_ == "idle") throw ApiError(409, "no wanding was recorded since serve started");
+    if (wand_state_ == "collecting" || wand_state_ == "solving")
+      throw ApiError(409, "wanding " + wand_options_.session + " is still " + wand_state_);
+    if (!refine_intrinsics.empty()) wand_options_.refine_intrinsics = refine_intrinsics;
+    wand_job_.reset();
+    wand_applied_ = false;
+    wand_saved_.clear();
+    StartWandSolve();
+    return WandingJson();
+  });
+}
+
+nlohmann::json HubService::ApplyWandCalibration(bool save) {
+  return OnLoop([this, save] {
+    PollWandSolve();
+    if (wand_state_ != "solved") throw ApiError(409, "no solved wand calibration to apply (state " + wand_state_ + ")");
+    const WandSolveOutcome& o = wand_job_->outcome();
+    if (!SameCameras(o.rig, rig_)) {
+      std::string refused;
+      for (const auto& c : o.report["cameras"])
+        if (!c.value("accepted", false))
+          refused += (refused.empty() ? "" : "; ") + std::string("camera ") + std::to_string(c.value("id", 0)) + ": " +
+                     c.value("reason", "");
+      throw ApiError(409, "not every camera was accepted, so the calibration is not applied (" + refused + ")");
+    }
+    std::string source = o.calibration_file;
+    if (save) {
+      // The old file stays beside the new one, so that an operator can go back.
+      std::error_code ec;
+      std::filesystem::copy_file(options_.calibration, options_.calibration + ".previous",
+                                 std::filesystem::copy_options::overwrite_existing, ec);
+      if (ec) throw ApiError(500, options_.calibration + ".previous: cannot keep the old calibration: " + ec.message());
+      try {
+        WriteJsonFile(o.calibration, options_.calibration);
+      } catch (const std::exception& e) {
+        throw ApiError(500, e.what());
+      }
+      source = options_.calibration;
+      wand_saved_ = options_.calibration;
+    }
+    {
+      std::lock_guard<std::mutex> lock(rig_mutex_);
+      rig_ = o.rig;
+      calibration_source_ = source;
+    }
+    live_ = MakeLive();
+    captures_.SetCalibrationFile(source);
+    wand_applied_ = true;
+    log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,
+              save ? " and saved to " + options_.calibration : "");
+    return WandingJson();
+  });
 }
 
 int HubService::Subscribe(Subscriber subscriber) {

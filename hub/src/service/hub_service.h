@@ -40,6 +40,8 @@
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
 #include "service/service_api.h"
+#include "service/wand_collection.h"
+#include "service/wand_solve_job.h"
 #include "util/latency_sample.h"
 
 namespace mocap::service {
@@ -104,6 +106,15 @@ class HubService : public ServiceApi {
   // The loop only copies the set; the JSON is made on the caller's thread.
   nlohmann::json Blobs() override;
   static constexpr double kBlobsWaitSeconds = 0.5;
+  // Live wanding: a capture named options.session whose frame sets feed each camera's wand
+  // samples and coverage until every camera has enough (or the timeout), then a solve on a
+  // worker thread; Apply switches the live reconstruction to the solved calibration (and with
+  // save writes it over --calibration, the old file kept as CAL.previous).
+  nlohmann::json StartWanding(const WandingOptions& options) override;
+  nlohmann::json Wanding() override;
+  nlohmann::json StopWanding(bool solve) override;
+  nlohmann::json SolveWanding(const std::string& refine_intrinsics) override;
+  nlohmann::json ApplyWandCalibration(bool save) override;
 
   int Subscribe(Subscriber subscriber);
   void Unsubscribe(int id);
@@ -147,10 +158,19 @@ class HubService : public ServiceApi {
     std::optional<FrameSet> set;       // none: no frame set in time
     std::vector<CameraMask> masks;
   };
-  nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ only)
+  nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ under rig_mutex_)
+  void FinishWanding(const std::string& reason, bool solve);
+  void StartWandSolve();
+  void PollWandSolve();
+  nlohmann::json WandingJson() const;
+  std::unique_ptr<LiveReconstruction> MakeLive() const;
 
   ServeOptions options_;
+  // The loop thread is the only writer of rig_ (ApplyWandCalibration) and reads it freely; other
+  // threads read it under rig_mutex_, which the writer holds while it changes.
+  mutable std::mutex rig_mutex_;
   Rig rig_;
+  std::string calibration_source_;  // the file rig_ came from
   UdpSocket socket_;
   std::optional<HostPort> announce_to_;
   uint64_t next_announce_ns_ = 0;
@@ -160,7 +180,9 @@ class HubService : public ServiceApi {
   NodeRegistry registry_;
   ControlRequests controls_;
   PreviewAssembler previews_;
-  LiveReconstruction live_;
+  std::vector<RigidBodyDefinition> bodies_;
+  std::optional<MarkerSet> labels_;
+  std::unique_ptr<LiveReconstruction> live_;  // made again when the calibration changes
   Captures captures_;
   std::vector<CameraMask> masks_;
 
@@ -178,6 +200,16 @@ class HubService : public ServiceApi {
   std::unique_ptr<MaskJob> mask_job_;
   std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
   uint64_t last_publish_ns_ = 0;
+
+  // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
+  std::unique_ptr<WandCollection> wanding_;
+  WandingOptions wand_options_;
+  std::string wand_state_ = "idle";  // idle, collecting, solving, solved, failed, cancelled
+  std::string wand_stop_reason_;
+  nlohmann::json wand_collected_;    // the collection's figures when it stopped
+  std::unique_ptr<WandSolveJob> wand_job_;
+  bool wand_applied_ = false;
+  std::string wand_saved_;           // where the applied calibration was saved, if it was
 
   // Work handed to the loop by other threads.
   std::mutex tasks_mutex_;

@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "service/wand_collection.h"
+
 namespace mocap::service {
 
 // What an operator may change on a camera; absent fields stay as they are.
@@ -44,6 +46,16 @@ class ServiceApi {
   // {"frame": N | null, "cameras": [{"id", "width", "height", "seen", "blobs": [[x, y, area], ...],
   // "mask": [[x, y, width, height], ...]}]}; "frame" is null when no frame set came in time.
   virtual nlohmann::json Blobs() = 0;
+  // Live wanding (wand_collection.h): start a wand capture with live coverage, its state (the
+  // coverage while collecting, the solve's report after), stop (and solve, or cancel), solve again, and apply
+  // the solved calibration to the live reconstruction (and save it as serve's calibration).
+  virtual nlohmann::json StartWanding(const WandingOptions& options) = 0;
+  virtual nlohmann::json Wanding() = 0;
+  virtual nlohmann::json StopWanding(bool solve) = 0;
+  // Solve the last recorded wanding again (after a cancel, a failure or with another intrinsics
+  // refinement: "" keeps the one it was started with).
+  virtual nlohmann::json SolveWanding(const std::string& refine_intrinsics) = 0;
+  virtual nlohmann::json ApplyWandCalibration(bool save) = 0;
 };
 
 }  // namespace mocap::service

@@ -69,6 +69,10 @@ void WriteJsonFile(const nlohmann::json& document, const std::string& path, int 
   } catch (const nlohmann::json::exception& error) {
     Fail(path, std::string("cannot serialise: ") + error.what());
   }
+  WriteTextFile(text, path);
+}
+
+void WriteTextFile(const std::string& text, const std::string& path) {
   const fs::path target(path);
   const fs::path parent = target.parent_path();
   std::error_code ec;

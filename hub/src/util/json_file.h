@@ -17,4 +17,7 @@ nlohmann::json ReadJsonFile(const std::string& path);
 // Creates the parent directory when it is missing. indent: as nlohmann::json::dump.
 void WriteJsonFile(const nlohmann::json& document, const std::string& path, int indent = 2);
 
+// Any other text file the hub writes (reports) under the same rule.
+void WriteTextFile(const std::string& text, const std::string& path);
+
 }  // namespace mocap

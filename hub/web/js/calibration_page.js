@@ -1,22 +1,22 @@
-// Calibration: the calibration serve runs with, as a camera layout in 3D and a table per camera
-// (resolution, intrinsics, distortion, position, distance to the volume's centre, its node).
-// Live wanding feedback (samples and coverage per camera) and the solver's report belong to the
-// calibration work (wand calibration in the service); this page shows what is calibrated now.
+// Calibration: live wanding (wanding_panel.js: per camera samples, coverage map and advice, then
+// the solve's report as plots), and the calibration serve runs with, as a camera layout in 3D and
+// a table per camera (resolution, intrinsics, distortion, position, distance to the volume's
+// centre, its node).
 import { el, formatNumber } from './api.js';
 import { Scene3D } from './scene3d.js';
+import { WandingPanel } from './wanding_panel.js';
 
 export class CalibrationPage {
   constructor(root, hub) {
     this.hub = hub;
     const view = el('div', { class: 'view3d short', id: 'calibration-view' });
     this.file = el('span', { class: 'hint' });
+    this.wanding = new WandingPanel(root, () => hub.loadCalibration());
     root.append(el('h2', { text: 'Camera layout' }), this.file, view,
       el('table', { class: 'cameras', id: 'calibration-table' },
         el('thead', {}, el('tr', {}, ...['Camera', 'Image px', 'fx / fy px', 'cx / cy px', 'k1 / k2',
           'Position mm', 'Distance to centre mm', 'Node'].map((t) => el('th', { text: t })))),
-        this.tbody = el('tbody')),
-      el('p', { class: 'hint', text: 'Wanding coverage and the calibration report come with the calibration ' +
-        'service; calibrate with `mocap-hub calibrate wand` and restart serve with the new file.' }));
+        this.tbody = el('tbody')));
     this.scene = new Scene3D(view);
     this.cameras = [];
     hub.onCalibration((cameras, file) => {
@@ -46,6 +46,7 @@ export class CalibrationPage {
   }
 
   async show() {
+    this.wanding.show();
     this.scene.show();
     try {
       const nodes = await this.hub.nodes();
@@ -55,5 +56,8 @@ export class CalibrationPage {
     }
   }
 
-  hide() { this.scene.hide(); }
+  hide() {
+    this.wanding.hide();
+    this.scene.hide();
+  }
 }
