@@ -55,6 +55,12 @@ function(_mocap_add_test_program name framework_libs base_label)
     _mocap_test_name(test_name ${name})
     add_test(NAME ${test_name} COMMAND ${name} ${T_ARGS})
     _mocap_register_test(${test_name} "${base_label};${T_LABELS}")
+    # Scratch files go to a directory of this test in this build tree (GoogleTest's TempDir()
+    # reads TEST_TMPDIR): a sub-build's copy of a test, or another checkout's, running at the
+    # same time never shares them.
+    set(scratch ${CMAKE_BINARY_DIR}/test-tmp/${name})
+    file(MAKE_DIRECTORY ${scratch})
+    set_tests_properties(${test_name} PROPERTIES ENVIRONMENT "TEST_TMPDIR=${scratch}")
 endfunction()
 
 # mocap_add_cmocka_test(name SOURCES ... [LIBS ...] [ARGS ...] [LABELS ...])
