@@ -146,6 +146,12 @@ void RunReconstruct(ReconstructArgs args) {
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
       rs.outlier_views_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
+  const SessionReadStats& read = reader.stats();
+  if (read.damaged_log_stretches > 0) {
+    std::printf("%s: raw log damaged: %llu stretches skipped (%llu bytes), every good record around them read\n",
+                args.session.c_str(), static_cast<unsigned long long>(read.damaged_log_stretches),
+                static_cast<unsigned long long>(read.skipped_log_bytes));
+  }
 }
 
 }  // namespace

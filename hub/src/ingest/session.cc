@@ -135,6 +135,8 @@ bool SessionReader::ReadMore() {
   LogRecord record;
   while (log_.Next(&record)) {
     ++stats_.datagrams;
+    stats_.damaged_log_stretches = log_.damaged_stretches();
+    stats_.skipped_log_bytes = log_.skipped_bytes();
     const wire::DecodeResult decoded = wire::Decode(record.payload.data(), record.payload.size());
     if (!decoded.ok) {
       if (stats_.malformed++ == 0) first_malformed_reason_ = decoded.reason;
@@ -177,6 +179,8 @@ bool SessionReader::ReadMore() {
       return true;
     }
   }
+  stats_.damaged_log_stretches = log_.damaged_stretches();
+  stats_.skipped_log_bytes = log_.skipped_bytes();
   log_done_ = true;
   return false;
 }
@@ -195,7 +199,8 @@ bool SessionReader::Next(FrameSet* set) {
 
 std::vector<std::string> SessionReader::warnings() const {
   std::vector<std::string> out;
-  if (!log_.warning().empty()) out.push_back(log_.warning());
+  const std::string damage = log_.warning();
+  if (!damage.empty()) out.push_back(damage);
   if (stats_.malformed)
     out.push_back(std::to_string(stats_.malformed) + " malformed datagrams dropped (first: " +
                   first_malformed_reason_ + ")");

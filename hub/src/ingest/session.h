@@ -1,7 +1,8 @@
 // A session directory: raw.mlog (every datagram as received), session.json (what the session
 // is), and beside them whatever later steps write (calibration.json, truth.trc, markers.trc).
-// Errors opening or writing files throw std::runtime_error naming the file; damaged logs are read
-// up to the last good record and the damage is reported through warnings().
+// Errors opening or writing files throw std::runtime_error naming the file; a damaged log is read
+// past its damage (every good record is kept, session_log.h) and the damage is reported through
+// warnings() and stats().
 #pragma once
 
 #include <cstdint>
@@ -73,6 +74,8 @@ struct SessionReadStats {
   uint64_t late_frames = 0;       // arrived after their frame set was already handed out
   uint64_t duplicate_frames = 0;  // the same camera twice in one frame set
   uint64_t implausible_frames = 0;  // frame number out of the session's plausible range, skipped
+  uint64_t damaged_log_stretches = 0;  // raw-log stretches that held no good record, skipped
+  uint64_t skipped_log_bytes = 0;      // their bytes
 };
 
 // Frame numbers come off the wire and may be corrupt or forged (1e9, 2^63, UINT64_MAX), and
