@@ -159,6 +159,11 @@ bool SessionReader::ReadMore() {
       ++stats_.implausible_frames;
       continue;
     }
+    switch (image_sizes_.Apply(&frame)) {
+      case ImageSizeVerdict::kRefused: ++stats_.wrong_size_frames; continue;
+      case ImageSizeVerdict::kRescaled: ++stats_.rescaled_frames; break;
+      case ImageSizeVerdict::kSame: break;
+    }
     if (emitted_any_ && frame.frame_number <= last_emitted_) {
       ++stats_.late_frames;
       continue;
@@ -210,6 +215,7 @@ std::vector<std::string> SessionReader::warnings() const {
     out.push_back(std::to_string(stats_.implausible_frames) +
                   " camera frames skipped: frame number implausible (more than " + std::to_string(max_gap_) +
                   " frames past the session's frames)");
+  for (const std::string& line : image_sizes_.Summary()) out.push_back(line);
   if (stats_.late_frames) out.push_back(std::to_string(stats_.late_frames) + " camera frames arrived too late");
   if (stats_.duplicate_frames)
     out.push_back(std::to_string(stats_.duplicate_frames) + " duplicate camera frames dropped");

@@ -229,6 +229,52 @@ TEST(Session, AnUnknownLogVersionIsRefusedWithWhatThisReaderReads) {
   fs::remove_all(dir);
 }
 
+TEST(Session, FramesOfAnotherImageSizeThanTheCalibrationsAreRescaledOrRefused) {
+  // The probe: a node at 640x400 against a calibration at 1280x800 was used as it was. Camera 2
+  // here sends a binned mode (same aspect: rescaled), camera 3 a crop (another aspect: refused).
+  const fs::path dir = TempDir("image_size");
+  SessionWriter writer;
+  writer.Create(dir.string(), Info());
+  for (uint64_t n = 0; n < 5; ++n) {
+    writer.Write(MakeFrame(1, n, 2));
+    CameraFrame binned = MakeFrame(2, n, 2);
+    binned.width = 640;
+    binned.height = 400;
+    writer.Write(binned);
+    CameraFrame cropped = MakeFrame(3, n, 2);
+    cropped.width = 640;
+    cropped.height = 480;
+    writer.Write(cropped);
+  }
+  writer.Finish();
+
+  SessionReader reader;
+  reader.Open(dir.string());
+  reader.CheckImageSizes({{1, {1280, 800}}, {2, {1280, 800}}, {3, {1280, 800}}});
+  FrameSet set;
+  int sets = 0;
+  while (reader.Next(&set)) {
+    ++sets;
+    ASSERT_EQ(set.cameras.size(), 2u);  // camera 3 refused
+    EXPECT_EQ(set.cameras[0].blobs[0].pixel, MakeFrame(1, set.frame_number, 2).blobs[0].pixel);
+    const Eigen::Vector2d binned = MakeFrame(2, set.frame_number, 2).blobs[0].pixel;
+    EXPECT_NEAR((set.cameras[1].blobs[0].pixel - ((binned.array() + 0.5) * 2.0 - 0.5).matrix()).norm(), 0.0, 1e-9);
+    EXPECT_EQ(set.cameras[1].width, 1280u);
+  }
+  EXPECT_EQ(sets, 5);
+  EXPECT_EQ(reader.stats().rescaled_frames, 5u);
+  EXPECT_EQ(reader.stats().wrong_size_frames, 5u);
+  std::string all;
+  for (const std::string& w : reader.warnings()) all += w + "\n";
+  EXPECT_NE(all.find("camera 2: images of 640x400 against a calibration at 1280x800: 5 frames rescaled"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("camera 3: images of 640x480 against a calibration at 1280x800: 5 frames refused"),
+            std::string::npos)
+      << all;
+  fs::remove_all(dir);
+}
+
 TEST(Session, ForeignDatagramsAreCountedNotFatal) {
   const fs::path dir = TempDir("foreign");
   SessionWriter writer;
