@@ -17,6 +17,8 @@ constexpr uint32_t kRecordMagic = 0x3152434D;
 constexpr uint32_t kMaxPayload = 64 * 1024;
 constexpr size_t kRecordHeader = 4 + 4 + 8 + 4;
 constexpr size_t kReadChunk = 256 * 1024;
+constexpr size_t kMinRead = 4096;
+constexpr size_t kScanWindow = 4096;  // bytes searched for a magic per step while resynchronising
 
 void PutU32(uint8_t* p, uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (8 * i));
@@ -105,6 +107,13 @@ void SessionLogReader::Open(const std::string& path) {
                              " is not one this mocap-hub reads (it reads version " + std::to_string(kFileVersion) +
                              "); use the mocap-hub that wrote it");
   buffer_offset_ = pos_ = sizeof header;
+  // The size at opening only sizes the reads (a small log gets a small buffer); a log that grows
+  // meanwhile is still read to its end.
+  if (std::fseek(file_, 0, SEEK_END) == 0) {
+    const long size = std::ftell(file_);
+    file_size_ = size > 0 ? static_cast<uint64_t>(size) : 0;
+  }
+  if (std::fseek(file_, static_cast<long>(sizeof header), SEEK_SET) != 0) throw IoError("seek failed", path);
 }
 
 size_t SessionLogReader::Available(size_t n) {
@@ -115,7 +124,9 @@ size_t SessionLogReader::Available(size_t n) {
   buffer_offset_ = pos_;
   while (buffer_.size() < n && !eof_) {
     const size_t old = buffer_.size();
-    const size_t want = std::max(n - old, kReadChunk);
+    const uint64_t end = buffer_offset_ + old;
+    const uint64_t rest = file_size_ > end ? file_size_ - end : 0;
+    const size_t want = std::max(n - old, static_cast<size_t>(std::clamp<uint64_t>(rest, kMinRead, kReadChunk)));
     buffer_.resize(old + want);
     const size_t got = std::fread(buffer_.data() + old, 1, want, file_);
     buffer_.resize(old + got);
@@ -158,11 +169,11 @@ void SessionLogReader::Resynchronise(const char* why) {
   static constexpr uint8_t kMagicBytes[4] = {0x4D, 0x43, 0x52, 0x31};  // kRecordMagic, little-endian
   const uint64_t start = pos_++;
   for (;;) {
-    const size_t available = Available(kReadChunk);
+    const size_t available = Available(kScanWindow);
     const uint8_t* begin = buffer_.data() + (pos_ - buffer_offset_);
     const uint8_t* found = std::search(begin, begin + available, kMagicBytes, kMagicBytes + 4);
     if (found == begin + available) {
-      if (available < kReadChunk) {  // the end of the file: nothing good after the damage
+      if (available < kScanWindow) {  // the end of the file: nothing good after the damage
         pos_ += available;
         break;
       }

@@ -82,6 +82,7 @@ class SessionLogReader {
   std::vector<uint8_t> buffer_;  // file bytes from buffer_offset_ on
   uint64_t buffer_offset_ = 0;
   uint64_t pos_ = 0;             // file offset of the next record
+  uint64_t file_size_ = 0;       // at opening: sizes the reads
   bool eof_ = false;
   uint64_t records_ = 0;
   uint64_t damaged_stretches_ = 0;
