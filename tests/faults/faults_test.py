@@ -152,7 +152,7 @@ class FaultsTest(unittest.TestCase):
             info = json.load(f)
         final, live, rows, _ = reconstruct_and_eval(session, self.frames)
         return {"status": status, "nodes": nodes, "relay": counts, "info": info, "final": final, "live": live,
-                "rows": rows}
+                "rows": rows, "session": session}
 
     def report(self, label, r):
         up = r["relay"]["up"]
@@ -174,6 +174,25 @@ class FaultsTest(unittest.TestCase):
         self.assertEqual(r["relay"]["up"]["lost"], 0)
         self.assertGreaterEqual(r["rows"], 0.99 * FRAMES)
         self.assertLess(r["final"]["rmse_mm"], 1.5)
+
+    def test_01b_a_flipped_byte_in_the_raw_log_costs_only_its_record(self):
+        # The probe: one flipped byte at 10 % of a raw log kept 16 of 151 frames.
+        damaged = os.path.join(WORK, "flipped")
+        shutil.copytree(self.baseline["session"], damaged)
+        log = os.path.join(damaged, "raw.mlog")
+        with open(log, "r+b") as f:
+            data = bytearray(f.read())
+            data[len(data) // 10] ^= 0x10
+            f.seek(0)
+            f.write(data)
+        records = len(raw_log_records(os.path.join(self.baseline["session"], "raw.mlog"))[0])
+        rows, out = reconstruct(damaged)
+        say(f"\none flipped byte at 10 % of the loss-free capture's raw log ({len(data)} bytes, {records} records): "
+            f"reconstruct reads {rows} of {self.baseline['rows']} frames; it says: "
+            f"{[line.split(': ', 1)[1] for line in out.splitlines() if 'damaged' in line]}")
+        self.assertIn("skipped 1 damaged stretch", out)
+        self.assertIn(f"kept {records - 1} good records", out)
+        self.assertGreaterEqual(rows, self.baseline["rows"] - 1)
 
     def loss_case(self, percent, seed):
         r = self.capture_through_relay(f"loss{percent}", "--loss", percent / 100.0, "--seed", seed)

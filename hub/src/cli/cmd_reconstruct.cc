@@ -154,9 +154,9 @@ void RunReconstruct(ReconstructArgs args) {
                 static_cast<unsigned long long>(read.wrong_size_frames));
   }
   if (read.damaged_log_stretches > 0) {
-    std::printf("%s: raw log damaged: %llu stretches skipped (%llu bytes), every good record around them read\n",
+    std::printf("%s: raw log damaged: %llu stretch%s skipped (%llu bytes), every good record around them read\n",
                 args.session.c_str(), static_cast<unsigned long long>(read.damaged_log_stretches),
-                static_cast<unsigned long long>(read.skipped_log_bytes));
+                read.damaged_log_stretches == 1 ? "" : "es", static_cast<unsigned long long>(read.skipped_log_bytes));
   }
 }
 
