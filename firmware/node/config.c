@@ -4,10 +4,13 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "common/fail.h"
 #include "node/version.h"
@@ -326,11 +329,55 @@ static char *trim(char *s)
     return s;
 }
 
+/* Reads at most MN_CONFIG_MAX_BYTES + 1 bytes of f into buf (MN_CONFIG_MAX_BYTES + 1 long):
+ * one more than allowed tells an oversized stream from a full one. */
+static int read_bounded(FILE *f, char *buf, size_t *len, const char *path, char *err,
+                        size_t errlen)
+{
+    *len = fread(buf, 1, MN_CONFIG_MAX_BYTES + 1, f);
+    if (ferror(f)) {
+        snprintf(err, errlen, "%s: read error", path);
+        errno = EIO;
+        return -1;
+    }
+    if (*len > MN_CONFIG_MAX_BYTES)
+        return mn_fail(err, errlen, "%s: larger than %d bytes: not a node config", path,
+                       MN_CONFIG_MAX_BYTES);
+    return 0;
+}
+
 int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "r");
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer; the check below refuses it anyway. */
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) {
+        int e = errno;
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(e));
+        errno = e;
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fd, &st) < 0) {
+        int e = errno;
+        close(fd);
+        snprintf(err, errlen, "%s: cannot stat: %s", path, strerror(e));
+        errno = e;
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return mn_fail(err, errlen, "%s: not a regular file (a device, FIFO or directory is no config)",
+                       path);
+    }
+    if (st.st_size > MN_CONFIG_MAX_BYTES) {
+        close(fd);
+        return mn_fail(err, errlen, "%s: %lld bytes, larger than %d: not a node config", path,
+                       (long long)st.st_size, MN_CONFIG_MAX_BYTES);
+    }
+    FILE *f = fdopen(fd, "r");
     if (f == NULL) {
         int e = errno;
+        close(fd);
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(e));
         errno = e;
         return -1;
@@ -343,56 +390,60 @@ int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size
 int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char *err,
                           size_t errlen)
 {
-    char *line = NULL;
-    size_t linecap = 0;
-    ssize_t len;
+    char *text = malloc(MN_CONFIG_MAX_BYTES + 1);
+    if (text == NULL) {
+        snprintf(err, errlen, "%s: out of memory", path);
+        errno = ENOMEM;
+        return -1;
+    }
+    size_t len = 0;
+    int rc = read_bounded(f, text, &len, path, err, errlen);
+    if (rc == 0)
+        rc = mn_config_load_text(cfg, text, len, path, err, errlen);
+    free(text);
+    return rc;
+}
+
+int mn_config_load_text(struct mn_config *cfg, const char *text, size_t len, const char *path,
+                        char *err, size_t errlen)
+{
+    char line[MN_CONFIG_MAX_LINE + 1];
     char origin[MN_CONFIG_STR + 32];
     unsigned lineno = 0;
-    int rc = 0;
-    while ((len = getline(&line, &linecap, f)) >= 0) {
+    size_t pos = 0;
+    while (pos < len) {
+        const char *nl = memchr(text + pos, '\n', len - pos);
+        size_t n = (nl != NULL ? (size_t)(nl - text) : len) - pos;
         lineno++;
         snprintf(origin, sizeof(origin), "%s:%u", path, lineno);
-        if (len > 4096) {
-            rc = mn_fail(err, errlen, "%s: line longer than 4096 characters", origin);
-            break;
-        }
-        /* getline counts bytes, strlen stops at the first NUL: a mismatch is a binary file. */
-        if (strlen(line) != (size_t)len) {
-            rc = mn_fail(err, errlen, "%s: NUL byte in line (not a text file?)", origin);
-            break;
-        }
+        if (n > MN_CONFIG_MAX_LINE)
+            return mn_fail(err, errlen, "%s: line longer than %d characters", origin,
+                           MN_CONFIG_MAX_LINE);
+        if (memchr(text + pos, '\0', n) != NULL)
+            return mn_fail(err, errlen, "%s: NUL byte in line (not a text file?)", origin);
+        memcpy(line, text + pos, n);
+        line[n] = '\0';
+        pos += n + 1;
         char *hash = strchr(line, '#');
         if (hash != NULL)
             *hash = '\0';
-        char *text = trim(line);
-        if (*text == '\0')
+        char *body = trim(line);
+        if (*body == '\0')
             continue;
-        char *eq = strchr(text, '=');
-        if (eq == NULL) {
-            rc = mn_fail(err, errlen, "%s: expected 'key = value', got '%s'", origin, text);
-            break;
-        }
+        char *eq = strchr(body, '=');
+        if (eq == NULL)
+            return mn_fail(err, errlen, "%s: expected 'key = value', got '%s'", origin, body);
         *eq = '\0';
-        char *key = trim(text);
+        char *key = trim(body);
         char *value = trim(eq + 1);
-        if (*key == '\0' || *value == '\0') {
-            rc = mn_fail(err, errlen, "%s: expected 'key = value' with both parts", origin);
-            break;
-        }
+        if (*key == '\0' || *value == '\0')
+            return mn_fail(err, errlen, "%s: expected 'key = value' with both parts", origin);
         if (mn_config_set(cfg, key, value, origin, err, errlen) < 0) {
-            rc = -1;
-            break;
+            errno = EINVAL;
+            return -1;
         }
     }
-    free(line);
-    if (rc == 0 && ferror(f)) {
-        snprintf(err, errlen, "%s: read error", path);
-        errno = EIO;
-        return -1;
-    }
-    if (rc < 0)
-        errno = EINVAL;
-    return rc;
+    return 0;
 }
 
 int mn_config_load_keys(struct mn_config *cfg, char *err, size_t errlen)

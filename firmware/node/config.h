@@ -16,6 +16,8 @@
 
 #define MN_CONFIG_STR 256
 #define MN_CONFIG_ERR 512
+#define MN_CONFIG_MAX_BYTES 65536 /* a config file larger than this is refused unread */
+#define MN_CONFIG_MAX_LINE 4096
 
 enum mn_source_kind {
     MN_SOURCE_V4L2,      /* v4l2:/dev/videoN */
@@ -83,12 +85,19 @@ struct mn_config {
 /* Fills cfg with the documented defaults. */
 void mn_config_defaults(struct mn_config *cfg);
 
-/* Applies a `key = value` file on top of cfg. */
+/* Applies a `key = value` file on top of cfg. Only a regular file of at most
+ * MN_CONFIG_MAX_BYTES is read (`--config /dev/zero`, a FIFO or a directory is refused before
+ * reading a byte); lines are at most MN_CONFIG_MAX_LINE characters and hold no NUL. */
 int mn_config_load_file(struct mn_config *cfg, const char *path, char *err, size_t errlen);
 
-/* The same over an open stream; path names it in messages. The caller closes f. */
+/* The same over an open stream, read up to MN_CONFIG_MAX_BYTES (more is refused: the stream
+ * is not read further); path names it in messages. The caller closes f. */
 int mn_config_load_stream(struct mn_config *cfg, FILE *f, const char *path, char *err,
                           size_t errlen);
+
+/* The same over len bytes of text in memory (not NUL-terminated). */
+int mn_config_load_text(struct mn_config *cfg, const char *text, size_t len, const char *path,
+                        char *err, size_t errlen);
 
 /* Applies one setting; origin names the place for error messages ("node.conf:12"). */
 int mn_config_set(struct mn_config *cfg, const char *key, const char *value, const char *origin,

@@ -1,10 +1,13 @@
-"""The live rig the serve and stream tests share: `mocap-hub serve` with one real `mocap-node`
-process per camera on loopback replaying rendered frames, a systemd notify socket the test owns,
-and small clients (HTTP, WebSocket, PNG) written with the Python standard library only.
+"""The live rig the serve, stream and fault tests share: `mocap-hub serve` with one real
+`mocap-node` process per camera on loopback replaying rendered frames, a systemd notify socket
+the test owns, small clients (HTTP, WebSocket, PNG) and the wire as a test writes it (protobuf
+fields by hand, the sealed envelope, raw-log records), with the Python standard library only.
 
 Every wait is bounded; stop() kills every process the rig started."""
 
 import base64
+import hashlib
+import hmac
 import json
 import os
 import re
@@ -41,6 +44,145 @@ def wait_for(what, predicate, timeout=10.0, step=0.05):
 # The faults of the hub issue's accuracy runs (`sim project` options).
 SIM_FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
               "--drop-frames", "0.002"]
+
+
+# ---- the wire as an attacker (or a test) writes it: protobuf by hand, the envelope of
+# hub/src/wire/envelope.h, HMAC-SHA-512/256 = HMAC-SHA-512 cut to 32 bytes ----
+
+def varint(v):
+    out = bytearray()
+    while True:
+        b, v = v & 0x7F, v >> 7
+        out.append(b | (0x80 if v else 0))
+        if not v:
+            return bytes(out)
+
+
+def field(number, value):
+    """A varint field (int) or a length-delimited one (bytes)."""
+    if isinstance(value, int):
+        return varint(number << 3) + varint(value)
+    return varint(number << 3 | 2) + varint(len(value)) + value
+
+
+def read_varint(buf, pos):
+    value, shift = 0, 0
+    while True:
+        if pos >= len(buf) or shift > 63:
+            raise ValueError("truncated or overlong varint")
+        b = buf[pos]
+        value |= (b & 0x7F) << shift
+        pos, shift = pos + 1, shift + 7
+        if not b & 0x80:
+            return value, pos
+
+
+def proto_fields(buf):
+    """A protobuf message as a list of (field number, wire type, value): ints for varints,
+    bytes for everything else (fixed ones included, as read)."""
+    out, pos = [], 0
+    while pos < len(buf):
+        tag, pos = read_varint(buf, pos)
+        number, kind = tag >> 3, tag & 7
+        if kind == 0:
+            value, pos = read_varint(buf, pos)
+        elif kind == 2:
+            size, pos = read_varint(buf, pos)
+            value, pos = bytes(buf[pos:pos + size]), pos + size
+        elif kind in (1, 5):
+            size = 8 if kind == 1 else 4
+            value, pos = bytes(buf[pos:pos + size]), pos + size
+        else:
+            raise ValueError(f"wire type {kind}")
+        out.append((number, kind, value))
+    return out
+
+
+def proto_encode(fields):
+    """proto_fields' inverse."""
+    out = bytearray()
+    for number, kind, value in fields:
+        out += varint(number << 3 | kind)
+        if kind == 0:
+            out += varint(value)
+        elif kind == 2:
+            out += varint(len(value)) + value
+        else:
+            out += value
+    return bytes(out)
+
+
+def marker_frames_in(payloads):
+    """(node id, frame number, chunk index, chunk count) of every MarkerFrame packet."""
+    out = []
+    for payload in payloads:
+        for number, kind, value in proto_fields(payload):
+            if number == 10 and kind == 2:
+                f = {n: v for n, k, v in proto_fields(value) if k == 0}
+                out.append((f.get(1, 0), f.get(2, 0), f.get(9, 0), f.get(10, 1)))
+    return out
+
+
+def marker_frame_packet(node, frame, markers):
+    marker = b"".join(field(14, field(1, x * 256) + field(2, y * 256) + field(3, 9) + field(4, 200) + field(5, 100))
+                      for x, y in markers)
+    frame_msg = (field(1, node) + field(2, frame) + field(6, 424242) + field(7, 640) + field(8, 400) +
+                 field(10, 1) + field(11, len(markers)) + marker)
+    return field(1, 1) + field(10, frame_msg)
+
+
+def control_packet(node, sequence, command_field, command):
+    return field(1, 1) + field(12, field(1, node) + field(2, sequence) + field(command_field, command))
+
+
+def seal(key, direction, node, payload, counter=None, key_id=1):
+    counter = counter or time.time_ns()
+    header = bytes([0xA1, direction, key_id, 0]) + node.to_bytes(4, "little") + counter.to_bytes(8, "little")
+    body = header + payload
+    return body + hmac.new(key, body, hashlib.sha512).digest()[:32]
+
+
+def sniff_udp_to(port, seconds):
+    """Payloads of the UDP datagrams sent to 127.0.0.1:port during `seconds` (a raw socket on
+    loopback: root only)."""
+    s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW, socket.htons(0x0003))
+    s.bind(("lo", 0))
+    s.settimeout(0.05)
+    out, end = [], time.monotonic() + seconds
+    while time.monotonic() < end:
+        try:
+            frame, meta = s.recvfrom(65535)
+        except socket.timeout:
+            continue
+        if meta[2] == socket.PACKET_OUTGOING or frame[12:14] != b"\x08\x00" or frame[23] != 17:
+            continue
+        ip = frame[14:]
+        udp = ip[(ip[0] & 15) * 4:]
+        if int.from_bytes(udp[2:4], "big") == port:
+            out.append(bytes(udp[8:int.from_bytes(udp[4:6], "big")]))
+    s.close()
+    return out
+
+
+def raw_log_records(path):
+    """(receive time ns, payload) of every whole record of a session's raw.mlog, as written
+    (hub/src/ingest/session_log.h: a 16-byte file header, then per record u32 magic, u32 length,
+    u64 receive time, u32 CRC, payload), and how many bytes a torn last record left."""
+    with open(path, "rb") as f:
+        data = f.read()
+    pos, out = 16, []
+    while pos + 20 <= len(data):
+        size = int.from_bytes(data[pos + 4:pos + 8], "little")
+        if pos + 20 + size > len(data):
+            break
+        out.append((int.from_bytes(data[pos + 8:pos + 16], "little"), data[pos + 20:pos + 20 + size]))
+        pos += 20 + size
+    return out, len(data) - pos
+
+
+def raw_log_payloads(path):
+    """Every whole record's payload of a session's raw.mlog."""
+    return [payload for _, payload in raw_log_records(path)[0]]
 
 
 def run(bin_dir, *args, check=True, env=None, timeout=60):
@@ -243,17 +385,18 @@ class Rig:
         time.sleep(seconds)
         return "\n".join(self.received[first:])
 
-    def start_node(self, node_id, with_epoch=True):
+    def start_node(self, node_id, with_epoch=True, hub_port=None, loop=True):
         """Without the epoch the node numbers frames on a grid of its own until serve sends it the
-        session's."""
+        session's. hub_port: where it sends (a relay in front of serve; default serve itself);
+        loop=False replays the frames once, frame n at the epoch + n / rate."""
         epoch = ["--epoch-ns", str(self.epoch)] if with_epoch else []
         with open(os.path.join(self.work, f"node{node_id}.log"), "a") as log:
             self.nodes[node_id] = subprocess.Popen(
                 [os.path.join(self.bin, "mocap-node"), "--source", f"replay:{self.frames}/cam{node_id}",
                  "--sync", f"sim:{self.rate}", *epoch,
-                 "--hub", f"127.0.0.1:{self.udp_port}", "--id", str(node_id), "--key-file", self.key_file(node_id),
-                 "--threshold", "32",
-                 "--replay-loop", "--log-level", "warning"],
+                 "--hub", f"127.0.0.1:{hub_port or self.udp_port}", "--id", str(node_id),
+                 "--key-file", self.key_file(node_id), "--threshold", "32",
+                 *(["--replay-loop"] if loop else []), "--log-level", "warning"],
                 stdout=log, stderr=log)
 
     def start(self, cameras):

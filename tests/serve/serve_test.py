@@ -7,8 +7,6 @@ usage: serve_test.py BIN_DIR WORK_DIR
 
 Every wait is bounded; every process the test starts is killed at the end."""
 
-import hashlib
-import hmac
 import json
 import os
 import random
@@ -21,7 +19,8 @@ import sys
 import time
 import unittest
 
-from live_rig import Rig, http, read_png_grey, render_scene, run, wait_for, websocket_messages
+from live_rig import (Rig, control_packet, field, http, marker_frame_packet, raw_log_payloads, read_png_grey,
+                      render_scene, run, seal, sniff_udp_to, wait_for, websocket_messages)
 
 BIN = WORK = None
 CAMERAS = 4
@@ -41,77 +40,6 @@ def read_text(path):
 
 def read_json(path):
     return json.loads(read_text(path))
-
-
-# ---- the wire as an attacker (or a test) writes it: protobuf by hand, the envelope of
-# hub/src/wire/envelope.h, HMAC-SHA-512/256 = HMAC-SHA-512 cut to 32 bytes ----
-
-def varint(v):
-    out = bytearray()
-    while True:
-        b, v = v & 0x7F, v >> 7
-        out.append(b | (0x80 if v else 0))
-        if not v:
-            return bytes(out)
-
-
-def field(number, value):
-    """A varint field (int) or a length-delimited one (bytes)."""
-    if isinstance(value, int):
-        return varint(number << 3) + varint(value)
-    return varint(number << 3 | 2) + varint(len(value)) + value
-
-
-def marker_frame_packet(node, frame, markers):
-    marker = b"".join(field(14, field(1, x * 256) + field(2, y * 256) + field(3, 9) + field(4, 200) + field(5, 100))
-                      for x, y in markers)
-    frame_msg = (field(1, node) + field(2, frame) + field(6, 424242) + field(7, 640) + field(8, 400) +
-                 field(10, 1) + field(11, len(markers)) + marker)
-    return field(1, 1) + field(10, frame_msg)
-
-
-def control_packet(node, sequence, command_field, command):
-    return field(1, 1) + field(12, field(1, node) + field(2, sequence) + field(command_field, command))
-
-
-def seal(key, direction, node, payload, counter=None):
-    counter = counter or time.time_ns()
-    header = bytes([0xA1, direction, 1, 0]) + node.to_bytes(4, "little") + counter.to_bytes(8, "little")
-    body = header + payload
-    return body + hmac.new(key, body, hashlib.sha512).digest()[:32]
-
-
-def sniff_udp_to(port, seconds):
-    """Payloads of the UDP datagrams sent to 127.0.0.1:port during `seconds` (a raw socket on
-    loopback: root only)."""
-    s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW, socket.htons(0x0003))
-    s.bind(("lo", 0))
-    s.settimeout(0.05)
-    out, end = [], time.monotonic() + seconds
-    while time.monotonic() < end:
-        try:
-            frame, meta = s.recvfrom(65535)
-        except socket.timeout:
-            continue
-        if meta[2] == socket.PACKET_OUTGOING or frame[12:14] != b"\x08\x00" or frame[23] != 17:
-            continue
-        ip = frame[14:]
-        udp = ip[(ip[0] & 15) * 4:]
-        if int.from_bytes(udp[2:4], "big") == port:
-            out.append(bytes(udp[8:int.from_bytes(udp[4:6], "big")]))
-    s.close()
-    return out
-
-
-def raw_log_payloads(path):
-    """Every record's payload of a session's raw.mlog (hub/src/ingest/session_log.h)."""
-    data = read_bytes(path)
-    pos, out = 16, []
-    while pos + 20 <= len(data):
-        size = int.from_bytes(data[pos + 4:pos + 8], "little")
-        out.append(data[pos + 20:pos + 20 + size])
-        pos += 20 + size
-    return out
 
 
 class ServeTest(unittest.TestCase):

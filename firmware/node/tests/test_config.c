@@ -243,12 +243,85 @@ static void wire_key_settings(void **state)
     assert_int_equal(cfg.keys.n_keys, 0);
 }
 
+/* `--config /dev/zero` once read 4 GB and then started with the defaults: devices, FIFOs and
+ * directories are refused before reading, oversized files by their size, and a stream is never
+ * read past the bound. */
+static void expect_refused(const char *path, const char *reason_part)
+{
+    struct mn_config cfg;
+    char err[MN_CONFIG_ERR] = "";
+    mn_config_defaults(&cfg);
+    assert_int_equal(mn_config_load_file(&cfg, path, err, sizeof(err)), -1);
+    if (strstr(err, path) == NULL || strstr(err, reason_part) == NULL)
+        fail_msg("message '%s' lacks '%s' or '%s'", err, path, reason_part);
+}
+
+static void not_a_config_file(void **state)
+{
+    (void)state;
+    expect_refused("/dev/zero", "not a regular file");
+    expect_refused("/dev/null", "not a regular file");
+    expect_refused("/tmp", "not a regular file");
+
+    char fifo[] = "/tmp/mn_test_config_fifo_XXXXXX";
+    int fd = mkstemp(fifo);
+    assert_true(fd >= 0);
+    close(fd);
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    expect_refused(fifo, "not a regular file"); /* returns at once: no writer is awaited */
+    unlink(fifo);
+
+    /* One byte over the bound, and a sparse file of 4 GB: refused by their size. */
+    char *big = write_temp("id = 1\n");
+    assert_int_equal(truncate(big, MN_CONFIG_MAX_BYTES + 1), 0);
+    expect_refused(big, "larger than 65536");
+    assert_int_equal(truncate(big, 4LL << 30), 0);
+    expect_refused(big, "4294967296 bytes");
+    /* Exactly the bound (comments and blank lines) still loads. */
+    assert_int_equal(truncate(big, 0), 0);
+    FILE *f = fopen(big, "w");
+    assert_non_null(f);
+    fputs("id = 9\n", f);
+    for (long n = 7; n < MN_CONFIG_MAX_BYTES; n++)
+        fputc(n % 64 == 63 ? '\n' : '#', f);
+    fclose(f);
+    struct mn_config cfg;
+    char err[MN_CONFIG_ERR] = "";
+    mn_config_defaults(&cfg);
+    assert_int_equal(mn_config_load_file(&cfg, big, err, sizeof(err)), 0);
+    assert_int_equal(cfg.node_id, 9);
+    unlink(big);
+
+    /* A stream (the fuzz target's way in) is read up to the bound and no further. */
+    f = fopen("/dev/zero", "r");
+    assert_non_null(f);
+    mn_config_defaults(&cfg);
+    assert_int_equal(mn_config_load_stream(&cfg, f, "zeros", err, sizeof(err)), -1);
+    assert_true(ftell(f) <= MN_CONFIG_MAX_BYTES + 1 + BUFSIZ);
+    fclose(f);
+    assert_non_null(strstr(err, "zeros: larger than 65536 bytes"));
+
+    /* A long line and a binary file are still refused with their line. */
+    char *long_line = malloc(MN_CONFIG_MAX_LINE + 16);
+    assert_non_null(long_line);
+    memset(long_line, 'x', MN_CONFIG_MAX_LINE + 14);
+    memcpy(long_line, "id = 1\n# ", 9);
+    long_line[MN_CONFIG_MAX_LINE + 14] = '\n';
+    long_line[MN_CONFIG_MAX_LINE + 15] = '\0';
+    char *path = write_temp(long_line);
+    free(long_line);
+    expect_refused(path, ":2: line longer than 4096");
+    unlink(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(good_file),         cmocka_unit_test(bad_files),
         cmocka_unit_test(missing_file),      cmocka_unit_test(flags_override_file),
         cmocka_unit_test(bad_flags),         cmocka_unit_test(wire_key_settings),
+        cmocka_unit_test(not_a_config_file),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

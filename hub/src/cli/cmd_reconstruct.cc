@@ -93,6 +93,7 @@ void RunReconstruct(ReconstructArgs args) {
   const SessionInfo& info = reader.Info();
   if (!(info.rate_hz > 0.0)) throw std::runtime_error(args.session + ": session.json has no frame rate");
   CheckCalibrationMatches(info, rig, args);
+  reader.CheckImageSizes(ImageSizesOf(rig));
   args.tracker.rate_hz = info.rate_hz;
   args.gap_fill.max_spline_gap = static_cast<int>(std::lround(args.max_spline_gap_s * info.rate_hz));
   // The window must hold the longest spline gap; a quarter second also bounds the back-fill of
@@ -146,6 +147,17 @@ void RunReconstruct(ReconstructArgs args) {
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
       rs.outlier_views_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
+  const SessionReadStats& read = reader.stats();
+  if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {
+    std::printf("%s: camera frames of another image size than the calibration's: %llu rescaled, %llu refused\n",
+                args.session.c_str(), static_cast<unsigned long long>(read.rescaled_frames),
+                static_cast<unsigned long long>(read.wrong_size_frames));
+  }
+  if (read.damaged_log_stretches > 0) {
+    std::printf("%s: raw log damaged: %llu stretch%s skipped (%llu bytes), every good record around them read\n",
+                args.session.c_str(), static_cast<unsigned long long>(read.damaged_log_stretches),
+                read.damaged_log_stretches == 1 ? "" : "es", static_cast<unsigned long long>(read.skipped_log_bytes));
+  }
 }
 
 }  // namespace

@@ -55,6 +55,7 @@ void RunRecord(const RecordArgs& args) {
   RecorderOptions options;
   options.listen = args.listen;
   for (const Camera& c : rig.cameras) options.cameras.push_back(c.id);
+  options.image_sizes = ImageSizesOf(rig);
   options.rate_hz = args.rate_hz;
   options.epoch_ns = args.epoch_ns ? args.epoch_ns : RealtimeNowNs();
   options.announce = args.announce;
@@ -123,6 +124,8 @@ void RunRecord(const RecordArgs& args) {
   out.camera_frames = totals.frames;
   out.dropped_camera_frames = totals.dropped_frames;
   out.extra["off_clock_frames"] = totals.off_clock_frames;
+  out.extra["rescaled_frames"] = totals.rescaled_frames;
+  out.extra["wrong_size_frames"] = totals.wrong_size_frames;
   out.extra["latency_ms"] = {{"trigger_to_send_p50", trigger_to_send.Percentile(50)},
                              {"trigger_to_send_p99", trigger_to_send.Percentile(99)},
                              {"send_to_result_p50", send_to_result.Percentile(50)},

@@ -29,12 +29,19 @@ void PrintNodes(const json& nodes) {
               "firmware", "fps", "detect", "sent", "dropped", "thr", "temp", "jitter", "seen");
   for (const json& n : nodes) {
     const std::string temp = n["temperature_c"].is_null() ? "-" : std::to_string(n["temperature_c"].get<double>()).substr(0, 4);
-    std::printf("%4u  %-21s  %-12s  %-10s  %6.1f  %6uus  %9llu  %9llu  %5u  %6s  %7uns  %.1fs ago%s\n",
+    // A camera whose image size is not the calibration's (image_size_check.h) is flagged here.
+    std::string image;
+    const std::string size = Str(n, "width") + "x" + Str(n, "height");
+    if (n.value("rescaled_frames", 0ull) > 0)
+      image += ", " + size + " images rescaled to the calibration's (" + Str(n, "rescaled_frames") + " frames)";
+    if (n.value("wrong_size_frames", 0ull) > 0)
+      image += ", " + size + " images REFUSED: not the calibration's size (" + Str(n, "wrong_size_frames") + " frames)";
+    std::printf("%4u  %-21s  %-12s  %-10s  %6.1f  %6uus  %9llu  %9llu  %5u  %6s  %7uns  %.1fs ago%s%s\n",
                 n["id"].get<unsigned>(), n["address"].get<std::string>().c_str(), n["state"].get<std::string>().c_str(),
                 n["firmware"].get<std::string>().c_str(), n["fps"].get<double>(), n["detect_us_mean"].get<unsigned>(),
                 n["frames_sent"].get<unsigned long long>(), n["frames_dropped"].get<unsigned long long>(),
                 n["threshold"].get<unsigned>(), temp.c_str(), n["sync"]["edge_jitter_ns"].get<unsigned>(),
-                n["last_seen_s"].get<double>(), n["masked"].get<bool>() ? ", masked" : "");
+                n["last_seen_s"].get<double>(), n["masked"].get<bool>() ? ", masked" : "", image.c_str());
   }
 }
 

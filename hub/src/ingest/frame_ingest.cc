@@ -14,8 +14,8 @@ uint32_t SenderNodeId(const v1::Packet& packet) {
 }
 
 FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly,
-                         WireAuthOptions auth)
-    : auth_(std::move(auth)), assembler_(assembly, cameras) {
+                         WireAuthOptions auth, ImageSizes image_sizes)
+    : auth_(std::move(auth)), image_sizes_(std::move(image_sizes)), assembler_(assembly, cameras) {
   for (uint32_t id : cameras) stats_.nodes[id];
 }
 
@@ -91,7 +91,15 @@ void FrameIngest::AddMarkerFrame(const v1::MarkerFrame& chunk, uint64_t receive_
     case wire::ChunkAssembler::Outcome::kComplete: break;
   }
   stats_.CountFrame(whole.node_id(), whole.frame_number());
-  if (!assembler_.Add(FromMarkerFrame(whole, receive_time_ns), receive_time_ns)) ++ns->late_frames;
+  CameraFrame frame = FromMarkerFrame(whole, receive_time_ns);
+  ns->width = frame.width;
+  ns->height = frame.height;
+  switch (image_sizes_.Apply(&frame)) {
+    case ImageSizeVerdict::kRefused: ++ns->wrong_size_frames; return;
+    case ImageSizeVerdict::kRescaled: ++ns->rescaled_frames; break;
+    case ImageSizeVerdict::kSame: break;
+  }
+  if (!assembler_.Add(std::move(frame), receive_time_ns)) ++ns->late_frames;
 }
 
 std::vector<FrameSet> FrameIngest::Flush() {

@@ -5,13 +5,16 @@
 // (others counted per node id), refuse marker frames numbered off the session clock (counted per
 // node), append its packet to the session's raw log as received (the envelope's payload: logs
 // stay readable without keys) when a capture runs, reassemble marker-frame chunks and assemble the camera
-// frames into frame sets under the deadline. Bad input is counted, never fatal.
+// frames into frame sets under the deadline; a camera frame of another image size than the
+// calibration's is rescaled or refused (image_size_check.h), the raw log keeping it as received.
+// Bad input is counted, never fatal.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "ingest/frame_set_assembler.h"
+#include "ingest/image_size_check.h"
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
 #include "ingest/udp_socket.h"
@@ -36,9 +39,10 @@ enum class IngestOutcome {
 class FrameIngest {
  public:
   // cameras: the node ids of the calibration; assembly.Check() must hold (std::invalid_argument);
-  // auth: the keys (WireAuth's constructor throws for a bad keys directory).
+  // auth: the keys (WireAuth's constructor throws for a bad keys directory); image_sizes: the
+  // calibration's, so that frames of another size are rescaled or refused (image_size_check.h).
   FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAssemblerOptions& assembly,
-              WireAuthOptions auth);
+              WireAuthOptions auth, ImageSizes image_sizes = {});
 
   // One received datagram. `session` (may be null: nothing is being captured) gets every valid
   // datagram of a known camera. Returns the decode result so the caller can route the other
@@ -63,6 +67,7 @@ class FrameIngest {
   wire::DecodeResult decoded_;
   IngestOutcome last_outcome_ = IngestOutcome::kAccepted;
   wire::ChunkAssembler chunks_;
+  ImageSizeCheck image_sizes_;
   FrameSetAssembler assembler_;
   IngestStats stats_;
 };

@@ -21,16 +21,22 @@ IngestTotals IngestStats::Totals() const {
     t.dropped_frames += s.dropped_frames;
     t.late_frames += s.late_frames;
     t.off_clock_frames += s.off_clock_frames;
+    t.rescaled_frames += s.rescaled_frames;
+    t.wrong_size_frames += s.wrong_size_frames;
   }
   return t;
 }
 
 std::string IngestStats::Report() const {
   std::ostringstream out;
-  out << "node  datagrams    frames  dropped  late  off-clock  dup-chunks  status\n";
+  out << "node  datagrams    frames  dropped  late  off-clock  dup-chunks  image  status\n";
   for (const auto& [id, s] : nodes) {
     out << "  " << id << "  " << s.datagrams << "  " << s.frames << "  " << s.dropped_frames << "  "
-        << s.late_frames << "  " << s.off_clock_frames << "  " << s.duplicate_chunks + s.inconsistent_chunks << "  ";
+        << s.late_frames << "  " << s.off_clock_frames << "  " << s.duplicate_chunks + s.inconsistent_chunks << "  "
+        << s.width << "x" << s.height;
+    if (s.rescaled_frames) out << " (" << s.rescaled_frames << " rescaled)";
+    if (s.wrong_size_frames) out << " (" << s.wrong_size_frames << " refused: wrong size)";
+    out << "  ";
     if (s.has_status)
       out << "fps " << s.last_status.fps_milli() / 1000.0 << ", detect " << s.last_status.detect_time_us_mean()
           << " us, sync jitter " << s.last_status.sync().edge_jitter_ns() << " ns, missed edges "

@@ -16,6 +16,9 @@ struct NodeStats {
   uint64_t late_frames = 0;      // arrived after their frame set was handed out
   uint64_t off_clock_frames = 0; // marker-frame datagrams numbered off the session clock: refused
   double off_clock_s = 0.0;      // the last refused one: its trigger time minus its arrival, s
+  uint64_t rescaled_frames = 0;  // image size differs from the calibration's, same aspect: rescaled
+  uint64_t wrong_size_frames = 0;  // image size of another aspect ratio than the calibration's: refused
+  uint32_t width = 0, height = 0;  // image size of the last complete frame
   uint64_t duplicate_chunks = 0;
   uint64_t inconsistent_chunks = 0;
   uint64_t status_packets = 0;
@@ -27,6 +30,7 @@ struct NodeStats {
 
 struct IngestTotals {
   uint64_t frames = 0, dropped_frames = 0, late_frames = 0, off_clock_frames = 0;
+  uint64_t rescaled_frames = 0, wrong_size_frames = 0;
 };
 
 struct IngestStats {

@@ -19,7 +19,7 @@ void RecorderOptions::Check() const {
 }
 
 Recorder::Recorder(RecorderOptions options)
-    : options_((options.Check(), std::move(options))), ingest_(options_.cameras, options_.assembly, options_.auth) {}
+    : options_((options.Check(), std::move(options))), ingest_(options_.cameras, options_.assembly, options_.auth, options_.image_sizes) {}
 
 void Recorder::Bind() {
   socket_.Bind(ParseHostPort(options_.listen));

@@ -21,6 +21,7 @@ namespace mocap {
 struct RecorderOptions {
   std::string listen = "0.0.0.0:30000";
   std::vector<uint32_t> cameras;      // node ids expected (from the calibration)
+  ImageSizes image_sizes;             // the calibration's: frames of another size rescaled or refused
   double rate_hz = 240.0;
   uint64_t epoch_ns = 0;              // published to nodes in HubAnnounce
   std::string announce;               // broadcast HOST:PORT for HubAnnounce; empty = none

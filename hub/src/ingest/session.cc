@@ -135,6 +135,8 @@ bool SessionReader::ReadMore() {
   LogRecord record;
   while (log_.Next(&record)) {
     ++stats_.datagrams;
+    stats_.damaged_log_stretches = log_.damaged_stretches();
+    stats_.skipped_log_bytes = log_.skipped_bytes();
     const wire::DecodeResult decoded = wire::Decode(record.payload.data(), record.payload.size());
     if (!decoded.ok) {
       if (stats_.malformed++ == 0) first_malformed_reason_ = decoded.reason;
@@ -157,6 +159,11 @@ bool SessionReader::ReadMore() {
       ++stats_.implausible_frames;
       continue;
     }
+    switch (image_sizes_.Apply(&frame)) {
+      case ImageSizeVerdict::kRefused: ++stats_.wrong_size_frames; continue;
+      case ImageSizeVerdict::kRescaled: ++stats_.rescaled_frames; break;
+      case ImageSizeVerdict::kSame: break;
+    }
     if (emitted_any_ && frame.frame_number <= last_emitted_) {
       ++stats_.late_frames;
       continue;
@@ -177,6 +184,8 @@ bool SessionReader::ReadMore() {
       return true;
     }
   }
+  stats_.damaged_log_stretches = log_.damaged_stretches();
+  stats_.skipped_log_bytes = log_.skipped_bytes();
   log_done_ = true;
   return false;
 }
@@ -195,7 +204,8 @@ bool SessionReader::Next(FrameSet* set) {
 
 std::vector<std::string> SessionReader::warnings() const {
   std::vector<std::string> out;
-  if (!log_.warning().empty()) out.push_back(log_.warning());
+  const std::string damage = log_.warning();
+  if (!damage.empty()) out.push_back(damage);
   if (stats_.malformed)
     out.push_back(std::to_string(stats_.malformed) + " malformed datagrams dropped (first: " +
                   first_malformed_reason_ + ")");
@@ -205,6 +215,7 @@ std::vector<std::string> SessionReader::warnings() const {
     out.push_back(std::to_string(stats_.implausible_frames) +
                   " camera frames skipped: frame number implausible (more than " + std::to_string(max_gap_) +
                   " frames past the session's frames)");
+  for (const std::string& line : image_sizes_.Summary()) out.push_back(line);
   if (stats_.late_frames) out.push_back(std::to_string(stats_.late_frames) + " camera frames arrived too late");
   if (stats_.duplicate_frames)
     out.push_back(std::to_string(stats_.duplicate_frames) + " duplicate camera frames dropped");

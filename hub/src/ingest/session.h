@@ -1,7 +1,8 @@
 // A session directory: raw.mlog (every datagram as received), session.json (what the session
 // is), and beside them whatever later steps write (calibration.json, truth.trc, markers.trc).
-// Errors opening or writing files throw std::runtime_error naming the file; damaged logs are read
-// up to the last good record and the damage is reported through warnings().
+// Errors opening or writing files throw std::runtime_error naming the file; a damaged log is read
+// past its damage (every good record is kept, session_log.h) and the damage is reported through
+// warnings() and stats().
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ingest/camera_frame.h"
+#include "ingest/image_size_check.h"
 #include "ingest/session_log.h"
 #include "wire/chunking.h"
 
@@ -73,6 +75,10 @@ struct SessionReadStats {
   uint64_t late_frames = 0;       // arrived after their frame set was already handed out
   uint64_t duplicate_frames = 0;  // the same camera twice in one frame set
   uint64_t implausible_frames = 0;  // frame number out of the session's plausible range, skipped
+  uint64_t rescaled_frames = 0;       // image size differs from the calibration's, same aspect ratio
+  uint64_t wrong_size_frames = 0;     // image size of another aspect ratio: refused
+  uint64_t damaged_log_stretches = 0;  // raw-log stretches that held no good record, skipped
+  uint64_t skipped_log_bytes = 0;      // their bytes
 };
 
 // Frame numbers come off the wire and may be corrupt or forged (1e9, 2^63, UINT64_MAX), and
@@ -89,6 +95,9 @@ class SessionReader {
   // reorder_window: how many frame numbers a camera frame may arrive behind the newest one.
   explicit SessionReader(uint64_t reorder_window = 64) : window_(reorder_window) {}
   void Open(const std::string& dir);
+  // The calibration's image sizes: camera frames of another size are then rescaled or refused
+  // (image_size_check.h) and counted. Without it frames are used as recorded.
+  void CheckImageSizes(ImageSizes calibrated) { image_sizes_ = ImageSizeCheck(std::move(calibrated)); }
   // Next frame set in frame-number order; false at the end.
   bool Next(FrameSet* set);
   const SessionInfo& Info() const { return info_; }
@@ -105,6 +114,7 @@ class SessionReader {
   SessionInfo info_;
   SessionLogReader log_;
   wire::ChunkAssembler assembler_;
+  ImageSizeCheck image_sizes_;
   std::map<uint64_t, FrameSet> pending_;
   uint64_t newest_ = 0;
   bool accepted_any_ = false;

@@ -71,6 +71,7 @@ class LineReader {
       c = buffer_->sbumpc();
     }
     if (c == '\r' && buffer_->sgetc() == '\n') buffer_->sbumpc();
+    terminated_ = c != EOF;
     ++number_;
     return true;
   }
@@ -83,10 +84,13 @@ class LineReader {
   }
 
   size_t number() const { return number_; }
+  // Whether the last line read ended with a line break (false: the file ends inside it).
+  bool terminated() const { return terminated_; }
 
  private:
   std::streambuf* buffer_;
   size_t number_ = 0;
+  bool terminated_ = true;
 };
 
 class TrcParser {
@@ -112,8 +116,8 @@ class TrcParser {
       return std::move(result_);
     }
     const size_t first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || (line[first] != 'X' && line[first] != 'x')) ParseRow(line, reader.number());
-    while (reader.NextNonBlank(&line)) ParseRow(line, reader.number());
+    if (first == std::string::npos || (line[first] != 'X' && line[first] != 'x')) ParseDataRow(line, reader);
+    while (reader.NextNonBlank(&line)) ParseDataRow(line, reader);
     AssignFrameNumbers();
     return std::move(result_);
   }
@@ -179,6 +183,22 @@ class TrcParser {
     const size_t count = std::max(names.size(), header_markers_);
     for (size_t i = names.size(); i < count; ++i) names.push_back(DefaultMarkerName(i));
     result_.names = std::move(names);
+  }
+
+  // A last row without its line break that is also short of cells is a file cut off while it
+  // was written or copied: refused as such, not read as a frame whose last markers are gaps.
+  // (Short rows that end in a line break are a writer leaving out empty trailing cells, and are
+  // read; a cut inside the last cell of a full row cannot be told from a shorter number.)
+  void ParseDataRow(const std::string& text, const LineReader& reader) {
+    if (!reader.terminated()) {
+      const size_t cells = 1 + static_cast<size_t>(std::count(text.begin(), text.end(), '\t'));
+      const size_t columns = 2 + 3 * result_.names.size();
+      if (cells < columns)
+        Fail(reader.number(), "the file ends inside this row (" + std::to_string(cells) + " of " +
+                                  std::to_string(columns) + " cells, no line end): it was cut off; remove the "
+                                  "partial row to read the rest");
+    }
+    ParseRow(text, reader.number());
   }
 
   // Data rows are most of a file: cells are scanned in place, without copies.

@@ -2,6 +2,7 @@
 // variations, clear errors, and the shared real motions when ../shared/data exists.
 #include "io/trc.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -174,6 +175,43 @@ TEST(TrcTest, ClearErrors) {
   ExpectParseError(header + "-1\t0\t1\t2\t3\n", "Frame# must be");
   ExpectParseError(header + "2\t0\t1\t2\t3\n1\t0\t1\t2\t3\n", "not in increasing order");
   EXPECT_THROW(ReadTrc("/nonexistent/motion.trc"), std::runtime_error);
+}
+
+TEST(TrcTest, AFileCutInsideItsLastRowIsRefusedNamingTheRow) {
+  // The probe: a TRC cut mid-row was read as a frame whose last markers were gaps, silently.
+  const std::string path = (std::filesystem::temp_directory_path() / "mocap_trc_cut.trc").string();
+  WriteTrc(SmallMotion(), path);
+  const std::string whole = ReadAll(path);
+  std::filesystem::remove(path);
+  const size_t last_row = whole.rfind('\n', whole.size() - 2) + 1;
+  const size_t columns = 2 + 3 * 3;
+  const std::string line = "line " + std::to_string(1 + std::count(whole.begin(), whole.begin() + last_row, '\n'));
+  // Cut at the end of the row before: 9 whole frames, read without complaint.
+  EXPECT_EQ(ParseTrc(whole.substr(0, last_row), "cut").NumFrames(), 9u);
+  int refused = 0;
+  for (size_t cut = last_row + 1; cut < whole.size() - 1; ++cut) {
+    const std::string partial = whole.substr(0, cut);
+    const size_t cells = 1 + static_cast<size_t>(std::count(partial.begin() + last_row, partial.end(), '\t'));
+    if (cells >= columns) continue;  // only the last cell is cut: no length tells a shorter number
+    try {
+      ParseTrc(partial, "cut");
+      ADD_FAILURE() << "accepted a file cut at byte " << cut << ": ..." << partial.substr(last_row);
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("cut: " + line + ": the file ends inside this row (" + std::to_string(cells) + " of 11 cells"),
+                std::string::npos)
+          << message;
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 20);
+  // The same short row with its line end is a writer leaving out empty cells: read as gaps.
+  const size_t time_end = whole.find('\t', whole.find('\t', last_row) + 1);
+  const std::string short_row = whole.substr(0, time_end) + "\t1\t2\t3\n";
+  const MarkerTrajectories read = ParseTrc(short_row, "short");
+  ASSERT_EQ(read.NumFrames(), 10u);
+  EXPECT_TRUE(read.Has(9, 0));
+  EXPECT_FALSE(read.Has(9, 1));
 }
 
 // Real motions recorded by commercial systems (README of ../shared/data).

@@ -86,6 +86,8 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   info.camera_frames = now.frames - then.frames;
   info.dropped_camera_frames = now.dropped_frames - then.dropped_frames;
   info.extra["off_clock_frames"] = now.off_clock_frames - then.off_clock_frames;
+  info.extra["rescaled_frames"] = now.rescaled_frames - then.rescaled_frames;
+  info.extra["wrong_size_frames"] = now.wrong_size_frames - then.wrong_size_frames;
   info.extra["capture_state"] = "complete";
   info.extra["stopped_ns"] = now_ns;
   info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;
