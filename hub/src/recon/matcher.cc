@@ -19,6 +19,7 @@ void Require(bool condition, const char* message) {
 void TriangulationOptions::Check() const {
   Require(min_views >= 2, "triangulation.min_views must be >= 2");
   Require(max_reprojection_px > 0.0, "triangulation.max_reprojection_px must be > 0");
+  Require(max_merged_px >= max_reprojection_px, "triangulation.max_merged_px must be >= max_reprojection_px");
   Require(refine_iterations >= 0, "triangulation.refine_iterations must be >= 0");
   Require(min_depth_mm >= 0.0, "triangulation.min_depth_mm must be >= 0");
 }
