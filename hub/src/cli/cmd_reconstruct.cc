@@ -183,11 +183,11 @@ void RunReconstruct(ReconstructArgs args) {
   const TrackerStats& ts = tracker.stats();
   std::printf(
       "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
-      "rejected, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
+      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
       args.output.c_str(), done, tracker.NumMarkers(),
       static_cast<double>(rs.points) / static_cast<double>(done),
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
-      rs.outlier_views_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
+      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
 }
 

@@ -44,12 +44,17 @@ void PredictionMatchOptions::Check() const {
   Require(max_shift_factor > 0.0, "prediction.max_shift_factor must be > 0");
 }
 
+void GhostFilterOptions::Check() const {
+  Require(min_separation_mm >= 0.0, "ghosts.min_separation_mm must be >= 0");
+}
+
 void ReconstructorOptions::Check() const {
   triangulation.Check();
   graph.Check();
   relaxation.Check();
   clustering.Check();
   prediction.Check();
+  ghosts.Check();
   Require(min_views_without_prediction >= triangulation.min_views,
           "min_views_without_prediction must be >= triangulation.min_views");
 }

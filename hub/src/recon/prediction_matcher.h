@@ -33,8 +33,15 @@ class PredictionMatcher {
              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
 
  private:
+  // Gathers and triangulates one prediction's blobs; false when they do not make its marker.
+  bool Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+             const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
+             TriangulatedPoint* point);
+
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
+  std::vector<int> gathered_;
+  std::vector<size_t> deferred_;
 };
 
 }  // namespace mocap

@@ -59,6 +59,14 @@ struct PredictionMatchOptions {
   void Check() const;
 };
 
+struct GhostFilterOptions {
+  bool enabled = true;
+  // Two markers' centres are at least a marker diameter apart: points closer than this are one.
+  double min_separation_mm = 10.0;
+
+  void Check() const;
+};
+
 enum class MatcherType { kRelaxation, kClustering, kGreedy };
 
 // "relaxation" | "clustering" | "greedy"; FromString throws std::invalid_argument on others.
@@ -76,6 +84,7 @@ struct ReconstructorOptions {
   RelaxationOptions relaxation;
   ClusteringOptions clustering;
   PredictionMatchOptions prediction;
+  GhostFilterOptions ghosts;
 
   void Check() const;
 };
