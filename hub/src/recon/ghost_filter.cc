@@ -8,8 +8,15 @@ namespace mocap {
 
 void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                                 const TriangulatedPoint& point) {
-  for (int o : point.observations) explained_[o] = 1;
+  // Where the point has a view, that view is its blob there (a merged one may be shared, and is
+  // then marked by both points); elsewhere any blob near its reprojection is its unclaimed image.
+  has_view_.assign(rig.NumCameras(), 0);
+  for (int o : point.observations) {
+    explained_[o] = 1;
+    has_view_[views.observations[o].camera] = 1;
+  }
   for (int c = 0; c < rig.NumCameras(); ++c) {
+    if (has_view_[c]) continue;
     const CameraModel& cam = rig.camera(c);
     const Eigen::Vector3d p = cam.cam_from_world_rotation * point.point_in_world + cam.cam_from_world_translation;
     if (!(p.z() > triangulation_.min_depth_mm)) continue;

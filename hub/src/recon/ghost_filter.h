@@ -33,6 +33,7 @@ class GhostFilter {
   std::vector<int> order_;
   std::vector<char> explained_;  // per observation: near a kept point's reprojection
   std::vector<int> kept_;
+  std::vector<char> has_view_;  // per camera, of the point being marked
 };
 
 }  // namespace mocap
