@@ -25,6 +25,7 @@
 #include "ingest/frame_ingest.h"
 #include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
+#include "recon/known_correspondences.h"
 #include "recon/reconstructor.h"
 #include "recon/triangulation.h"
 #include "simcore/motion_volume.h"
@@ -167,32 +168,6 @@ void RunIngestBench(const BenchArgs& args, const Rig& rig, FaultyProjector& proj
   std::printf("authentication adds %.2f us per datagram\n", auth_us - insecure_us);
 }
 
-// True correspondences of one frame, by blob: for every marker, the blob nearest to its true
-// projection in each camera, within a few pixels (merged blobs serve both markers).
-std::vector<std::vector<std::pair<int, int>>> TrueCorrespondences(
-    const Rig& rig, const std::vector<CameraFrame>& frames, const std::vector<Eigen::Vector3d>& points) {
-  std::vector<std::vector<std::pair<int, int>>> views_of_marker(points.size());
-  for (const CameraFrame& frame : frames) {
-    const Camera* camera = rig.Find(frame.camera_id);
-    const int camera_index = static_cast<int>(camera - rig.cameras.data());
-    for (size_t m = 0; m < points.size(); ++m) {
-      Eigen::Vector2d pixel;
-      if (!points[m].allFinite() || !camera->ProjectToPixel(points[m], &pixel)) continue;
-      int best = -1;
-      double best_distance = 3.0;
-      for (size_t b = 0; b < frame.blobs.size(); ++b) {
-        const double d = (frame.blobs[b].pixel - pixel).norm();
-        if (d < best_distance) {
-          best_distance = d;
-          best = static_cast<int>(b);
-        }
-      }
-      if (best >= 0) views_of_marker[m].emplace_back(camera_index, best);
-    }
-  }
-  return views_of_marker;
-}
-
 void RunBench(BenchArgs args) {
   if (args.cameras < 2) throw UsageError("--cameras must be >= 2");
   if (args.markers < 1) throw UsageError("--markers must be >= 1");
@@ -226,9 +201,9 @@ void RunBench(BenchArgs args) {
     output_samples += row.size();
   });
   const RigModel floor_rig(rig);
-  FrameViews floor_views;
-  TriangulatedPoint floor_point;
-  std::vector<int> floor_observations;
+  FrameViews floor_views, truth_views;
+  std::vector<std::vector<int>> true_views;
+  std::vector<Eigen::Vector3d> floor_positions;
 
   Timings pipeline, floor, pipeline_wall, floor_wall;
   FrameSet frame_set;
@@ -243,23 +218,15 @@ void RunBench(BenchArgs args) {
     frame_set.frame_number = frame_number;
     frame_set.cameras = projector.Project(frame_number, 0, truth.data(), &seeing);
     for (const CameraFrame& camera : frame_set.cameras) blobs += camera.blobs.size();
-    const auto correspondences = TrueCorrespondences(rig, frame_set.cameras, truth);
-
-    // Floor: the same undistortion, then one robust triangulation per marker, no matching.
+    // The true views are found outside the timing; the floor times undistortion and one robust
+    // triangulation per marker, no matching.
+    BuildFrameViews(floor_rig, frame_set, &truth_views);
+    FindTrueViews(floor_rig, truth_views, truth, KnownCorrespondenceOptions(), &true_views);
     const Clock::time_point floor_start = Clock::now();
     const double floor_cpu_start = ThreadCpuMicroseconds();
     BuildFrameViews(floor_rig, frame_set, &floor_views);
-    for (const auto& views : correspondences) {
-      if (views.size() < 2) continue;
-      floor_observations.clear();
-      for (const auto& [camera, blob] : views) {
-        floor_observations.push_back(floor_views.camera_begin[camera] + blob);
-      }
-      if (TriangulateRobust(floor_rig, floor_views, floor_observations, TriangulationOptions(),
-                            &floor_point)) {
-        ++floor_points;
-      }
-    }
+    floor_points += TriangulateKnownCorrespondences(floor_rig, floor_views, true_views, TriangulationOptions(),
+                                                    &floor_positions);
     floor.per_frame_us.push_back(ThreadCpuMicroseconds() - floor_cpu_start);
     floor_wall.per_frame_us.push_back(Microseconds(Clock::now() - floor_start));
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,7 @@
 #include "cli/progress.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
+#include "recon/known_correspondences.h"
 #include "recon/reconstructor.h"
 #include "track/gap_filler.h"
 #include "track/tracker.h"
@@ -38,6 +40,7 @@ struct ReconstructArgs {
   GapFillOptions gap_fill;
   std::string bodies;  // rigid bodies file; empty: none
   std::string labels;  // marker set; empty: anonymous columns
+  std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
 };
 
 // Names from a marker set over the finished marker file (labels attach to whole track runs,
@@ -78,6 +81,42 @@ void CheckCalibrationMatches(const SessionInfo& info, const Rig& rig, const Reco
   if (rig.cameras.size() < 2) throw std::runtime_error(args.calibration + ": needs at least 2 cameras");
 }
 
+// The known-correspondence floor of a simulated session: every true marker triangulated from its
+// own unmerged blobs, no matching or tracking, columns named as in the truth. `eval` of this file
+// against the truth is the accuracy a reconstruction could reach on these blobs.
+void WriteKnownCorrespondenceFloor(const ReconstructArgs& args, const Rig& rig, SessionReader* reader) {
+  const MarkerTrajectories truth = ReadTrajectories(args.known_correspondences);
+  std::map<uint64_t, size_t> truth_row;
+  for (size_t f = 0; f < truth.NumFrames(); ++f) truth_row[truth.frame_numbers[f]] = f;
+  MarkerTrajectories floor;
+  floor.rate_hz = reader->Info().rate_hz;
+  floor.names = truth.names;
+  const RigModel rig_model(rig);
+  FrameSet frame_set;
+  FrameViews views;
+  std::vector<Eigen::Vector3d> true_points(truth.NumMarkers()), positions;
+  std::vector<std::vector<int>> true_views;
+  size_t frames = 0, points = 0;
+  while (reader->Next(&frame_set)) {
+    const auto row = truth_row.find(frame_set.frame_number);
+    if (row == truth_row.end()) continue;
+    if (!floor.frame_numbers.empty() && frame_set.frame_number <= floor.frame_numbers.back()) continue;
+    for (size_t m = 0; m < truth.NumMarkers(); ++m) true_points[m] = truth.At(row->second, m);
+    BuildFrameViews(rig_model, frame_set, &views);
+    FindTrueViews(rig_model, views, true_points, KnownCorrespondenceOptions(), &true_views);
+    points += TriangulateKnownCorrespondences(rig_model, views, true_views, args.recon.triangulation, &positions);
+    const size_t f = floor.AddFrame(frame_set.frame_number);
+    for (size_t m = 0; m < positions.size(); ++m) floor.At(f, m) = positions[m];
+    ++frames;
+  }
+  if (frames == 0) {
+    throw std::runtime_error(args.session + ": no frame set matches a frame of " + args.known_correspondences);
+  }
+  WriteTrajectories(floor, args.output);
+  std::printf("%s: known-correspondence floor, %zu frames, %.2f points/frame\n", args.output.c_str(), frames,
+              static_cast<double>(points) / static_cast<double>(frames));
+}
+
 void RunReconstruct(ReconstructArgs args) {
   try {
     TrajectoryFormatOf(args.output);
@@ -94,6 +133,10 @@ void RunReconstruct(ReconstructArgs args) {
   if (!(info.rate_hz > 0.0)) throw std::runtime_error(args.session + ": session.json has no frame rate");
   CheckCalibrationMatches(info, rig, args);
   reader.CheckImageSizes(ImageSizesOf(rig));
+  if (!args.known_correspondences.empty()) {
+    WriteKnownCorrespondenceFloor(args, rig, &reader);
+    return;
+  }
   args.tracker.rate_hz = info.rate_hz;
   args.gap_fill.max_spline_gap = static_cast<int>(std::lround(args.max_spline_gap_s * info.rate_hz));
   // The window must hold the longest spline gap; a quarter second also bounds the back-fill of
@@ -141,11 +184,11 @@ void RunReconstruct(ReconstructArgs args) {
   const TrackerStats& ts = tracker.stats();
   std::printf(
       "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
-      "rejected, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
+      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
       args.output.c_str(), done, tracker.NumMarkers(),
       static_cast<double>(rs.points) / static_cast<double>(done),
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
-      rs.outlier_views_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
+      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
   const SessionReadStats& read = reader.stats();
   if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {
@@ -174,6 +217,10 @@ void AddReconstructCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   command->add_option("--labels", args->labels,
                       "Marker set (labels learn): named columns for the markers it places, M001... for the rest")
+      ->check(CLI::ExistingFile);
+  command->add_option("--known-correspondences", args->known_correspondences,
+                      "Simulated session's truth TRC: triangulate each true marker from its own unmerged blobs "
+                      "instead (the known-correspondence floor for eval)")
       ->check(CLI::ExistingFile);
   command->add_option("--matcher", args->matcher, "Correspondences of untracked blobs")
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))

@@ -19,6 +19,10 @@ class BlobIndex {
   template <typename Accept>
   int Nearest(const FrameViews& views, int camera, const Eigen::Vector2d& normalized, double radius,
               Accept available) const;
+  // Calls visit(observation, distance) for every observation of `camera` within `radius`.
+  template <typename Visit>
+  void ForEachWithin(const FrameViews& views, int camera, const Eigen::Vector2d& normalized, double radius,
+                     Visit visit) const;
 
  private:
   std::vector<std::vector<int>> sorted_by_x_;
@@ -42,6 +46,18 @@ int BlobIndex::Nearest(const FrameViews& views, int camera, const Eigen::Vector2
     }
   }
   return best;
+}
+
+template <typename Visit>
+void BlobIndex::ForEachWithin(const FrameViews& views, int camera, const Eigen::Vector2d& normalized,
+                              double radius, Visit visit) const {
+  const std::vector<double>& xs = x_[camera];
+  const std::vector<int>& sorted = sorted_by_x_[camera];
+  size_t k = static_cast<size_t>(std::lower_bound(xs.begin(), xs.end(), normalized.x() - radius) - xs.begin());
+  for (; k < xs.size() && xs[k] <= normalized.x() + radius; ++k) {
+    const double distance = (views.observations[sorted[k]].normalized - normalized).norm();
+    if (distance <= radius) visit(sorted[k], distance);
+  }
 }
 
 // Adds to the point every camera's available observation that lies within the triangulation's

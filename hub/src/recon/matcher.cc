@@ -19,6 +19,7 @@ void Require(bool condition, const char* message) {
 void TriangulationOptions::Check() const {
   Require(min_views >= 2, "triangulation.min_views must be >= 2");
   Require(max_reprojection_px > 0.0, "triangulation.max_reprojection_px must be > 0");
+  Require(max_merged_px >= max_reprojection_px, "triangulation.max_merged_px must be >= max_reprojection_px");
   Require(refine_iterations >= 0, "triangulation.refine_iterations must be >= 0");
   Require(min_depth_mm >= 0.0, "triangulation.min_depth_mm must be >= 0");
 }
@@ -43,12 +44,17 @@ void PredictionMatchOptions::Check() const {
   Require(max_shift_factor > 0.0, "prediction.max_shift_factor must be > 0");
 }
 
+void GhostFilterOptions::Check() const {
+  Require(min_separation_mm >= 0.0, "ghosts.min_separation_mm must be >= 0");
+}
+
 void ReconstructorOptions::Check() const {
   triangulation.Check();
   graph.Check();
   relaxation.Check();
   clustering.Check();
   prediction.Check();
+  ghosts.Check();
   Require(min_views_without_prediction >= triangulation.min_views,
           "min_views_without_prediction must be >= triangulation.min_views");
 }

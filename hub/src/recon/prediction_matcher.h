@@ -33,8 +33,19 @@ class PredictionMatcher {
              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
 
  private:
+  // Gathers and triangulates one prediction's blobs: rejected when they do not make its marker,
+  // deferred when they make a point nearer another prediction (only those not `served`, when
+  // given).
+  enum class Outcome { kServed, kRejected, kDeferred };
+  Outcome Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+             const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
+             const std::vector<char>* served, TriangulatedPoint* point);
+
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
+  std::vector<int> gathered_;
+  std::vector<size_t> deferred_;
+  std::vector<char> served_;
 };
 
 }  // namespace mocap

@@ -12,6 +12,10 @@ struct TriangulationOptions {
   // A view whose refined reprojection error exceeds this is an outlier (merged blob, wrong
   // match); with three or more views the worst one is dropped and the point re-solved.
   double max_reprojection_px = 1.5;
+  // A view from a blob flagged merged is left out of the solve when min_views other views
+  // remain, and stays one of the point's views when its residual is within this (its centroid
+  // lies between its markers, up to about a marker radius from each).
+  double max_merged_px = 4.0;
   int refine_iterations = 4;
   // Points must lie at least this far in front of every camera that sees them.
   double min_depth_mm = 50.0;
@@ -55,6 +59,14 @@ struct PredictionMatchOptions {
   void Check() const;
 };
 
+struct GhostFilterOptions {
+  bool enabled = true;
+  // Two markers' centres are at least a marker diameter apart: points closer than this are one.
+  double min_separation_mm = 10.0;
+
+  void Check() const;
+};
+
 enum class MatcherType { kRelaxation, kClustering, kGreedy };
 
 // "relaxation" | "clustering" | "greedy"; FromString throws std::invalid_argument on others.
@@ -72,6 +84,7 @@ struct ReconstructorOptions {
   RelaxationOptions relaxation;
   ClusteringOptions clustering;
   PredictionMatchOptions prediction;
+  GhostFilterOptions ghosts;
 
   void Check() const;
 };

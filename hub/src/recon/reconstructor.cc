@@ -9,7 +9,8 @@ Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options
     : rig_(rig),
       options_((options.Check(), options)),
       matcher_(CreateMatcher(options)),
-      prediction_matcher_(options.prediction, options.triangulation) {}
+      prediction_matcher_(options.prediction, options.triangulation),
+      ghost_filter_(options.ghosts, options.triangulation) {}
 
 void Reconstructor::Process(const FrameSet& frame_set,
                             const std::vector<PointPrediction>& predictions,
@@ -22,7 +23,7 @@ void Reconstructor::Process(const FrameSet& frame_set,
   if (options_.use_predictions && !predictions.empty()) {
     prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_);
   }
-  const size_t from_predictions = triangulated_.size();
+  size_t from_predictions = triangulated_.size();
   stats_.observations += views_.NumObservations();
   for (int i = 0; i < views_.NumObservations(); ++i) stats_.leftover_observations += used_[i] == 0;
   matcher_->Match(rig_, views_, &used_, &triangulated_);
@@ -39,6 +40,17 @@ void Reconstructor::Process(const FrameSet& frame_set,
       if (std::find(before.begin(), before.end(), o) == before.end()) ++used_[o];
     }
   }
+  stats_.ghosts_rejected += ghost_filter_.Apply(rig_, views_, index_, triangulated_, &used_, &keep_);
+  size_t kept = 0, kept_from_predictions = 0;
+  for (size_t i = 0; i < triangulated_.size(); ++i) {
+    if (!keep_[i]) continue;
+    if (i < from_predictions) track_ids_[kept_from_predictions++] = track_ids_[i];
+    if (kept != i) triangulated_[kept] = std::move(triangulated_[i]);
+    ++kept;
+  }
+  triangulated_.resize(kept);
+  track_ids_.resize(kept_from_predictions);
+  from_predictions = kept_from_predictions;
 
   points->clear();
   points->reserve(triangulated_.size());

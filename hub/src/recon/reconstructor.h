@@ -10,6 +10,7 @@
 
 #include "recon/blob_index.h"
 #include "recon/frame_views.h"
+#include "recon/ghost_filter.h"
 #include "recon/matcher.h"
 #include "recon/prediction_matcher.h"
 #include "recon/recon_options.h"
@@ -31,6 +32,7 @@ struct ReconstructionStats {
   long long observations = 0;
   long long leftover_observations = 0;  // not used by a prediction: the matcher's input
   long long unknown_camera_frames = 0;
+  long long ghosts_rejected = 0;  // duplicates and points without views of their own
 };
 
 class Reconstructor {
@@ -50,6 +52,8 @@ class Reconstructor {
   ReconstructorOptions options_;
   std::unique_ptr<Matcher> matcher_;
   PredictionMatcher prediction_matcher_;
+  GhostFilter ghost_filter_;
+  std::vector<char> keep_;
   FrameViews views_;
   BlobIndex index_;
   UseCounts used_;

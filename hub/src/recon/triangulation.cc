@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "geometry/triangulation.h"
+#include "ingest/camera_frame.h"
 
 namespace mocap {
 
@@ -76,11 +77,10 @@ bool InFrontOfAll(const RigModel& rig, const FrameViews& views, const std::vecto
   return true;
 }
 
-}  // namespace
-
-bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
-                       const TriangulationOptions& options, TriangulatedPoint* result) {
-  result->rejected.clear();
+// Solve, then drop the worst view while its residual is over the limit and three or more remain.
+// Appends dropped views to result->rejected.
+bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
+                           const TriangulationOptions& options, TriangulatedPoint* result) {
   std::vector<double> errors;
   while (static_cast<int>(observations.size()) >= options.min_views) {
     Eigen::Vector3d point;
@@ -105,6 +105,31 @@ bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector
     observations.erase(observations.begin() + static_cast<std::ptrdiff_t>(drop));
   }
   return false;
+}
+
+}  // namespace
+
+bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
+                       const TriangulationOptions& options, TriangulatedPoint* result) {
+  result->rejected.clear();
+  std::vector<int> unmerged, merged;
+  for (int index : observations) {
+    (views.observations[index].flags & kBlobMerged ? merged : unmerged).push_back(index);
+  }
+  // A merged blob's centroid lies between its markers and measures neither: with enough other
+  // views the point is solved without it, and it stays a member (so it cannot start a ghost)
+  // when it lies within a marker's radius or so of the solution.
+  if (!merged.empty() && static_cast<int>(unmerged.size()) >= options.min_views &&
+      SolveDroppingOutliers(rig, views, unmerged, options, result)) {
+    std::vector<double> errors;
+    ReprojectionErrors(rig, views, merged, result->point_in_world, &errors);
+    for (size_t i = 0; i < merged.size(); ++i) {
+      (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(merged[i]);
+    }
+    return true;
+  }
+  result->rejected.clear();
+  return SolveDroppingOutliers(rig, views, std::move(observations), options, result);
 }
 
 }  // namespace mocap

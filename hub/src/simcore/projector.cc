@@ -32,6 +32,28 @@ int FindRoot(std::vector<int>& parent, int i) {
   return i;
 }
 
+// Shape of a blob made of the spots grouped[begin, end) with this centroid and total area, as
+// the node's detector measures it: sqrt(minor / major) of the second moments (a disc of radius r
+// contributes r^2 / 4 on every axis), 1 for a round blob. Overlap is counted twice, which makes
+// strongly overlapping pairs look a little rounder than a thresholded image would.
+double Roundness(const std::vector<FaultyProjector::MarkerImage>& spots,
+                 const std::vector<std::pair<int, int>>& grouped, size_t begin, size_t end,
+                 const Eigen::Vector2d& centroid, double area) {
+  Eigen::Matrix2d moments = Eigen::Matrix2d::Zero();
+  for (size_t i = begin; i < end; ++i) {
+    const FaultyProjector::MarkerImage& spot = spots[grouped[i].second];
+    const double spot_area = kPi * spot.radius * spot.radius;
+    const Eigen::Vector2d offset = spot.pixel - centroid;
+    moments += spot_area * (0.25 * spot.radius * spot.radius * Eigen::Matrix2d::Identity() + offset * offset.transpose());
+  }
+  moments /= area;
+  const double half_trace = 0.5 * moments.trace();
+  const double disc = std::sqrt(0.25 * (moments(0, 0) - moments(1, 1)) * (moments(0, 0) - moments(1, 1)) +
+                                moments(0, 1) * moments(0, 1));
+  const double major = half_trace + disc, minor = half_trace - disc;
+  return major > 0.0 && minor > 0.0 ? std::sqrt(minor / major) : 0.0;
+}
+
 void CheckProbability(double value, const char* name) {
   if (!(value >= 0.0 && value <= 1.0)) throw std::invalid_argument(std::string(name) + " must be in [0, 1]");
 }
@@ -47,6 +69,7 @@ void ProjectOptions::Check() const {
   }
   if (!(spurious >= 0.0 && spurious <= 1000.0)) throw std::invalid_argument("--spurious must be 0..1000");
   if (!(merge_px <= 1000.0) || std::isnan(merge_px)) throw std::invalid_argument("--merge-px must be at most 1000");
+  if (!(merged_roundness >= 0.0 && merged_roundness <= 1.0)) throw std::invalid_argument("merged roundness must be in [0, 1]");
   CheckProbability(drop_frames, "--drop-frames");
   CheckProbability(late, "--late");
   if (late_frames < 1 || late_frames > 1000) throw std::invalid_argument("--late-frames must be 1..1000");
@@ -210,6 +233,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
       nearest = std::min(nearest, spot.depth);
     }
     const size_t members = end - begin;
+    const double roundness = Roundness(spots, grouped, begin, end, weighted / area, area);
     blob_markers->push_back(static_cast<int>(spots[grouped[begin].second].marker));
     begin = end;
     Blob blob;
@@ -218,7 +242,9 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     blob.peak = static_cast<uint32_t>(MarkerPeak(nearest));
     blob.mean = static_cast<uint32_t>(std::round(0.7 * blob.peak));
     if (blob.peak >= 255) blob.flags |= kBlobSaturated;
-    if (members > 1) blob.flags |= kBlobMerged;
+    // The node flags a blob by its shape alone: two markers that overlap so much that the blob
+    // still looks round are not flagged (the hub must cope with those too).
+    if (members > 1 && roundness < options_.merged_roundness) blob.flags |= kBlobMerged;
     const double radius = std::sqrt(area / kPi);
     if (blob.pixel.x() < radius || blob.pixel.y() < radius || blob.pixel.x() > camera.intrinsics.width - radius ||
         blob.pixel.y() > camera.intrinsics.height - radius) {

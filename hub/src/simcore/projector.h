@@ -27,6 +27,9 @@ struct ProjectOptions {
   double late = 0.0;
   int late_frames = 3;
   double marker_diameter_mm = 14.0;
+  // A merged blob is flagged (kBlobMerged) when its shape is less round than this, as the node's
+  // detector decides (firmware detect: merged_roundness, sqrt(minor / major) of its moments).
+  double merged_roundness = 0.7;
   uint64_t seed = 1;
 
   // Throws std::invalid_argument naming the bad option.

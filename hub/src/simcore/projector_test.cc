@@ -186,8 +186,8 @@ TEST(ProjectorTest, CloseMarkersMergeAndBlobSizeFollowsDistance) {
   const Eigen::Vector3d forward = camera.rotation.row(2).transpose();
   const Eigen::Vector3d right = camera.rotation.row(0).transpose();
   const Eigen::Vector3d near_point = camera.CenterInWorld() + 2000.0 * forward;
-  // Two markers 6 mm apart side by side (14 mm blobs overlap), one far away.
-  const std::vector<Eigen::Vector3d> points = {near_point, near_point + 6.0 * right,
+  // Two markers 10 mm apart side by side (14 mm blobs overlap into an elongated blob), one far away.
+  const std::vector<Eigen::Vector3d> points = {near_point, near_point + 10.0 * right,
                                                camera.CenterInWorld() + 6000.0 * forward + 400.0 * right};
   std::vector<int> seeing;
   ProjectOptions options;
@@ -209,6 +209,12 @@ TEST(ProjectorTest, CloseMarkersMergeAndBlobSizeFollowsDistance) {
   options.merge_px = 0.0;
   FaultyProjector separate(scene.rig, 3, options);
   EXPECT_EQ(separate.Project(0, 0, points.data(), &seeing)[0].blobs.size(), 3u);
+
+  // 4 mm apart the pair still merges but looks round: the node cannot tell, so it is not flagged.
+  const std::vector<Eigen::Vector3d> close = {near_point, near_point + 4.0 * right, points[2]};
+  const CameraFrame round = realistic.Project(0, 0, close.data(), &seeing)[0];
+  ASSERT_EQ(round.blobs.size(), 2u);
+  EXPECT_FALSE((round.blobs[0].flags | round.blobs[1].flags) & kBlobMerged);
 }
 
 TEST(ProjectorTest, BehindOrOutsideIsNotSeenAndSeedsReplay) {

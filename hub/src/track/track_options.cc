@@ -37,6 +37,15 @@ void RigidModelOptions::Check() const {
   Require(max_links_used >= min_links_used, "rigid.max_links_used must be >= min_links_used");
 }
 
+void RigidSwapOptions::Check() const {
+  Require(min_samples >= 2, "swaps.min_samples must be >= 2");
+  Require(link_std_mm > 0.0, "swaps.link_std_mm must be > 0");
+  Require(cluster_radius_mm > 0.0, "swaps.cluster_radius_mm must be > 0");
+  Require(max_cluster >= 2 && max_cluster <= 6, "swaps.max_cluster must be 2..6");
+  Require(min_error_mm >= 0.0, "swaps.min_error_mm must be >= 0");
+  Require(improvement > 0.0 && improvement <= 1.0, "swaps.improvement must be in (0, 1]");
+}
+
 void TrackerOptions::Check() const {
   Require(rate_hz > 0.0, "tracker.rate_hz must be > 0");
   kalman.Check();
@@ -50,6 +59,7 @@ void TrackerOptions::Check() const {
   Require(reacquire_gate_mm > 0.0, "tracker.reacquire_gate_mm must be > 0");
   Require(wide_gate_mm > 0.0, "tracker.wide_gate_mm must be > 0");
   rigid.Check();
+  swaps.Check();
 }
 
 void GapFillOptions::Check() const {

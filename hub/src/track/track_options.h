@@ -38,6 +38,24 @@ struct RigidModelOptions {
   void Check() const;
 };
 
+struct RigidSwapOptions {
+  bool enabled = true;
+  // A link counts when it is steady: this many samples and a distance spread within this.
+  int min_samples = 20;
+  double link_std_mm = 2.0;
+  // Tracks steadily linked closer than this form a cluster whose points may be permuted; only
+  // clusters of at most max_cluster tracks are searched (max_cluster! permutations).
+  double cluster_radius_mm = 60.0;
+  int max_cluster = 4;
+  // The points are permuted when the chosen assignment misses the cluster's steady distances by
+  // more than this (rms, mm) and another permutation's squared misses are below `improvement`
+  // times the chosen one's.
+  double min_error_mm = 3.0;
+  double improvement = 0.25;
+
+  void Check() const;
+};
+
 struct TrackerOptions {
   double rate_hz = 100.0;
   KalmanOptions kalman;
@@ -63,6 +81,7 @@ struct TrackerOptions {
   // model's position when it has one. Catches markers that accelerate hard (a serve's hand).
   double wide_gate_mm = 250.0;
   RigidModelOptions rigid;
+  RigidSwapOptions swaps;
 
   void Check() const;
 };

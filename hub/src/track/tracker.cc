@@ -11,7 +11,7 @@
 namespace mocap {
 
 Tracker::Tracker(const TrackerOptions& options)
-    : options_((options.Check(), options)), rigid_(options.rigid) {}
+    : options_((options.Check(), options)), rigid_(options.rigid), swaps_(options.swaps) {}
 
 int Tracker::NewTrack(uint64_t frame_number, const Eigen::Vector3d& position) {
   int slot;
@@ -254,6 +254,7 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
   MatchPredictions(points, &match);
   PredictFromRigidModel(points, &match);
   SearchWide(points, &match);
+  RepairRigidClusters(points, &match);
   ApplyMeasurements(frame_number, points, match, samples);
   HandleUnmeasured(frame_number, match, samples);
   // Tracks created last so that this frame's steps did not see them.
@@ -375,6 +376,20 @@ void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMat
         (points[p].point_in_world - tracks_[slot].filter.position()).norm() > GateOf(tracks_[slot])) {
       match->found_wide[slot] = 1;
     }
+  }
+}
+
+// 4b. Rigid clusters whose points the predictions permuted (a plate turning fast) get them back
+// in the order their steady distances say; the filters of the tracks changed restart.
+void Tracker::RepairRigidClusters(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
+  const size_t num_slots = tracks_.size();
+  std::vector<char> eligible(num_slots, 0), changed(num_slots, 0);
+  for (size_t slot = 0; slot < num_slots; ++slot) eligible[slot] = tracks_[slot].state == State::kActive;
+  stats_.cluster_repairs += swaps_.Resolve(rigid_, eligible, points, &match->point_of_slot, &changed);
+  for (size_t slot = 0; slot < num_slots; ++slot) {
+    if (!changed[slot]) continue;
+    match->moved[slot] = 1;
+    match->found_wide[slot] = 1;
   }
 }
 

@@ -16,6 +16,7 @@
 #include "recon/reconstructor.h"
 #include "track/kalman.h"
 #include "track/rigid_model.h"
+#include "track/rigid_swaps.h"
 #include "track/track_options.h"
 
 namespace mocap {
@@ -44,6 +45,7 @@ struct TrackerStats {
   long long reacquisitions = 0;  // lost tracks that found their marker again
   long long predicted_samples = 0;
   long long deaths = 0;
+  long long cluster_repairs = 0;  // rigid clusters whose points were permuted back
 };
 
 class Tracker {
@@ -101,6 +103,7 @@ class Tracker {
   void MatchPredictions(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
   void PredictFromRigidModel(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
   void SearchWide(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
+  void RepairRigidClusters(const std::vector<ReconstructedPoint>& points, FrameMatch* match);
   void ApplyMeasurements(uint64_t frame_number, const std::vector<ReconstructedPoint>& points,
                          const FrameMatch& match, std::vector<TrackSample>* samples);
   void HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, std::vector<TrackSample>* samples);
@@ -131,6 +134,7 @@ class Tracker {
   std::vector<Track> tracks_;
   std::vector<int> free_slots_;
   RigidModel rigid_;
+  RigidSwapResolver swaps_;
   int next_marker_ = 0;
   uint64_t next_serial_ = 1;
   std::vector<PointIdentity> point_identities_;

@@ -1,0 +1,39 @@
+// The last step of a frame's reconstruction: every point must be a marker of its own. Points are
+// taken best first (more views, then earlier: predictions of the oldest tracks come first); a
+// point is dropped when it lies closer to a kept point than two markers can (a duplicate), or when
+// fewer than min_views of its views carry evidence of their own, i.e. lie farther than a view's
+// residual limit from every kept point's reprojection (a ghost made of other markers' blobs; a
+// merged blob serving two markers counts as explained). Dropped points give their blobs back.
+// Single-threaded; reuses its buffers between frames; never throws on data.
+#pragma once
+
+#include <vector>
+
+#include "recon/blob_index.h"
+#include "recon/matcher.h"
+
+namespace mocap {
+
+class GhostFilter {
+ public:
+  GhostFilter(const GhostFilterOptions& options, const TriangulationOptions& triangulation)
+      : options_(options), triangulation_(triangulation) {}
+
+  // Sets (*keep)[i] for every point; releases the views of the points dropped in *used.
+  // Returns how many were dropped.
+  int Apply(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+            const std::vector<TriangulatedPoint>& points, UseCounts* used, std::vector<char>* keep);
+
+ private:
+  void MarkExplained(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                     const TriangulatedPoint& point);
+
+  GhostFilterOptions options_;
+  TriangulationOptions triangulation_;
+  std::vector<int> order_;
+  std::vector<char> explained_;  // per observation: near a kept point's reprojection
+  std::vector<int> kept_;
+  std::vector<char> has_view_;  // per camera, of the point being marked
+};
+
+}  // namespace mocap

@@ -1,0 +1,52 @@
+// Identity repair inside rigid marker clusters. Markers a few centimetres apart on one rigid
+// plate or segment (technical clusters, hands, faces) can turn faster than any constant-velocity
+// prediction follows, and then each prediction lands nearer a neighbour than its own marker.
+// What does not change is the cluster's shape: the tracks linked by steady distances (the rigid
+// model's links) are grouped into small clusters, and when another permutation of the points the
+// cluster's tracks hold fits their steady distances far better than the one the predictions chose,
+// the points are permuted. Single-threaded; per-frame cost grows with the tracks holding points
+// times those in clusters; never throws on data.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "recon/reconstructor.h"
+#include "track/rigid_model.h"
+#include "track/track_options.h"
+
+namespace mocap {
+
+class RigidSwapResolver {
+ public:
+  explicit RigidSwapResolver(const RigidSwapOptions& options) : options_(options) {}
+
+  // eligible[slot]: the track may take part (confirmed). point_of_slot[slot]: the point it holds
+  // or -1. Permutes points within clusters and sets (*changed)[slot] for tracks whose point
+  // changed; returns how many clusters were repaired.
+  int Resolve(const RigidModel& rigid, const std::vector<char>& eligible,
+              const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
+              std::vector<char>* changed);
+
+ private:
+  struct Constraint {
+    int member;      // index into the cluster of the constrained track
+    int other_slot;  // the linked track's slot
+    double mean_mm;
+  };
+
+  bool Steady(const RigidLink* link) const;
+  void RepairCluster(const RigidModel& rigid, const std::vector<int>& cluster,
+                     const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
+                     std::vector<char>* changed, int* repaired);
+
+  RigidSwapOptions options_;
+  int min_samples_ = 0;
+  std::vector<int> measured_;
+  std::vector<int> parent_;
+  std::vector<char> in_cluster_;
+  std::vector<Constraint> constraints_;
+};
+
+}  // namespace mocap
