@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "calib/calibration_target.h"
 #include "calib/dlt.h"
@@ -101,6 +103,32 @@ TEST(TargetRenderTest, MissingFaceOrEmptyImageIsRefusedWithAReason) {
   EXPECT_THROW(DetectTargetPoints(wall_only, layout), std::runtime_error);
   EXPECT_THROW(DetectTargetPoints(cv::Mat(), layout), std::runtime_error);
   EXPECT_THROW(DetectTargetPoints(cv::Mat(100, 100, CV_8UC3), layout), std::runtime_error);
+}
+
+// Images that are not the target (noise, random dark rectangles, some holed) never crash the
+// detector: points that name real target indices, or a runtime_error.
+TEST(TargetRenderTest, ArbitraryImagesGiveAReasonOrValidPoints) {
+  const CalibrationTargetLayout layout;
+  cv::RNG rng(7);
+  for (int trial = 0; trial < 30; ++trial) {
+    cv::Mat image(240 + trial * 7, 320 + trial * 5, CV_8UC1);
+    rng.fill(image, cv::RNG::UNIFORM, 0, trial % 3 == 0 ? 255 : 60);
+    image += cv::Scalar(trial % 3 == 0 ? 0 : 180);
+    for (int r = 0; r < trial; ++r) {
+      const cv::Point corner(rng.uniform(0, image.cols), rng.uniform(0, image.rows));
+      const cv::Size size(rng.uniform(4, 60), rng.uniform(4, 60));
+      cv::rectangle(image, cv::Rect(corner, size), cv::Scalar(20), cv::FILLED);
+      if (r % 4 == 0) cv::rectangle(image, cv::Rect(corner + cv::Point(3, 3), cv::Size(3, 3)), cv::Scalar(230), cv::FILLED);
+    }
+    try {
+      const TargetDetection detection = DetectTargetPoints(image, layout);
+      for (int index : detection.indices) {
+        EXPECT_GE(index, 0);
+        EXPECT_LT(index, layout.NumPoints());
+      }
+    } catch (const std::runtime_error&) {
+    }
+  }
 }
 
 TEST(CalibrationTargetTest, LayoutJsonAndSvgAgree) {
