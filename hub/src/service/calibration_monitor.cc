@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <iterator>
 #include <stdexcept>
 
 #include "util/log.h"
@@ -44,8 +45,22 @@ void CalibrationMonitor::Add(const FrameSet& set, const Reconstructor& reconstru
     next_check_frame_ = frame + check_frames_;
   }
   last_frame_ = frame;
-  if (frame % stride_ == 0) collector_.AddReconstructed(set, reconstructor);
-  if (frame > window_frames_) collector_.DropBefore(frame - window_frames_);
+  if (frame % stride_ == 0) {
+    // Each frame set's samples become one shared, immutable chunk: a check's snapshot of the
+    // window is then a copy of pointers, not of the samples.
+    collector_.AddReconstructed(set, reconstructor);
+    std::deque<MarkerSample>& fresh = *collector_.mutable_samples();
+    if (!fresh.empty()) {
+      window_.push_back(std::make_shared<const std::vector<MarkerSample>>(std::make_move_iterator(fresh.begin()),
+                                                                         std::make_move_iterator(fresh.end())));
+      window_samples_ += window_.back()->size();
+      fresh.clear();
+    }
+  }
+  while (!window_.empty() && window_.front()->front().frame + window_frames_ < frame) {
+    window_samples_ -= window_.front()->size();
+    window_.pop_front();
+  }
   if (frame >= next_check_frame_ && !pending_.valid()) {
     StartCheck(frame);
     next_check_frame_ = frame + check_frames_;
@@ -59,11 +74,12 @@ void CalibrationMonitor::Finish() {
 void CalibrationMonitor::StartCheck(uint64_t frame) {
   const bool may_solve = options_.refine && (!solved_any_ || frame >= last_solve_frame_ + resolve_frames_);
   // The worker gets copies: the loop goes on collecting while it judges and solves.
-  pending_ = std::async(std::launch::async, [rig = rig_, samples = collector_.samples(), options = options_, frame,
-                                             may_solve]() {
+  pending_ = std::async(std::launch::async, [rig = rig_, window = window_, options = options_, frame, may_solve]() {
     CheckResult result;
     result.frame = frame;
     try {
+      std::deque<MarkerSample> samples;
+      for (const auto& chunk : window) samples.insert(samples.end(), chunk->begin(), chunk->end());
       result.detection = DetectBumps(ComputeCameraResiduals(rig, samples), options.refinement.detection);
       if (may_solve && result.detection.AnyMoved()) result.refinement = RefineExtrinsics(rig, samples, options.refinement);
     } catch (const std::exception& error) {
@@ -152,7 +168,7 @@ nlohmann::json CalibrationMonitor::StatusJson() const {
   }
   nlohmann::json status = {{"window_s", options_.window_s},
                            {"checks", checks_},
-                           {"samples", collector_.samples().size()},
+                           {"samples", window_samples_},
                            {"baseline_px", baseline_px_},
                            {"cameras", cameras}};
   if (!last_error_.empty()) status["error"] = last_error_;

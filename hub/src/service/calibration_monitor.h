@@ -4,7 +4,8 @@
 // samples (calib/marker_residuals.h); every check_every_s the window is judged
 // (calib/bump_detector.h) and, when a camera is bumped or drifting, re-solved with the other
 // cameras held (calib/extrinsic_refinement.h). Judging and solving run on one worker thread on a
-// copy of the window, so the loop only collects; their result is picked up on a later frame.
+// snapshot of the window (shared immutable per-frame chunks: the loop copies pointers only), so
+// the loop only collects; their result is picked up on a later frame.
 // A camera's state change is logged (warning for drifting, bumped and refused solves), and
 // StatusJson() gives the figures, the state and the last solve per camera for the status API.
 // The live reconstruction keeps its calibration: a solved pose is reported (and offered as the
@@ -15,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -83,7 +85,9 @@ class CalibrationMonitor {
 
   const Rig& rig_;
   CalibrationMonitorOptions options_;
-  MarkerResidualCollector collector_;
+  MarkerResidualCollector collector_;  // turns each frame set into samples, kept in window_
+  std::deque<std::shared_ptr<const std::vector<MarkerSample>>> window_;  // one chunk per frame set
+  size_t window_samples_ = 0;
   uint64_t window_frames_ = 1;
   uint64_t check_frames_ = 1;
   uint64_t stride_ = 1;
