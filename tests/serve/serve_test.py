@@ -131,6 +131,13 @@ class ServeTest(unittest.TestCase):
         self.assertGreater(len(rows), RATE)
         listed = json.loads(self.rig.hub("sessions", "--json").stdout)
         self.assertEqual([s["name"] for s in listed], ["take1"])
+        # The calibration monitor watched the live reconstruction: the rig is as calibrated.
+        monitor = json.loads(self.rig.hub("status", "--json").stdout)["calibration_monitor"]
+        self.assertGreater(monitor["checks"], 0)
+        self.assertEqual(len(monitor["cameras"]), CAMERAS)
+        for camera in monitor["cameras"]:
+            self.assertIn(camera["state"], ("ok", "unknown"), monitor)
+            self.assertNotIn("solve", camera, monitor)
 
     def test_06_live_websocket_frames_carry_every_point(self):
         frames = websocket_messages(self.rig.api_port, "/api/live", 20)

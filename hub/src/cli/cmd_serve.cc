@@ -222,6 +222,9 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
                       "Epipolar gate of live reconstruction (as reconstruct's)")
       ->capture_default_str();
+  command->add_flag("!--no-calibration-monitor", o.calibration_monitor,
+                    "Do not watch the cameras' residuals for bumps (on by default: a moved camera is reported and "
+                    "re-solved, /api/status calibration_monitor)");
   command->add_option("--stream", args->stream.listen,
                       "HOST:PORT of the live stream (subscriptions in, frames out); off: none")
       ->capture_default_str();

@@ -16,6 +16,7 @@
 #include "bodies/body_definition.h"
 #include "sim/body_scene.h"
 #include "sim/project_session.h"
+#include "simcore/camera_bump.h"
 #include "simcore/ring_rig.h"
 
 namespace mocap {
@@ -63,13 +64,35 @@ struct SimProjectArgs {
   ProjectOptions project;
   std::string bodies;  // rigid bodies to add (bodies file); empty: none
   BodySceneOptions body_paths;
+  std::vector<std::string> bumps;  // CAM:DEG:MM
+  double bump_from_s = 0.0;
+  uint64_t bump_seed = 1;
 };
+
+std::vector<CameraBump> ParseBumps(const SimProjectArgs& args, const Rig& rig) {
+  std::vector<CameraBump> bumps;
+  for (const std::string& text : args.bumps) {
+    CameraBump bump;
+    try {
+      bump = ParseCameraBump(text);
+    } catch (const std::invalid_argument& error) {
+      throw UsageError(std::string("--bump: ") + error.what());
+    }
+    if (rig.Find(bump.camera_id) == nullptr)
+      throw UsageError("--bump: " + args.rig + " has no camera " + std::to_string(bump.camera_id));
+    bump.from_s = args.bump_from_s;
+    bump.seed = args.bump_seed + bumps.size();
+    bumps.push_back(bump);
+  }
+  return bumps;
+}
 
 void RunSimProject(const SimProjectArgs& args) {
   CheckOptions(args.project);
   CheckOptions(args.body_paths);
   MarkerTrajectories motion = ReadTrc(args.motion);
   const Rig rig = LoadRigJson(args.rig);
+  const std::vector<CameraBump> bumps = ParseBumps(args, rig);
   if (motion.NumFrames() == 0) throw std::runtime_error(args.motion + ": no frames");
   // Rigid bodies fly around the subject: their markers join the truth, their poses go beside it.
   std::vector<RigidBodyDefinition> bodies;
@@ -86,7 +109,7 @@ void RunSimProject(const SimProjectArgs& args) {
   }
   ProgressBar progress("sim project", motion.NumFrames());
   const ProjectSessionStats stats = ProjectSession(motion, rig, args.project, args.output,
-                                                   [&](size_t done, size_t) { progress.Update(done); });
+                                                   [&](size_t done, size_t) { progress.Update(done); }, bumps);
   progress.Finish();
   if (!bodies.empty())
     WriteBodyPoses((std::filesystem::path(args.output) / "truth.bodies.tsv").string(), bodies, body_poses, motion.rate_hz);
@@ -161,6 +184,14 @@ void AddSimProjectCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--body-spin", args->body_paths.spin_deg_s, "Bodies' spin, degrees/s")->capture_default_str();
   command->add_option("--body-seed", args->body_paths.seed, "Seed of the bodies' paths")->capture_default_str();
+  command->add_option("--bump", args->bumps,
+                      "Bump a camera after calibration: CAM:DEG:MM rotates camera CAM by DEG degrees and moves it "
+                      "by MM mm (random axis and direction; repeatable); calibration.json stays the rig given, the "
+                      "bumped rig is SESSION/truth.calibration.json");
+  command->add_option("--bump-from-s", args->bump_from_s, "When the bumps happen, s after the first frame")
+      ->check(FiniteRange(0.0, 1e7))
+      ->capture_default_str();
+  command->add_option("--bump-seed", args->bump_seed, "Seed of the bumps' axes and directions")->capture_default_str();
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
   command->callback([args] { RunSimProject(*args); });
 }

@@ -66,6 +66,10 @@ void AddLabelsCommands(CLI::App& app);  // cmd_labels.cc: labels learn, labels a
 // cmd_sim_wand.cc, cmd_calibrate_wand.cc (wand, world), cmd_calibrate_camera.cc (intrinsics,
 // dlt), cmd_calibrate_import.cc (import-tsai, import-mcd), cmd_eval_calibration.cc.
 void AddCalibrateWorldCommand(CLI::App& app);
+void AddCalibrateRefineCommand(CLI::App& app);  // cmd_calibrate_refine.cc
+// cmd_calibrate_target.cc: calibrate target, calibrate target-points; sim target-image.
+void AddCalibrateTargetCommands(CLI::App& app);
+void AddSimTargetImageCommand(CLI::App& app);
 void AddCalibrateIntrinsicsCommand(CLI::App& app);
 void AddCalibrateDltCommand(CLI::App& app);
 void AddCalibrateImportTsaiCommand(CLI::App& app);

@@ -46,6 +46,8 @@ class Reconstructor {
   const FrameViews& views() const { return views_; }
   const RigModel& rig_model() const { return rig_; }
   const ReconstructionStats& stats() const { return stats_; }
+  // The last frame's points with the views they were made from (same order as *points).
+  const std::vector<TriangulatedPoint>& triangulated() const { return triangulated_; }
 
  private:
   RigModel rig_;

@@ -148,6 +148,8 @@ HubService::HubService(ServeOptions options)
       live_(MakeLive()),
       captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
+  if (options_.calibration_monitor)
+    calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
   std::error_code ec;
   std::filesystem::create_directories(options_.sessions_dir, ec);
   if (ec) throw std::runtime_error(options_.sessions_dir + ": cannot create: " + ec.message());
@@ -307,6 +309,7 @@ void HubService::Publish(const FrameSet& set) {
     if (camera.trigger_time_ns && camera.send_time_ns >= camera.trigger_time_ns)
       trigger_to_send_ms_.Add(static_cast<double>(camera.send_time_ns - camera.trigger_time_ns) * 1e-6);
   if (captures_.running()) captures_.AddPublished(frame);
+  if (calibration_monitor_) calibration_monitor_->Add(set, live_->reconstructor());
 }
 
 void HubService::Tick(uint64_t now) {
@@ -583,6 +586,7 @@ nlohmann::json HubService::Status() {
         {"capture", captures_.Current(now)},
         {"masks", masks_.size()},
         {"requests_pending", controls_.pending()},
+        {"calibration_monitor", calibration_monitor_ ? calibration_monitor_->StatusJson() : nlohmann::json(nullptr)},
     };
     std::lock_guard<std::mutex> lock(status_sections_mutex_);
     for (const auto& [name, section] : status_sections_) status[name] = section();
@@ -988,12 +992,18 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
       source = options_.calibration;
       wand_saved_ = options_.calibration;
     }
+    // The monitor judges residuals against the calibration it was made with: a new one starts
+    // afresh (made again after the rig changes, so its worker never sees the change).
+    const bool monitoring = calibration_monitor_ != nullptr;
+    calibration_monitor_.reset();
     {
       std::lock_guard<std::mutex> lock(rig_mutex_);
       rig_ = o.rig;
       calibration_source_ = source;
     }
     live_ = MakeLive();
+    if (monitoring)
+      calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
     captures_.SetCalibrationFile(source);
     wand_applied_ = true;
     log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,

@@ -36,6 +36,7 @@
 #include "service/auto_mask.h"
 #include "service/capture.h"
 #include "service/control_requests.h"
+#include "service/calibration_monitor.h"
 #include "service/live_reconstruction.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
@@ -62,6 +63,7 @@ struct ServeOptions {
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
   int auto_mask_max_frames = 1000;
   ReconstructorOptions recon;             // as `reconstruct` takes them
+  bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
   WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
 
   // Throws std::invalid_argument naming the bad option.
@@ -183,6 +185,7 @@ class HubService : public ServiceApi {
   std::vector<RigidBodyDefinition> bodies_;
   std::optional<MarkerSet> labels_;
   std::unique_ptr<LiveReconstruction> live_;  // made again when the calibration changes
+  std::unique_ptr<CalibrationMonitor> calibration_monitor_;  // null when off
   Captures captures_;
   std::vector<CameraMask> masks_;
 

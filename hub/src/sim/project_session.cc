@@ -7,6 +7,8 @@
 #include <random>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "ingest/session.h"
 #include "io/calibration_json.h"
 #include "io/trc.h"
@@ -15,10 +17,23 @@
 namespace mocap {
 
 ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& rig, const ProjectOptions& options,
-                                   const std::string& dir, const std::function<void(size_t, size_t)>& progress) {
+                                   const std::string& dir, const std::function<void(size_t, size_t)>& progress,
+                                   const std::vector<CameraBump>& bumps) {
   options.Check();
   if (!(motion.rate_hz > 0.0)) throw std::invalid_argument("motion rate must be positive");
   if (rig.cameras.empty()) throw std::invalid_argument("rig has no cameras");
+  // The rig the cameras really have: the projector reads it every frame, bumps change it.
+  Rig seen = rig;
+  Rig after_bumps = rig;
+  nlohmann::json bump_list = nlohmann::json::array();
+  for (const CameraBump& bump : bumps) {
+    if (!(bump.from_s >= 0.0) || !std::isfinite(bump.from_s))
+      throw std::invalid_argument("a camera bump's time must be >= 0 s");
+    ApplyCameraBump(bump, &after_bumps);
+    bump_list.push_back(
+        {{"camera", bump.camera_id}, {"degrees", bump.degrees}, {"mm", bump.mm}, {"from_s", bump.from_s}, {"seed", bump.seed}});
+  }
+  std::vector<char> bumped(bumps.size(), 0);
 
   SessionInfo info;
   info.rate_hz = motion.rate_hz;
@@ -37,16 +52,21 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
                        {"seed", options.seed},
                        {"truth", "truth.trc"},
                        {"visibility", "visibility.tsv"}};
+  if (!bumps.empty()) {
+    info.extra["sim"]["bumps"] = bump_list;
+    info.extra["sim"]["truth_calibration"] = "truth.calibration.json";
+  }
 
   SessionWriter writer;
   writer.Create(dir, info, SessionWriter::Existing::kReplace);
   const std::filesystem::path root(dir);
   SaveRigJson(rig, (root / info.calibration).string());
+  if (!bumps.empty()) SaveRigJson(after_bumps, (root / "truth.calibration.json").string());
   WriteTrc(motion, (root / "truth.trc").string());
   VisibilityWriter visibility;
   visibility.Open((root / "visibility.tsv").string(), motion.names);
 
-  FaultyProjector projector(rig, motion.NumMarkers(), options);
+  FaultyProjector projector(seen, motion.NumMarkers(), options);
   ProjectSessionStats stats;
   // Late camera frames wait here until `late_frames` later frames have been written.
   struct Delayed {
@@ -63,6 +83,12 @@ ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& 
   const size_t markers = motion.NumMarkers();
   for (size_t f = 0; f < motion.NumFrames(); ++f) {
     const uint64_t frame_number = motion.frame_numbers[f];
+    const double seconds = (static_cast<double>(frame_number) - static_cast<double>(motion.frame_numbers[0])) / motion.rate_hz;
+    for (size_t b = 0; b < bumps.size(); ++b) {
+      if (bumped[b] || seconds < bumps[b].from_s) continue;
+      ApplyCameraBump(bumps[b], &seen);
+      bumped[b] = 1;
+    }
     const uint64_t trigger_ns =
         kSimEpochNs + static_cast<uint64_t>(std::llround(static_cast<double>(frame_number) * 1e9 / motion.rate_hz));
     const Eigen::Vector3d* points = markers > 0 ? &motion.points[f * markers] : nullptr;

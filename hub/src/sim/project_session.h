@@ -1,6 +1,8 @@
 // `sim project` as a library call: projects a motion through a rig with faults and writes a
 // session directory exactly as `record` would (raw log + session.json through SessionWriter),
-// plus truth.trc, calibration.json and visibility.tsv for evaluation.
+// plus truth.trc, calibration.json and visibility.tsv for evaluation. With camera bumps the
+// session is seen by a rig that changes mid-session while calibration.json stays the rig given
+// (what the hub was calibrated with); the rig after the bumps is truth.calibration.json.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +11,7 @@
 
 #include "geometry/camera.h"
 #include "io/marker_trajectories.h"
+#include "simcore/camera_bump.h"
 #include "simcore/projector.h"
 
 namespace mocap {
@@ -29,9 +32,10 @@ struct ProjectSessionStats {
 constexpr uint64_t kSimEpochNs = 1700000000000000000ull;
 
 // progress(done, total) is called after each frame when given. Throws std::runtime_error on
-// file errors and std::invalid_argument on bad options.
+// file errors and std::invalid_argument on bad options (a bump of a camera the rig lacks).
 ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& rig, const ProjectOptions& options,
                                    const std::string& dir,
-                                   const std::function<void(size_t, size_t)>& progress = nullptr);
+                                   const std::function<void(size_t, size_t)>& progress = nullptr,
+                                   const std::vector<CameraBump>& bumps = {});
 
 }  // namespace mocap

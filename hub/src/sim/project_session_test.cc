@@ -120,6 +120,56 @@ TEST_F(ProjectSessionTest, BlobsReadBackAsProjections) {
   EXPECT_EQ(info.camera_frames, 450u);
 }
 
+// A bump halfway: the blobs follow the rig given until then and the bumped rig after it, while
+// calibration.json stays the rig given and truth.calibration.json is the bumped one.
+TEST_F(ProjectSessionTest, BumpedCameraSeesFromItsNewPoseAfterTheBump) {
+  ProjectOptions options;
+  options.merge_px = 0.0;
+  CameraBump bump = ParseCameraBump("2:1:20");
+  bump.from_s = 45.0 / motion.rate_hz;
+  bump.seed = 4;
+  ProjectSession(motion, rig, options, dir, nullptr, {bump});
+  const Rig calibration = LoadRigJson(dir + "/calibration.json");
+  const Rig truth = LoadRigJson(dir + "/truth.calibration.json");
+  EXPECT_EQ(calibration.cameras[1].translation, rig.cameras[1].translation);
+  EXPECT_NEAR(ComparePoses(truth.cameras[1], rig.cameras[1]).rotation_deg, 1.0, 1e-9);
+  EXPECT_EQ(truth.cameras[0].translation, rig.cameras[0].translation);
+  const SessionInfo info = LoadSessionInfo(dir);
+  ASSERT_TRUE(info.extra["sim"].contains("bumps"));
+  EXPECT_EQ(info.extra["sim"]["bumps"][0]["camera"], 2);
+
+  SessionReader reader;
+  reader.Open(dir);
+  FrameSet set;
+  size_t frames_checked = 0;
+  while (reader.Next(&set)) {
+    const bool after = set.frame_number >= motion.frame_numbers[45];
+    const size_t index = set.frame_number - motion.frame_numbers[0];
+    for (const CameraFrame& frame : set.cameras) {
+      if (frame.camera_id != 2) continue;
+      double worst_before = 0.0, worst_after = 0.0;
+      for (size_t m = 0; m < motion.NumMarkers(); ++m) {
+        Eigen::Vector2d old_pixel, new_pixel;
+        ASSERT_TRUE(rig.cameras[1].ProjectToPixel(motion.At(index, m), &old_pixel));
+        ASSERT_TRUE(truth.cameras[1].ProjectToPixel(motion.At(index, m), &new_pixel));
+        double nearest_old = 1e300, nearest_new = 1e300;
+        for (const Blob& blob : frame.blobs) {
+          nearest_old = std::min(nearest_old, (blob.pixel - old_pixel).norm());
+          nearest_new = std::min(nearest_new, (blob.pixel - new_pixel).norm());
+        }
+        worst_before = std::max(worst_before, nearest_old);
+        worst_after = std::max(worst_after, nearest_new);
+      }
+      EXPECT_LE(after ? worst_after : worst_before, 0.02) << "frame " << set.frame_number;
+      EXPECT_GT(after ? worst_before : worst_after, 1.0) << "frame " << set.frame_number;
+      ++frames_checked;
+    }
+  }
+  EXPECT_EQ(frames_checked, motion.NumFrames());
+  EXPECT_THROW(ProjectSession(motion, rig, options, dir + "_bad", nullptr, {ParseCameraBump("9:1:1")}),
+               std::invalid_argument);
+}
+
 TEST_F(ProjectSessionTest, FaultsReachTheSession) {
   ProjectOptions options;
   options.noise_px = 0.2;

@@ -1,0 +1,117 @@
+// End-to-end tests of continuous calibration and seed 000's target through the mocap-hub
+// executable: a walk projected with one camera bumped, `calibrate refine` and eval-calibration
+// against the bumped truth; an unbumped session leaves the calibration's poses as they were;
+// the printed target rendered through a camera, its points found and a DLT calibration made of
+// them; bad input ends as one line on stderr.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/hub_process_testing.h"
+#include "io/calibration_json.h"
+#include "simcore/look_at.h"
+
+namespace mocap {
+namespace {
+
+class CalibrateRefineCliTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing::TempDir() + "/calibrate_refine_cli_" +
+           testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+
+  HubRun Hub(const std::string& args) const { return RunHub(dir_, args); }
+
+  std::string dir_;
+};
+
+TEST_F(CalibrateRefineCliTest, BumpedCameraIsSolvedBackOntoItsTruePose) {
+  ASSERT_EQ(Hub("sim motion -o walk.trc --frames 240").status, 0);
+  ASSERT_EQ(Hub("sim rig --motion walk.trc --cameras 8 -o rig.json").status, 0);
+  const HubRun project = Hub("sim project --motion walk.trc --rig rig.json -o bumped --noise-px 0.15 "
+                             "--occlusion 0.01 --bump 4:0.5:5 --bump-from-s 0 --seed 3");
+  ASSERT_EQ(project.status, 0) << project.err;
+  const HubRun refine = Hub("calibrate refine bumped --calibration bumped/calibration.json -o refined.json --json");
+  ASSERT_EQ(refine.status, 0) << refine.err;
+  const nlohmann::json report = nlohmann::json::parse(refine.out);
+  EXPECT_TRUE(report["changed"].get<bool>());
+  for (const auto& camera : report["cameras"]) {
+    EXPECT_EQ(camera["accepted"].get<bool>(), camera["id"] == 4) << camera.dump();
+    EXPECT_EQ(camera["state_after"], "ok") << camera.dump();
+  }
+  const HubRun eval = Hub("eval-calibration --truth bumped/truth.calibration.json --result refined.json --no-align --json");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  const nlohmann::json errors = nlohmann::json::parse(eval.out);
+  EXPECT_LT(errors["centre_max_mm"].get<double>(), 0.5);
+  EXPECT_LT(errors["rotation_max_deg"].get<double>(), 0.02);
+  const nlohmann::json written = nlohmann::json::parse(ReadAll(dir_ + "/refined.json"));
+  EXPECT_EQ(written["refinement"]["session"], "bumped");
+
+  // The same capture without the bump: the poses are written back exactly as they were.
+  ASSERT_EQ(Hub("sim project --motion walk.trc --rig rig.json -o still --noise-px 0.15 --occlusion 0.01 --seed 3").status, 0);
+  const HubRun still = Hub("calibrate refine still --calibration rig.json -o same.json --json");
+  ASSERT_EQ(still.status, 0) << still.err;
+  EXPECT_FALSE(nlohmann::json::parse(still.out)["changed"].get<bool>());
+  const Rig before = LoadRigJson(dir_ + "/rig.json");
+  const Rig after = LoadRigJson(dir_ + "/same.json");
+  for (size_t c = 0; c < before.cameras.size(); ++c) {
+    EXPECT_EQ(after.cameras[c].rotation, before.cameras[c].rotation);
+    EXPECT_EQ(after.cameras[c].translation, before.cameras[c].translation);
+  }
+}
+
+TEST_F(CalibrateRefineCliTest, PrintedTargetThroughACameraGivesADltCalibration) {
+  const HubRun target = Hub("calibrate target -o target.svg");
+  ASSERT_EQ(target.status, 0) << target.err;
+  EXPECT_NE(ReadAll(dir_ + "/target.svg").find("<svg"), std::string::npos);
+  const nlohmann::json points = nlohmann::json::parse(ReadAll(dir_ + "/target.json"));
+  ASSERT_EQ(points["points"].size(), 120u);
+
+  Rig rig;
+  Camera camera;
+  camera.id = 7;
+  camera.intrinsics = {1280, 800, 1150.0, 1150.0, 640.0, 400.0, {-0.05, 0.01, 0.0, 0.0, 0.0}};
+  AimCamera(Eigen::Vector3d(60.0, 330.0, 280.0), Eigen::Vector3d(95.0, 20.0, 20.0), Eigen::Vector3d::UnitZ(), &camera);
+  rig.cameras.push_back(camera);
+  SaveRigJson(rig, dir_ + "/camera.json");
+  const HubRun image = Hub("sim target-image --target target.json --rig camera.json --camera 7 -o view.png");
+  ASSERT_EQ(image.status, 0) << image.err;
+  const HubRun found = Hub("calibrate target-points view.png --target target.json -o points.txt --json");
+  ASSERT_EQ(found.status, 0) << found.err;
+  EXPECT_EQ(nlohmann::json::parse(found.out)["points"], 120);
+  const HubRun dlt = Hub("calibrate dlt points.txt --width 1280 --height 800 --refine-distortion -o dlt.json");
+  ASSERT_EQ(dlt.status, 0) << dlt.err;
+  const nlohmann::json calibration = nlohmann::json::parse(ReadAll(dir_ + "/dlt.json"));
+  EXPECT_LT(calibration["calibration"]["camera_rms_px"].get<double>(), 0.5) << calibration["calibration"].dump();
+}
+
+TEST_F(CalibrateRefineCliTest, BadInputIsOneLineWithNonZeroStatus) {
+  ASSERT_EQ(Hub("sim motion -o walk.trc --frames 30").status, 0);
+  ASSERT_EQ(Hub("sim rig --motion walk.trc --cameras 4 -o rig.json").status, 0);
+  ExpectOneLineError(Hub("sim project --motion walk.trc --rig rig.json -o s --bump 9:0.5:5"), "no camera 9");
+  ExpectOneLineError(Hub("sim project --motion walk.trc --rig rig.json -o s --bump 2:0.5"), "CAM:DEG:MM");
+  ExpectOneLineError(Hub("calibrate refine missing --calibration rig.json -o out.json"), "missing");
+  {
+    std::ofstream bad(dir_ + "/target.json");
+    bad << R"({"version": 1, "type": "seed000-squares", "layout": {"rows": 1}})";
+  }
+  {
+    std::ofstream png(dir_ + "/image.png");
+    png << "not a png";
+  }
+  ExpectOneLineError(Hub("calibrate target-points image.png --target target.json -o p.txt"), "target.json");
+  ASSERT_EQ(Hub("calibrate target -o good.svg").status, 0);
+  ExpectOneLineError(Hub("calibrate target-points image.png --target good.json -o p.txt"), "image.png");
+  ExpectOneLineError(Hub("calibrate target -o t.svg --rows 1"), "rows");
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/out.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/p.txt"));
+}
+
+}  // namespace
+}  // namespace mocap
