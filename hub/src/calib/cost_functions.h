@@ -41,6 +41,20 @@ void TransformToCamera(const T* cam_from_world, const T* point_in_world, T* poin
   point_in_cam[2] += cam_from_world[5];
 }
 
+// Pixel residual (projected - observed) of a world point seen by a camera; false behind it.
+// The one reprojection error of every functor.
+template <typename T>
+bool PixelResidual(const T* cam_from_world, const T* intrinsics, const T* point_in_world,
+                   const Eigen::Vector2d& observed_px, T* residuals) {
+  T point_in_cam[3];
+  TransformToCamera(cam_from_world, point_in_world, point_in_cam);
+  T pixel[2];
+  if (!ProjectCameraPoint(intrinsics, point_in_cam, pixel)) return false;
+  residuals[0] = pixel[0] - T(observed_px.x());
+  residuals[1] = pixel[1] - T(observed_px.y());
+  return true;
+}
+
 // Reprojection error of one wand marker. The wand is a rigid segment: centre and unit axis (kept
 // on the sphere by a manifold); the marker sits at a fixed offset along the axis, so
 // the known wand length holds exactly and fixes the scale of the whole solve.
@@ -53,13 +67,7 @@ class WandReprojectionError {
   bool operator()(const T* cam_from_world, const T* intrinsics, const T* wand_pose, T* residuals) const {
     T point_in_world[3];
     for (int i = 0; i < 3; ++i) point_in_world[i] = wand_pose[i] + T(offset_mm_) * wand_pose[3 + i];
-    T point_in_cam[3];
-    TransformToCamera(cam_from_world, point_in_world, point_in_cam);
-    T pixel[2];
-    if (!ProjectCameraPoint(intrinsics, point_in_cam, pixel)) return false;
-    residuals[0] = pixel[0] - T(observed_px_.x());
-    residuals[1] = pixel[1] - T(observed_px_.y());
-    return true;
+    return PixelResidual(cam_from_world, intrinsics, point_in_world, observed_px_, residuals);
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector2d& observed_px, double offset_mm) {
@@ -82,13 +90,7 @@ class KnownPointReprojectionError {
   template <typename T>
   bool operator()(const T* cam_from_world, const T* intrinsics, T* residuals) const {
     const T point[3] = {T(point_in_world_.x()), T(point_in_world_.y()), T(point_in_world_.z())};
-    T point_in_cam[3];
-    TransformToCamera(cam_from_world, point, point_in_cam);
-    T pixel[2];
-    if (!ProjectCameraPoint(intrinsics, point_in_cam, pixel)) return false;
-    residuals[0] = pixel[0] - T(observed_px_.x());
-    residuals[1] = pixel[1] - T(observed_px_.y());
-    return true;
+    return PixelResidual(cam_from_world, intrinsics, point, observed_px_, residuals);
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector3d& point_in_world, const Eigen::Vector2d& observed_px) {

@@ -174,12 +174,7 @@ class ExtrinsicRefiner {
       for (const MarkerView& view : sample.views) {
         if (!moved_[view.camera] && !view.reconstructed) continue;
         point.views.push_back(&view);
-        const Camera& camera = solved_.cameras[view.camera];
-        PointView pv;
-        pv.cam_from_world.leftCols<3>() = camera.rotation;
-        pv.cam_from_world.col(3) = camera.translation;
-        pv.normalized = view.normalized;
-        views.push_back(pv);
+        views.push_back(ViewThrough(solved_.cameras[view.camera], view.normalized));
       }
       Eigen::Vector3d position;
       if (views.size() < 2 || !TriangulatePoint(views, &position)) continue;

@@ -18,20 +18,10 @@
 #include "simcore/projector.h"
 #include "simcore/ring_rig.h"
 #include "simcore/synthetic_motion.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap {
 namespace {
-
-// The shared walk when present (151 frames at 60 Hz), otherwise the synthetic walker.
-MarkerTrajectories WalkMotion() {
-  const std::string walk = std::string(MOCAP_SHARED_DIR) + "/data/motions/walk.trc";
-  if (std::filesystem::exists(walk)) return ReadTrc(walk);
-  SyntheticMotionOptions options;
-  options.markers = 41;
-  options.frames = 151;
-  options.rate_hz = 60.0;
-  return MakeSyntheticMotion(options);
-}
 
 Rig WalkRig(const MarkerTrajectories& motion) {
   RingRigOptions options;
@@ -64,7 +54,7 @@ class CaptureSimulator {
 constexpr uint32_t kBumpedCamera = 3;
 
 TEST(ExtrinsicRefinementTest, BumpFoundWithinTwoSecondsAndSolvedBack) {
-  const MarkerTrajectories motion = WalkMotion();
+  const MarkerTrajectories motion = testing::WalkOrSyntheticWalker(MOCAP_SHARED_DIR);
   const Rig calibration = WalkRig(motion);
   Rig truth = calibration;
   ApplyCameraBump({kBumpedCamera, 0.5, 5.0, 0.0, 7}, &truth);
@@ -154,7 +144,7 @@ TEST(ExtrinsicRefinementTest, UnbumpedRigDoesNotDriftOverTenMinutes) {
 }
 
 TEST(ExtrinsicRefinementTest, TooManyMovedCamerasAreRefused) {
-  const MarkerTrajectories motion = WalkMotion();
+  const MarkerTrajectories motion = testing::WalkOrSyntheticWalker(MOCAP_SHARED_DIR);
   const Rig calibration = WalkRig(motion);
   Rig truth = calibration;
   for (uint32_t id = 1; id <= 7; ++id) ApplyCameraBump({id, 1.0, 10.0, 0.0, id}, &truth);
@@ -181,7 +171,7 @@ TEST(ExtrinsicRefinementTest, OptionsAreChecked) {
 }
 
 TEST(MarkerReprojectionErrorTest, GradientMatchesNumeric) {
-  const MarkerTrajectories motion = WalkMotion();
+  const MarkerTrajectories motion = testing::WalkOrSyntheticWalker(MOCAP_SHARED_DIR);
   const Rig rig = WalkRig(motion);
   std::array<double, kPoseSize> pose = PoseBlock(rig.cameras[0]);
   std::array<double, kIntrinsicsSize> intrinsics = IntrinsicsBlock(rig.cameras[0].intrinsics);

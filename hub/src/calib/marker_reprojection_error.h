@@ -17,13 +17,7 @@ class MarkerReprojectionError {
 
   template <typename T>
   bool operator()(const T* cam_from_world, const T* intrinsics, const T* point_in_world, T* residuals) const {
-    T point_in_cam[3];
-    TransformToCamera(cam_from_world, point_in_world, point_in_cam);
-    T pixel[2];
-    if (!ProjectCameraPoint(intrinsics, point_in_cam, pixel)) return false;
-    residuals[0] = pixel[0] - T(observed_px_.x());
-    residuals[1] = pixel[1] - T(observed_px_.y());
-    return true;
+    return PixelResidual(cam_from_world, intrinsics, point_in_world, observed_px_, residuals);
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector2d& observed_px) {

@@ -94,6 +94,14 @@ void MarkerResidualCollector::AddReconstructed(const FrameSet& set, const Recons
   }
 }
 
+PointView ViewThrough(const Camera& camera, const Eigen::Vector2d& normalized) {
+  PointView view;
+  view.cam_from_world.leftCols<3>() = camera.rotation;
+  view.cam_from_world.col(3) = camera.translation;
+  view.normalized = normalized;
+  return view;
+}
+
 bool LeaveOneOutPoint(const Rig& rig, const MarkerSample& sample, int skip, const std::vector<char>& excluded,
                       Eigen::Vector3d* point_in_world) {
   std::vector<PointView> views;
@@ -102,12 +110,7 @@ bool LeaveOneOutPoint(const Rig& rig, const MarkerSample& sample, int skip, cons
     const MarkerView& view = sample.views[v];
     if (v == skip || !view.reconstructed) continue;
     if (!excluded.empty() && excluded[view.camera]) continue;
-    const Camera& camera = rig.cameras[view.camera];
-    PointView pv;
-    pv.cam_from_world.leftCols<3>() = camera.rotation;
-    pv.cam_from_world.col(3) = camera.translation;
-    pv.normalized = view.normalized;
-    views.push_back(pv);
+    views.push_back(ViewThrough(rig.cameras[view.camera], view.normalized));
   }
   if (views.size() < 2) return false;
   return TriangulatePoint(views, point_in_world);

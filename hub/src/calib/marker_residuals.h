@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include "geometry/camera.h"
+#include "geometry/triangulation.h"
 #include "ingest/camera_frame.h"
 #include "recon/reconstructor.h"
 
@@ -89,6 +90,9 @@ struct CameraResiduals {
   double rms_px = 0.0;           // root mean square residual length (the hub's rms_px)
   Eigen::Vector2d mean_px = Eigen::Vector2d::Zero();  // mean residual vector (observed - projected)
 };
+
+// The triangulation input of one view: the camera's pose and the view's undistorted coordinates.
+PointView ViewThrough(const Camera& camera, const Eigen::Vector2d& normalized);
 
 // Leave-one-out point of `sample` for view `skip` (index into sample.views), triangulated from
 // the other reconstructed views of cameras not in `excluded` (may be empty); false with fewer

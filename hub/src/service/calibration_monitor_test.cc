@@ -16,19 +16,10 @@
 #include "simcore/projector.h"
 #include "simcore/ring_rig.h"
 #include "simcore/synthetic_motion.h"
+#include "simcore/test_scenes.h"
 
 namespace mocap::service {
 namespace {
-
-MarkerTrajectories Walk() {
-  const std::string walk = std::string(MOCAP_SHARED_DIR) + "/data/motions/walk.trc";
-  if (std::filesystem::exists(walk)) return ReadTrc(walk);
-  SyntheticMotionOptions options;
-  options.markers = 41;
-  options.frames = 151;
-  options.rate_hz = 60.0;
-  return MakeSyntheticMotion(options);
-}
 
 struct MonitorRun {
   long first_bumped_frame = -1;  // frames after the start
@@ -71,7 +62,7 @@ Rig WalkRig(const MarkerTrajectories& motion) {
 }
 
 TEST(CalibrationMonitorTest, BumpedCameraIsReportedWithinTwoSecondsAndResolved) {
-  const MarkerTrajectories motion = Walk();
+  const MarkerTrajectories motion = testing::WalkOrSyntheticWalker(MOCAP_SHARED_DIR);
   const Rig calibration = WalkRig(motion);
   Rig truth = calibration;
   ApplyCameraBump({5, 0.5, 5.0, 0.0, 2}, &truth);
@@ -100,7 +91,7 @@ TEST(CalibrationMonitorTest, BumpedCameraIsReportedWithinTwoSecondsAndResolved) 
 }
 
 TEST(CalibrationMonitorTest, UnmovedRigStaysOkWithoutSolves) {
-  const MarkerTrajectories motion = Walk();
+  const MarkerTrajectories motion = testing::WalkOrSyntheticWalker(MOCAP_SHARED_DIR);
   const Rig calibration = WalkRig(motion);
   CalibrationMonitor monitor(calibration, motion.rate_hz, CalibrationMonitorOptions());
   Feed(motion, calibration, calibration, 0, &monitor);

@@ -3,10 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include <Eigen/Geometry>
 
+#include "io/trc.h"
 #include "simcore/look_at.h"
+#include "simcore/synthetic_motion.h"
 
 namespace mocap::testing {
 namespace {
@@ -170,6 +173,16 @@ WandScene MakeWandScene(const Rig& rig, const std::vector<double>& marker_offset
     scene.wand_centres.push_back(centre);
   }
   return scene;
+}
+
+MarkerTrajectories WalkOrSyntheticWalker(const std::string& shared_dir) {
+  const std::string walk = shared_dir + "/data/motions/walk.trc";
+  if (std::filesystem::exists(walk)) return ReadTrc(walk);
+  SyntheticMotionOptions options;
+  options.markers = 41;
+  options.frames = 151;
+  options.rate_hz = 60.0;
+  return MakeSyntheticMotion(options);
 }
 
 }  // namespace mocap::testing

@@ -8,15 +8,21 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
+#include "io/marker_trajectories.h"
 #include "simcore/projector.h"
 
 namespace mocap::testing {
+
+// SHARED_DIR/data/motions/walk.trc when it exists (the real walk: 41 markers, 151 frames at
+// 60 Hz), otherwise a synthetic walker of the same size.
+MarkerTrajectories WalkOrSyntheticWalker(const std::string& shared_dir);
 
 // num_cameras cameras on a circle of `radius_mm`, alternately at height_mm and 0.65 height_mm
 // (z up), all aimed at `target`; ids 1..n.
