@@ -3,13 +3,11 @@
 // move stays "ok" with no solve.
 #include "service/calibration_monitor.h"
 
-#include <filesystem>
 #include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
 
-#include "io/trc.h"
 #include "recon/reconstructor.h"
 #include "simcore/camera_bump.h"
 #include "simcore/motion_volume.h"
