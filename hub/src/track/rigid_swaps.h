@@ -42,7 +42,6 @@ class RigidSwapResolver {
                      std::vector<char>* changed, int* repaired);
 
   RigidSwapOptions options_;
-  int min_samples_ = 0;
   std::vector<int> measured_;
   std::vector<int> parent_;
   std::vector<char> in_cluster_;
