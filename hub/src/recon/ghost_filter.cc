@@ -30,7 +30,8 @@ void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, co
 }
 
 int GhostFilter::Apply(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-                       const std::vector<TriangulatedPoint>& points, UseCounts* used, std::vector<char>* keep) {
+                       const std::vector<TriangulatedPoint>& points, size_t tracked, UseCounts* used,
+                       std::vector<char>* keep) {
   const int count = static_cast<int>(points.size());
   keep->assign(count, 1);
   if (!options_.enabled) return 0;
@@ -54,7 +55,8 @@ int GhostFilter::Apply(const RigModel& rig, const FrameViews& views, const BlobI
     }
     int evidence = 0;
     for (int o : point.observations) evidence += explained_[o] ? 0 : 1;
-    if (duplicate || evidence < triangulation_.min_views) {
+    const bool ghost = static_cast<size_t>(i) >= tracked && evidence < triangulation_.min_views;
+    if (duplicate || ghost) {
       (*keep)[i] = 0;
       for (int o : point.observations) --(*used)[o];
       ++dropped;

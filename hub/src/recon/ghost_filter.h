@@ -1,9 +1,11 @@
 // The last step of a frame's reconstruction: every point must be a marker of its own. Points are
 // taken best first (more views, then earlier: predictions of the oldest tracks come first); a
-// point is dropped when it lies closer to a kept point than two markers can (a duplicate), or when
-// fewer than min_views of its views carry evidence of their own, i.e. lie farther than a view's
-// residual limit from every kept point's reprojection (a ghost made of other markers' blobs; a
-// merged blob serving two markers counts as explained). Dropped points give their blobs back.
+// point is dropped when it lies closer to a kept point than two markers can (a duplicate), or,
+// for a point no track predicted, when fewer than min_views of its views carry evidence of their
+// own, i.e. lie farther than a view's residual limit from every kept point's reprojection (a ghost
+// made of other markers' blobs; a merged blob serving two markers counts as explained). A tracked
+// point is spared that test: two markers' images coincide in some views, and a fast marker seen
+// by two cameras would lose frames to it. Dropped points give their blobs back.
 // Single-threaded; reuses its buffers between frames; never throws on data.
 #pragma once
 
@@ -19,10 +21,11 @@ class GhostFilter {
   GhostFilter(const GhostFilterOptions& options, const TriangulationOptions& triangulation)
       : options_(options), triangulation_(triangulation) {}
 
-  // Sets (*keep)[i] for every point; releases the views of the points dropped in *used.
-  // Returns how many were dropped.
+  // Sets (*keep)[i] for every point; the first `tracked` points came from track predictions.
+  // Releases the views of the points dropped in *used. Returns how many were dropped.
   int Apply(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-            const std::vector<TriangulatedPoint>& points, UseCounts* used, std::vector<char>* keep);
+            const std::vector<TriangulatedPoint>& points, size_t tracked, UseCounts* used,
+            std::vector<char>* keep);
 
  private:
   void MarkExplained(const RigModel& rig, const FrameViews& views, const BlobIndex& index,

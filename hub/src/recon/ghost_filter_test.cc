@@ -66,12 +66,17 @@ TEST(GhostFilter, KeepsMarkersDropsDuplicateAndGhost) {
   for (const TriangulatedPoint& point : points) MarkUsed(point, &used);
   GhostFilter filter{GhostFilterOptions(), TriangulationOptions()};
   std::vector<char> keep;
-  EXPECT_EQ(filter.Apply(model, scene.views, scene.index, points, &used, &keep), 2);
+  EXPECT_EQ(filter.Apply(model, scene.views, scene.index, points, 0, &used, &keep), 2);
   EXPECT_EQ(keep, (std::vector<char>{1, 1, 1, 0, 0}));
   // The duplicate's and the ghost's views are free again where no kept point holds them.
   for (int o : points[3].observations) EXPECT_EQ(used[o], 0);
   EXPECT_EQ(used[b], 1);  // still marker 1's
   EXPECT_EQ(used[c], 1);
+
+  // Every point tracked: the ghost's track vouches for it; the duplicate still goes.
+  for (const TriangulatedPoint& point : points) MarkUsed(point, &used);
+  EXPECT_EQ(filter.Apply(model, scene.views, scene.index, points, points.size(), &used, &keep), 1);
+  EXPECT_EQ(keep, (std::vector<char>{1, 1, 1, 0, 1}));
 }
 
 TEST(GhostFilter, DisabledKeepsEverything) {
@@ -84,7 +89,7 @@ TEST(GhostFilter, DisabledKeepsEverything) {
   options.enabled = false;
   GhostFilter filter{options, TriangulationOptions()};
   std::vector<char> keep;
-  EXPECT_EQ(filter.Apply(model, scene.views, scene.index, points, &used, &keep), 0);
+  EXPECT_EQ(filter.Apply(model, scene.views, scene.index, points, 0, &used, &keep), 0);
   EXPECT_EQ(keep, (std::vector<char>{1, 1}));
 }
 

@@ -40,7 +40,7 @@ void Reconstructor::Process(const FrameSet& frame_set,
       if (std::find(before.begin(), before.end(), o) == before.end()) ++used_[o];
     }
   }
-  stats_.ghosts_rejected += ghost_filter_.Apply(rig_, views_, index_, triangulated_, &used_, &keep_);
+  stats_.ghosts_rejected += ghost_filter_.Apply(rig_, views_, index_, triangulated_, from_predictions, &used_, &keep_);
   size_t kept = 0, kept_from_predictions = 0;
   for (size_t i = 0; i < triangulated_.size(); ++i) {
     if (!keep_[i]) continue;
