@@ -219,6 +219,9 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
+  command->add_flag("--defer-contested-predictions", o.recon.prediction.defer_contested,
+                    "Dense marker sets: a prediction whose point lies nearer another track's prediction is served "
+                    "after the others");
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
                       "Epipolar gate of live reconstruction (as reconstruct's)")
       ->capture_default_str();

@@ -59,6 +59,7 @@ PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const F
                                     : options_.max_shift_factor;
   const double max_shift = factor * prediction.gate_mm;
   if ((point->point_in_world - prediction.point_in_world).norm() > max_shift) return Outcome::kRejected;
+  if (!options_.defer_contested) return Outcome::kServed;
   return CloserToAnother(predictions, which, point->point_in_world, served) ? Outcome::kDeferred : Outcome::kServed;
 }
 

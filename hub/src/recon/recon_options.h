@@ -55,6 +55,10 @@ struct PredictionMatchOptions {
   // The point triangulated from the gathered blobs must land this close to the prediction,
   // relative to the prediction's own 3D gate.
   double max_shift_factor = 1.5;
+  // Dense marker sets: a prediction whose point lands at most half as far from another prediction
+  // not served yet is deferred and served again after the others (it gathered its neighbour's
+  // blobs). Off by default: on the tennis serve's fast hand it costs points (real-motion test).
+  bool defer_contested = false;
 
   void Check() const;
 };

@@ -147,7 +147,9 @@ TEST(Reconstructor, PredictionDoesNotTakeItsNeighbourInADenseCluster) {
   predictions[1].track_id = 10;  // A's
   predictions[1].point_in_world = markers[0];
   predictions[1].gate_mm = 30.0;
-  Reconstructor reconstructor(rig, ReconstructorOptions());
+  ReconstructorOptions options;
+  options.prediction.defer_contested = true;
+  Reconstructor reconstructor(rig, options);
   std::vector<ReconstructedPoint> points;
   reconstructor.Process(frame_set, predictions, &points);
   ASSERT_EQ(points.size(), 2u);
