@@ -3,6 +3,7 @@
 #include "simcore/projector.h"
 
 #include "io/marker_trajectories.h"
+#include "util/union_find.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,14 +23,6 @@ double MonotonicRadius(const std::array<double, 5>& d) {
     if (1.0 + r2 * (3.0 * d[0] + r2 * (5.0 * d[1] + r2 * 7.0 * d[4])) <= 0.0) return r - step;
   }
   return 4.0;
-}
-
-int FindRoot(std::vector<int>& parent, int i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
 }
 
 // Shape of a blob made of the spots grouped[begin, end) with this centroid and total area, as

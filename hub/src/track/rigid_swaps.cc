@@ -6,15 +6,9 @@
 #include <map>
 #include <numeric>
 
+#include "util/union_find.h"
+
 namespace mocap {
-namespace {
-
-int FindRoot(std::vector<int>& parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
-}  // namespace
 
 bool RigidSwapResolver::Steady(const RigidLink* link) const {
   return link != nullptr && !link->broken && link->samples >= options_.min_samples &&

@@ -383,11 +383,12 @@ void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMat
 // in the order their steady distances say; the filters of the tracks changed restart.
 void Tracker::RepairRigidClusters(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
   const size_t num_slots = tracks_.size();
-  std::vector<char> eligible(num_slots, 0), changed(num_slots, 0);
-  for (size_t slot = 0; slot < num_slots; ++slot) eligible[slot] = tracks_[slot].state == State::kActive;
-  stats_.cluster_repairs += swaps_.Resolve(rigid_, eligible, points, &match->point_of_slot, &changed);
+  swap_eligible_.assign(num_slots, 0);
+  swap_changed_.assign(num_slots, 0);
+  for (size_t slot = 0; slot < num_slots; ++slot) swap_eligible_[slot] = tracks_[slot].state == State::kActive;
+  stats_.cluster_repairs += swaps_.Resolve(rigid_, swap_eligible_, points, &match->point_of_slot, &swap_changed_);
   for (size_t slot = 0; slot < num_slots; ++slot) {
-    if (!changed[slot]) continue;
+    if (!swap_changed_[slot]) continue;
     match->moved[slot] = 1;
     match->found_wide[slot] = 1;
   }
