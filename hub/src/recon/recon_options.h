@@ -89,6 +89,17 @@ struct ReconstructorOptions {
   ClusteringOptions clustering;
   PredictionMatchOptions prediction;
   GhostFilterOptions ghosts;
+  // Acquisition on large rigs: when more blobs than this per camera are left to the matcher (the
+  // first frame, everything lost at once), it first works on at most seed_cameras cameras spread
+  // around the volume, their points take their views in every other camera, and only what is
+  // left goes to a matcher over all cameras. The all-pairs graph grows with cameras squared
+  // times blobs squared; this bounds a cold start at 64 cameras to about a 16-camera one.
+  // 0 seed cameras: always match over all cameras.
+  int seed_cameras = 16;
+  double seed_from_blobs_per_camera = 4.0;
+  // Worker threads for one frame (undistortion and the blob index per camera, prediction
+  // serving); results are identical for every count. 1: the calling thread only.
+  int threads = 1;
 
   void Check() const;
 };
