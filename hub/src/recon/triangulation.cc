@@ -41,7 +41,7 @@ bool RefinePoint(const RigModel& rig, const FrameViews& views, const std::vector
     if (!gauss_newton.Solve(&step)) return false;
     point -= step;
     // Steps under a micrometre change nothing measurable; stop early to save time.
-    if (step.squaredNorm() < 1e-6) break;
+    if (step.squaredNorm() < 1e-2) break;
   }
   *point_in_world = point;
   return true;
