@@ -18,6 +18,8 @@ HOST_PACKAGES=(
     libcmocka-dev libgtest-dev libgmock-dev
     # hub libraries
     libeigen3-dev libceres-dev libopencv-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+    # the hub's worker threads inside a frame (oneTBB)
+    libtbb-dev
     # the live hub's HTTP + WebSocket API, and three.js for its web console's 3D views
     libcivetweb-dev libjs-three
     # the web console's browser test (tests/web): headless Chromium and its WebDriver

@@ -1,7 +1,9 @@
 // `bench`: per-frame reconstruct + track time on a simulated session built in memory (default
 // 16 cameras, 60 markers, 240 Hz, the faults), side by side in the same run with the
 // floor: undistorting and triangulating the same frames given the true correspondences. Prints
-// the real-time factor (frame period / mean time per frame, one thread).
+// the real-time factor (frame period / mean time per frame), p99 against the median, the cold
+// start and where the time goes. `--motion FILE` replays a recorded motion instead, `--threads N`
+// runs each frame on N threads (wall clock then), `--table` runs cameras x markers cases.
 // `bench --ingest`: the hub's datagram ingest (envelope opened and checked, packet decoded,
 // chunks and frame sets assembled) on the same simulated session's datagrams, authenticated and
 // on the insecure development wire, in datagrams per second of one thread.
@@ -25,6 +27,7 @@
 #include "ingest/frame_ingest.h"
 #include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
+#include "io/trajectory_file.h"
 #include "recon/known_correspondences.h"
 #include "recon/reconstructor.h"
 #include "recon/triangulation.h"
@@ -48,6 +51,11 @@ struct BenchArgs {
   ProjectOptions faults;
   bool json = false;
   bool ingest = false;
+  std::string motion;  // a TRC or C3D file instead of the synthetic motion
+  int threads = 1;
+  bool table = false;
+  std::vector<int> table_cameras = {8, 16, 32, 64};
+  std::vector<int> table_markers = {40, 60, 100, 150};
 };
 
 using Clock = std::chrono::steady_clock;
@@ -168,33 +176,29 @@ void RunIngestBench(const BenchArgs& args, const Rig& rig, FaultyProjector& proj
   std::printf("authentication adds %.2f us per datagram\n", auth_us - insecure_us);
 }
 
-void RunBench(BenchArgs args) {
-  if (args.cameras < 2) throw UsageError("--cameras must be >= 2");
-  if (args.markers < 1) throw UsageError("--markers must be >= 1");
-  if (args.frames < 10) throw UsageError("--frames must be >= 10");
-  if (!(args.rate_hz > 0.0)) throw UsageError("--rate must be > 0");
-  CheckOptions(args.faults);
+// One timed run of reconstruct + track over a motion, beside the floor.
+struct CaseResult {
+  int cameras = 0;
+  size_t markers = 0, frames = 0;
+  double blobs_per_frame = 0.0;
+  Timings pipeline, floor, pipeline_wall, floor_wall;
+  double first_frame_us = 0.0;  // the cold start, wall clock: included in the timings above
+  double points_per_frame = 0.0, floor_points_per_frame = 0.0, output_samples_per_frame = 0.0;
+  double leftover_per_frame = 0.0;
+  double served_again_per_frame = 0.0;
+  int output_markers = 0;
+  ReconstructionStageTimes stages;
+};
 
-  SyntheticMotionOptions motion_options;
-  motion_options.markers = args.markers;
-  motion_options.frames = args.frames;
-  motion_options.rate_hz = args.rate_hz;
-  const MarkerTrajectories motion = MakeSyntheticMotion(motion_options);
-  RingRigOptions rig_options;
-  rig_options.cameras = args.cameras;
-  const Rig rig = MakeRingRig(ComputeMotionVolume(motion, motion_options.up_axis), rig_options);
+CaseResult RunCase(const BenchArgs& args, const MarkerTrajectories& motion, const Rig& rig) {
   FaultyProjector projector(rig, motion.NumMarkers(), args.faults);
-  if (args.ingest) {
-    RunIngestBench(args, rig, projector, motion);
-    return;
-  }
-
   ReconstructorOptions recon_options;
   recon_options.matcher = MatcherTypeFromString(args.matcher);
   recon_options.use_predictions = !args.no_predictions;
+  recon_options.threads = args.threads;
   Reconstructor reconstructor(rig, recon_options);
   TrackerOptions tracker_options;
-  tracker_options.rate_hz = args.rate_hz;
+  tracker_options.rate_hz = motion.rate_hz;
   Tracker tracker(tracker_options);
   size_t output_samples = 0;
   GapFiller filler(GapFillOptions(), [&](uint64_t, const std::vector<TrackSample>& row) {
@@ -205,7 +209,10 @@ void RunBench(BenchArgs args) {
   std::vector<std::vector<int>> true_views;
   std::vector<Eigen::Vector3d> floor_positions;
 
-  Timings pipeline, floor, pipeline_wall, floor_wall;
+  CaseResult result;
+  result.cameras = static_cast<int>(rig.cameras.size());
+  result.markers = motion.NumMarkers();
+  result.frames = motion.NumFrames();
   FrameSet frame_set;
   std::vector<int> seeing;
   std::vector<ReconstructedPoint> points;
@@ -227,8 +234,8 @@ void RunBench(BenchArgs args) {
     BuildFrameViews(floor_rig, frame_set, &floor_views);
     floor_points += TriangulateKnownCorrespondences(floor_rig, floor_views, true_views, TriangulationOptions(),
                                                     &floor_positions);
-    floor.per_frame_us.push_back(ThreadCpuMicroseconds() - floor_cpu_start);
-    floor_wall.per_frame_us.push_back(Microseconds(Clock::now() - floor_start));
+    result.floor.per_frame_us.push_back(ThreadCpuMicroseconds() - floor_cpu_start);
+    result.floor_wall.per_frame_us.push_back(Microseconds(Clock::now() - floor_start));
 
     const Clock::time_point start = Clock::now();
     const double cpu_start = ThreadCpuMicroseconds();
@@ -236,53 +243,191 @@ void RunBench(BenchArgs args) {
     samples.clear();
     tracker.Update(frame_number, points, &samples);
     filler.Add(frame_number, samples);
-    pipeline.per_frame_us.push_back(ThreadCpuMicroseconds() - cpu_start);
-    pipeline_wall.per_frame_us.push_back(Microseconds(Clock::now() - start));
+    result.pipeline.per_frame_us.push_back(ThreadCpuMicroseconds() - cpu_start);
+    result.pipeline_wall.per_frame_us.push_back(Microseconds(Clock::now() - start));
     pipeline_points += points.size();
   }
   filler.Finish();
-
-  const double period_us = 1e6 / args.rate_hz;
-  const double mean = pipeline.Mean(), floor_mean = floor.Mean();
   const double frames = static_cast<double>(motion.NumFrames());
-  nlohmann::json report = {
-      {"cameras", args.cameras},
-      {"markers", args.markers},
+  result.blobs_per_frame = blobs / frames;
+  result.first_frame_us = result.pipeline_wall.per_frame_us.front();
+  result.points_per_frame = pipeline_points / frames;
+  result.floor_points_per_frame = floor_points / frames;
+  result.output_samples_per_frame = output_samples / frames;
+  result.leftover_per_frame = reconstructor.stats().leftover_observations / frames;
+  result.served_again_per_frame = reconstructor.stats().predictions_served_again / frames;
+  result.output_markers = tracker.NumMarkers();
+  result.stages = reconstructor.stage_times();
+  return result;
+}
+
+// With several threads the calling thread's CPU time no longer measures the work: wall clock
+// is the figure then (on a quiet machine).
+const Timings& PipelineTimes(const BenchArgs& args, const CaseResult& r) {
+  return args.threads > 1 ? r.pipeline_wall : r.pipeline;
+}
+
+nlohmann::json CaseJson(const BenchArgs& args, const CaseResult& r) {
+  const Timings& pipeline = PipelineTimes(args, r);
+  const double period_us = 1e6 / args.rate_hz;
+  const double frames = static_cast<double>(r.frames);
+  const double mean = pipeline.Mean(), floor_mean = r.floor.Mean();
+  const auto stats = [](const Timings& t) {
+    return nlohmann::json{{"mean", t.Mean()}, {"median", t.Percentile(0.5)}, {"p99", t.Percentile(0.99)}, {"max", t.Percentile(1.0)}};
+  };
+  return {
+      {"cameras", r.cameras},
+      {"markers", r.markers},
       {"rate_hz", args.rate_hz},
-      {"frames", motion.NumFrames()},
+      {"frames", r.frames},
+      {"threads", args.threads},
       {"matcher", args.matcher},
       {"predictions", !args.no_predictions},
-      {"blobs_per_frame", blobs / frames},
-      {"reconstruct_track_us", {{"mean", mean}, {"median", pipeline.Percentile(0.5)}, {"p99", pipeline.Percentile(0.99)}, {"max", pipeline.Percentile(1.0)}}},
-      {"floor_us", {{"mean", floor_mean}, {"median", floor.Percentile(0.5)}, {"p99", floor.Percentile(0.99)}, {"max", floor.Percentile(1.0)}}},
-      {"wall_reconstruct_track_us", {{"mean", pipeline_wall.Mean()}, {"median", pipeline_wall.Percentile(0.5)}}},
-      {"wall_floor_us", {{"mean", floor_wall.Mean()}, {"median", floor_wall.Percentile(0.5)}}},
+      {"blobs_per_frame", r.blobs_per_frame},
+      {"timing", args.threads > 1 ? "wall" : "thread_cpu"},
+      {"reconstruct_track_us", stats(pipeline)},
+      {"floor_us", stats(r.floor)},
+      {"wall_reconstruct_track_us", {{"mean", r.pipeline_wall.Mean()}, {"median", r.pipeline_wall.Percentile(0.5)}}},
+      {"wall_floor_us", {{"mean", r.floor_wall.Mean()}, {"median", r.floor_wall.Percentile(0.5)}}},
+      {"first_frame_us", r.first_frame_us},
       {"ratio_to_floor", mean / floor_mean},
       {"real_time_factor", period_us / mean},
       {"floor_real_time_factor", period_us / floor_mean},
-      {"points_per_frame", pipeline_points / frames},
-      {"leftover_blobs_per_frame", reconstructor.stats().leftover_observations / frames},
-      {"floor_points_per_frame", floor_points / frames},
-      {"output_markers", tracker.NumMarkers()},
-      {"output_samples_per_frame", output_samples / frames},
+      {"p99_over_median", pipeline.Percentile(0.99) / pipeline.Percentile(0.5)},
+      {"points_per_frame", r.points_per_frame},
+      {"leftover_blobs_per_frame", r.leftover_per_frame},
+      {"predictions_served_again_per_frame", r.served_again_per_frame},
+      {"floor_points_per_frame", r.floor_points_per_frame},
+      {"output_markers", r.output_markers},
+      {"output_samples_per_frame", r.output_samples_per_frame},
+      {"stages_us_per_frame",
+       {{"views", r.stages.views_us / frames},
+        {"index", r.stages.index_us / frames},
+        {"predictions", r.stages.predictions_us / frames},
+        {"matcher", r.stages.matcher_us / frames},
+        {"ghosts", r.stages.ghosts_us / frames}}},
   };
-  if (args.json) {
-    std::printf("%s\n", report.dump().c_str());
+}
+
+void PrintCase(const BenchArgs& args, const CaseResult& r, const std::string& motion_name) {
+  const Timings& pipeline = PipelineTimes(args, r);
+  const double period_us = 1e6 / args.rate_hz;
+  const double frames = static_cast<double>(r.frames);
+  const double mean = pipeline.Mean(), floor_mean = r.floor.Mean();
+  std::printf("bench: %d cameras, %zu markers (%s), %zu frames, real time = %.0f Hz, %.1f blobs/frame, matcher %s%s, "
+              "%d thread%s\n",
+              r.cameras, r.markers, motion_name.c_str(), r.frames, args.rate_hz, r.blobs_per_frame,
+              args.matcher.c_str(), args.no_predictions ? " (no predictions)" : "", args.threads,
+              args.threads == 1 ? "" : "s");
+  std::printf("%-28s %10s %10s %10s %10s %12s\n",
+              args.threads > 1 ? "per frame (us, wall clock)" : "per frame (us, thread CPU)", "mean", "median", "p99",
+              "max", "real-time x");
+  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "reconstruct + track", mean, pipeline.Percentile(0.5),
+              pipeline.Percentile(0.99), pipeline.Percentile(1.0), period_us / mean);
+  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "floor (true correspondences)", floor_mean,
+              r.floor.Percentile(0.5), r.floor.Percentile(0.99), r.floor.Percentile(1.0), period_us / floor_mean);
+  std::printf("wall clock (us): reconstruct + track mean %.1f median %.1f; floor mean %.1f median %.1f; "
+              "first frame %.0f\n",
+              r.pipeline_wall.Mean(), r.pipeline_wall.Percentile(0.5), r.floor_wall.Mean(),
+              r.floor_wall.Percentile(0.5), r.first_frame_us);
+  std::printf("ratio to floor %.2f; p99/median %.2f; points/frame %.2f (floor %.2f); %.1f blobs/frame left to the "
+              "matcher; %d output markers for %zu\n",
+              mean / floor_mean, pipeline.Percentile(0.99) / pipeline.Percentile(0.5), r.points_per_frame,
+              r.floor_points_per_frame, r.leftover_per_frame, r.output_markers, r.markers);
+  std::printf("stages (us/frame, wall): views %.1f index %.1f predictions %.1f matcher %.1f ghosts %.1f; "
+              "track the rest; %.2f predictions/frame served again after a parallel attempt\n",
+              r.stages.views_us / frames, r.stages.index_us / frames, r.stages.predictions_us / frames,
+              r.stages.matcher_us / frames, r.stages.ghosts_us / frames, r.served_again_per_frame);
+}
+
+MarkerTrajectories SyntheticBenchMotion(const BenchArgs& args, int markers) {
+  SyntheticMotionOptions motion_options;
+  motion_options.markers = markers;
+  motion_options.frames = args.frames;
+  motion_options.rate_hz = args.rate_hz;
+  return MakeSyntheticMotion(motion_options);
+}
+
+Rig BenchRig(const MarkerTrajectories& motion, int cameras) {
+  RingRigOptions rig_options;
+  rig_options.cameras = cameras;
+  return MakeRingRig(ComputeMotionVolume(motion, -1), rig_options);
+}
+
+// Cameras x markers on the synthetic motion, one line per case.
+void RunTable(const BenchArgs& args) {
+  const double period_us = 1e6 / args.rate_hz;
+  nlohmann::json rows = nlohmann::json::array();
+  if (!args.json) {
+    std::printf("bench --table: %d frames per case at %.0f Hz, %d thread%s, %s\n", args.frames, args.rate_hz,
+                args.threads, args.threads == 1 ? "" : "s",
+                args.threads > 1 ? "wall clock" : "thread CPU time");
+    std::printf("%7s %7s %9s %9s %9s %9s %9s %8s %9s %8s %9s %9s\n", "cameras", "markers", "mean us", "median",
+                "p99", "max", "first", "RT x", "floor us", "x floor", "p99/med", "out/true");
+  }
+  for (int cameras : args.table_cameras) {
+    for (int markers : args.table_markers) {
+      const MarkerTrajectories motion = SyntheticBenchMotion(args, markers);
+      const CaseResult r = RunCase(args, motion, BenchRig(motion, cameras));
+      if (args.json) {
+        rows.push_back(CaseJson(args, r));
+        continue;
+      }
+      const Timings& t = PipelineTimes(args, r);
+      std::printf("%7d %7d %9.1f %9.1f %9.1f %9.0f %9.0f %8.1f %9.1f %8.2f %9.2f %5d/%-3d\n", cameras, markers,
+                  t.Mean(), t.Percentile(0.5), t.Percentile(0.99), t.Percentile(1.0), r.first_frame_us,
+                  period_us / t.Mean(), r.floor.Mean(), t.Mean() / r.floor.Mean(),
+                  t.Percentile(0.99) / t.Percentile(0.5), r.output_markers, markers);
+      std::fflush(stdout);
+    }
+  }
+  if (args.json) std::printf("%s\n", rows.dump().c_str());
+}
+
+void RunBench(BenchArgs args) {
+  if (args.cameras < 2) throw UsageError("--cameras must be >= 2");
+  if (args.markers < 1) throw UsageError("--markers must be >= 1");
+  if (args.frames < 10) throw UsageError("--frames must be >= 10");
+  if (!(args.rate_hz > 0.0)) throw UsageError("--rate must be > 0");
+  if (args.threads < 1 || args.threads > 256) throw UsageError("--threads must be in [1, 256]");
+  for (int c : args.table_cameras) {
+    if (c < 2) throw UsageError("--table-cameras: every count must be >= 2");
+  }
+  for (int m : args.table_markers) {
+    if (m < 1) throw UsageError("--table-markers: every count must be >= 1");
+  }
+  if (args.table && !args.motion.empty()) throw UsageError("--table runs the synthetic motion; drop --motion");
+  CheckOptions(args.faults);
+  if (args.table) {
+    RunTable(args);
     return;
   }
-  std::printf("bench: %d cameras, %d markers, %.0f Hz, %zu frames (%.1f s), %.1f blobs/frame, matcher %s%s\n",
-              args.cameras, args.markers, args.rate_hz, motion.NumFrames(), frames / args.rate_hz,
-              blobs / frames, args.matcher.c_str(), args.no_predictions ? " (no predictions)" : "");
-  std::printf("%-28s %10s %10s %10s %10s %12s\n", "per frame (us, thread CPU)", "mean", "median", "p99", "max", "real-time x");
-  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "reconstruct + track", mean,
-              pipeline.Percentile(0.5), pipeline.Percentile(0.99), pipeline.Percentile(1.0), period_us / mean);
-  std::printf("%-28s %10.1f %10.1f %10.1f %10.1f %12.1f\n", "floor (true correspondences)", floor_mean,
-              floor.Percentile(0.5), floor.Percentile(0.99), floor.Percentile(1.0), period_us / floor_mean);
-  std::printf("wall clock (us): reconstruct + track mean %.1f median %.1f; floor mean %.1f median %.1f\n",
-              pipeline_wall.Mean(), pipeline_wall.Percentile(0.5), floor_wall.Mean(), floor_wall.Percentile(0.5));
-  std::printf("ratio to floor %.2f; points/frame %.2f (floor %.2f); %.1f blobs/frame left to the matcher; "
-              "%d output markers\n", mean / floor_mean, pipeline_points / frames, floor_points / frames,
-              reconstructor.stats().leftover_observations / frames, tracker.NumMarkers());
+
+  MarkerTrajectories motion;
+  if (args.motion.empty()) {
+    motion = SyntheticBenchMotion(args, args.markers);
+  } else {
+    motion = ReadTrajectories(args.motion);
+    if (motion.NumFrames() < 10 || motion.NumMarkers() == 0) {
+      throw std::runtime_error(args.motion + ": a bench motion needs at least 10 frames and one marker");
+    }
+    if (motion.NumFrames() > static_cast<size_t>(args.frames)) {
+      motion.frame_numbers.resize(args.frames);
+      motion.points.resize(static_cast<size_t>(args.frames) * motion.NumMarkers());
+    }
+  }
+  const Rig rig = BenchRig(motion, args.cameras);
+  if (args.ingest) {
+    FaultyProjector projector(rig, motion.NumMarkers(), args.faults);
+    RunIngestBench(args, rig, projector, motion);
+    return;
+  }
+  const CaseResult result = RunCase(args, motion, rig);
+  if (args.json) {
+    std::printf("%s\n", CaseJson(args, result).dump().c_str());
+    return;
+  }
+  PrintCase(args, result, args.motion.empty() ? "synthetic" : args.motion);
 }
 
 }  // namespace
@@ -309,6 +454,15 @@ void AddBenchCommand(CLI::App& app) {
   command->add_option("--drop-frames", args->faults.drop_frames, "Dropped camera frame probability")->capture_default_str();
   command->add_option("--seed", args->faults.seed, "Fault seed")->capture_default_str();
   command->add_flag("--json", args->json, "One JSON object on stdout");
+  command->add_option("--motion", args->motion,
+                      "Replay this TRC or C3D motion (its own rate and markers, up to --frames frames) instead of "
+                      "the synthetic one; --rate stays the capture rate real time is measured against")
+      ->check(CLI::ExistingFile);
+  command->add_option("--threads", args->threads, "Worker threads inside a frame (results identical for any count)")
+      ->capture_default_str();
+  command->add_flag("--table", args->table, "Scaling table: every --table-cameras x --table-markers case");
+  command->add_option("--table-cameras", args->table_cameras, "Camera counts of the table")->capture_default_str();
+  command->add_option("--table-markers", args->table_markers, "Marker counts of the table")->capture_default_str();
   command->add_flag("--ingest", args->ingest,
                     "Time the hub's datagram ingest instead, authenticated and insecure (datagrams/s)");
   command->callback([args]() { RunBench(*args); });

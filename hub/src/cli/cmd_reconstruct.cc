@@ -233,6 +233,11 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_flag("--defer-contested-predictions", args->recon.prediction.defer_contested,
                     "Dense marker sets: a prediction whose point lies nearer another track's prediction is served "
                     "after the others");
+  command->add_option("--threads", args->recon.threads,
+                      "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
+                      "for any count")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   command->add_option("--max-ray-distance-mm", args->recon.graph.max_ray_distance_mm,
                       "Epipolar graph: rays closer than this are linked")->capture_default_str();
   command->add_option("--cluster-distance-mm", args->recon.clustering.max_ray_distance_mm,

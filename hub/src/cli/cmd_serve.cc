@@ -222,6 +222,11 @@ void AddServeCommand(CLI::App& app) {
   command->add_flag("--defer-contested-predictions", o.recon.prediction.defer_contested,
                     "Dense marker sets: a prediction whose point lies nearer another track's prediction is served "
                     "after the others");
+  command->add_option("--threads", o.recon.threads,
+                      "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
+                      "for any count")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
                       "Epipolar gate of live reconstruction (as reconstruct's)")
       ->capture_default_str();

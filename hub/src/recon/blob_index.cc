@@ -2,32 +2,70 @@
 #include "recon/blob_index.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace mocap {
 
-void BlobIndex::Build(const RigModel& rig, const FrameViews& views) {
-  const int num_cameras = rig.NumCameras();
-  sorted_by_x_.resize(num_cameras);
-  x_.resize(num_cameras);
-  for (int c = 0; c < num_cameras; ++c) {
-    std::vector<int>& sorted = sorted_by_x_[c];
-    sorted.resize(views.camera_begin[c + 1] - views.camera_begin[c]);
-    std::iota(sorted.begin(), sorted.end(), views.camera_begin[c]);
-    std::sort(sorted.begin(), sorted.end(), [&](int a, int b) {
-      return views.observations[a].normalized.x() < views.observations[b].normalized.x();
-    });
-    x_[c].resize(sorted.size());
-    for (size_t k = 0; k < sorted.size(); ++k) x_[c][k] = views.observations[sorted[k]].normalized.x();
+void BlobIndex::Resize(const RigModel& rig) { grids_.resize(rig.NumCameras()); }
+
+void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int camera) {
+  Grid& grid = grids_[camera];
+  const int begin = views.camera_begin[camera], end = views.camera_begin[camera + 1];
+  grid.entries.resize(end - begin);
+  if (begin == end) return;
+  Eigen::Vector2d low = views.observations[begin].normalized, high = low;
+  for (int o = begin + 1; o < end; ++o) {
+    low = low.cwiseMin(views.observations[o].normalized);
+    high = high.cwiseMax(views.observations[o].normalized);
+  }
+  // Blobs lie in the image, so the grid spans at most the image; the cap only bounds memory
+  // against a rig file with a nonsensical focal length.
+  constexpr int kMaxCellsPerSide = 512;
+  const Eigen::Vector2d span = high - low;
+  double cell = kCellPx / rig.camera(camera).focal_px;
+  cell = std::max(cell, span.maxCoeff() / (kMaxCellsPerSide - 1));
+  // No more cells than about two per blob: clearing and scanning empty cells would cost more
+  // than the blobs themselves when a few blobs (spurious ones) spread over the whole image.
+  cell = std::max(cell, std::sqrt(span.x() * span.y() / (2.0 * (end - begin))));
+  if (!(cell > 0.0)) cell = 1.0;  // one blob, or all at one spot
+  grid.min_x = low.x();
+  grid.min_y = low.y();
+  grid.inverse_cell = 1.0 / cell;
+  grid.cols = static_cast<int>((high.x() - low.x()) * grid.inverse_cell) + 1;
+  grid.rows = static_cast<int>((high.y() - low.y()) * grid.inverse_cell) + 1;
+  const auto cell_of = [&](const Eigen::Vector2d& p) {
+    const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
+    const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
+    return row * grid.cols + col;
+  };
+  // Counting sort into cells; within a cell, observations keep their order.
+  grid.cell_begin.assign(static_cast<size_t>(grid.cols) * grid.rows + 1, 0);
+  for (int o = begin; o < end; ++o) ++grid.cell_begin[cell_of(views.observations[o].normalized) + 1];
+  for (size_t k = 1; k < grid.cell_begin.size(); ++k) grid.cell_begin[k] += grid.cell_begin[k - 1];
+  grid.fill.assign(grid.cell_begin.begin(), grid.cell_begin.end() - 1);
+  for (int o = begin; o < end; ++o) {
+    const Eigen::Vector2d& p = views.observations[o].normalized;
+    grid.entries[grid.fill[cell_of(p)]++] = {p, o};
   }
 }
 
+void BlobIndex::Build(const RigModel& rig, const FrameViews& views) {
+  Resize(rig);
+  for (int c = 0; c < rig.NumCameras(); ++c) BuildCamera(rig, views, c);
+}
+
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point) {
+                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
+                   std::vector<int>* picked) {
   const int num_cameras = rig.NumCameras();
-  std::vector<char> has_camera(num_cameras, 0);
+  // Per-thread scratch: called for every point of every frame.
+  thread_local std::vector<char> has_camera;
+  thread_local std::vector<int> extended;
+  thread_local TriangulatedPoint completed;
+  has_camera.assign(num_cameras, 0);
   for (int o : point->observations) has_camera[views.observations[o].camera] = 1;
-  std::vector<int> extended = point->observations;
+  extended = point->observations;
   for (int c = 0; c < num_cameras; ++c) {
     if (has_camera[c]) continue;
     const CameraModel& cam = rig.camera(c);
@@ -37,14 +75,14 @@ void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex
                                     [&](int o) { return IsAvailable(views.observations[o], used[o]); });
     if (found >= 0) extended.push_back(found);
   }
+  if (picked != nullptr) picked->insert(picked->end(), extended.begin() + point->observations.size(), extended.end());
   if (extended.size() == point->observations.size()) return;
-  TriangulatedPoint completed;
   // The extra views were chosen within the residual limit; if the joint solve disagrees, the
   // original point stands.
   if (TriangulateRobust(rig, views, extended, options, &completed) &&
       completed.observations.size() > point->observations.size()) {
     completed.rejected.insert(completed.rejected.begin(), point->rejected.begin(), point->rejected.end());
-    *point = completed;
+    std::swap(*point, completed);
   }
 }
 

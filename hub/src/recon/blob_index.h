@@ -1,7 +1,9 @@
-// Per-camera index of one frame's observations sorted by normalized x, for "nearest blob to this
-// image point within r" queries (prediction search, view completion) in O(log n + k).
+// Per-camera grid of one frame's observations for "nearest blob to this image point within r"
+// queries (prediction search, view completion, the ghost filter): O(cells touched + blobs in
+// them), independent of how many blobs the image holds elsewhere.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,7 +15,15 @@ namespace mocap {
 
 class BlobIndex {
  public:
+  // Cell edge in pixels: gates and residual limits are a few pixels, so a query reads a few
+  // cells whatever the number of blobs (a subject's blobs crowd one part of an image).
+  static constexpr double kCellPx = 12.0;
+
   void Build(const RigModel& rig, const FrameViews& views);
+  // Builds camera c's grid only: cameras are independent, so several threads may build
+  // different cameras of one index after Resize.
+  void Resize(const RigModel& rig);
+  void BuildCamera(const RigModel& rig, const FrameViews& views, int camera);
   // Nearest observation of `camera` to `normalized` within `radius` (normalized units) that
   // `available` accepts, or -1.
   template <typename Accept>
@@ -25,46 +35,77 @@ class BlobIndex {
                      Visit visit) const;
 
  private:
-  std::vector<std::vector<int>> sorted_by_x_;
-  std::vector<std::vector<double>> x_;  // the keys, contiguous for the binary search
+  struct Entry {
+    Eigen::Vector2d normalized;
+    int observation;
+  };
+  // One camera's observations bucketed into square cells (row-major), entries of cell k are
+  // [cell_begin[k], cell_begin[k + 1]).
+  struct Grid {
+    double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
+    int cols = 0, rows = 0;
+    std::vector<int> cell_begin;
+    std::vector<Entry> entries;
+    std::vector<int> fill;  // scratch of Build, per camera so cameras build in parallel
+  };
+  // Calls visit(entry) for the entries of the cells the square around `at` touches.
+  template <typename Visit>
+  static void ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit);
+
+  std::vector<Grid> grids_;
 };
 
+template <typename Visit>
+void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit) {
+  if (grid.entries.empty()) return;
+  // Cell coordinates of the square's corners, clamped to the grid (a point off the grid still
+  // reaches blobs within the radius on its edge).
+  const double x0 = (at.x() - radius - grid.min_x) * grid.inverse_cell;
+  const double x1 = (at.x() + radius - grid.min_x) * grid.inverse_cell;
+  const double y0 = (at.y() - radius - grid.min_y) * grid.inverse_cell;
+  const double y1 = (at.y() + radius - grid.min_y) * grid.inverse_cell;
+  if (!(x1 >= 0.0 && y1 >= 0.0 && x0 < grid.cols && y0 < grid.rows)) return;
+  const int c0 = std::max(0, static_cast<int>(x0)), c1 = std::min(grid.cols - 1, static_cast<int>(x1));
+  const int r0 = std::max(0, static_cast<int>(y0)), r1 = std::min(grid.rows - 1, static_cast<int>(y1));
+  for (int r = r0; r <= r1; ++r) {
+    const int row = r * grid.cols;
+    for (int k = grid.cell_begin[row + c0]; k < grid.cell_begin[row + c1 + 1]; ++k) visit(grid.entries[k]);
+  }
+}
+
 template <typename Accept>
-int BlobIndex::Nearest(const FrameViews& views, int camera, const Eigen::Vector2d& normalized,
-                       double radius, Accept available) const {
-  const std::vector<double>& xs = x_[camera];
-  const std::vector<int>& sorted = sorted_by_x_[camera];
-  size_t k = static_cast<size_t>(std::lower_bound(xs.begin(), xs.end(), normalized.x() - radius) - xs.begin());
+int BlobIndex::Nearest(const FrameViews&, int camera, const Eigen::Vector2d& normalized, double radius,
+                       Accept available) const {
   int best = -1;
   double best_distance = radius * radius;
-  for (; k < xs.size() && xs[k] <= normalized.x() + radius; ++k) {
-    const int index = sorted[k];
-    const double d2 = (views.observations[index].normalized - normalized).squaredNorm();
-    if (d2 <= best_distance && available(index)) {
+  ForEachCandidate(grids_[camera], normalized, radius, [&](const Entry& entry) {
+    const double d2 = (entry.normalized - normalized).squaredNorm();
+    // Ties go to the lower observation index, so the answer does not depend on cell order.
+    if ((d2 < best_distance || (d2 == best_distance && (best < 0 || entry.observation < best))) &&
+        available(entry.observation)) {
       best_distance = d2;
-      best = index;
+      best = entry.observation;
     }
-  }
+  });
   return best;
 }
 
 template <typename Visit>
-void BlobIndex::ForEachWithin(const FrameViews& views, int camera, const Eigen::Vector2d& normalized,
-                              double radius, Visit visit) const {
-  const std::vector<double>& xs = x_[camera];
-  const std::vector<int>& sorted = sorted_by_x_[camera];
-  size_t k = static_cast<size_t>(std::lower_bound(xs.begin(), xs.end(), normalized.x() - radius) - xs.begin());
-  for (; k < xs.size() && xs[k] <= normalized.x() + radius; ++k) {
-    const double distance = (views.observations[sorted[k]].normalized - normalized).norm();
-    if (distance <= radius) visit(sorted[k], distance);
-  }
+void BlobIndex::ForEachWithin(const FrameViews&, int camera, const Eigen::Vector2d& normalized, double radius,
+                              Visit visit) const {
+  ForEachCandidate(grids_[camera], normalized, radius, [&](const Entry& entry) {
+    const double distance = (entry.normalized - normalized).norm();
+    if (distance <= radius) visit(entry.observation, distance);
+  });
 }
 
 // Adds to the point every camera's available observation that lies within the triangulation's
 // residual limit of its reprojection and is not yet a view, then re-solves. A marker partly
 // gathered (prediction gates are small in some views) would otherwise leave blobs from which
-// the matcher builds a duplicate.
+// the matcher builds a duplicate. Every observation it considered is appended to *picked when
+// given (whether the joint solve kept it or not).
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point);
+                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
+                   std::vector<int>* picked = nullptr);
 
 }  // namespace mocap

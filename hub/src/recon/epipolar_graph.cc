@@ -31,19 +31,26 @@ void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
                           const EpipolarGraphOptions& options, const std::vector<char>& active) {
   const int n = views.NumObservations();
   // Clear rather than reassign: the inner vectors keep their capacity from frame to frame.
-  if (static_cast<int>(adjacency_.size()) < n) adjacency_.resize(n);
-  for (int i = 0; i < n; ++i) adjacency_[i].clear();
+  for (int i : active_nodes_) {
+    if (i < static_cast<int>(adjacency_.size())) adjacency_[i].clear();
+  }
   adjacency_.resize(n);
+  active_nodes_.clear();
   num_edges_ = 0;
   const int num_cameras = rig.NumCameras();
   // Active observations per camera first: after the prediction pass only a few blobs per
   // camera are left, and the pair loops must not walk all the others.
-  std::vector<std::vector<int>> active_of_camera(num_cameras);
+  active_of_camera_.resize(num_cameras);
   for (int c = 0; c < num_cameras; ++c) {
+    active_of_camera_[c].clear();
     for (int i = views.camera_begin[c]; i < views.camera_begin[c + 1]; ++i) {
-      if (active.empty() || active[i] != 0) active_of_camera[c].push_back(i);
+      if (active.empty() || active[i] != 0) {
+        active_of_camera_[c].push_back(i);
+        active_nodes_.push_back(i);
+      }
     }
   }
+  const std::vector<std::vector<int>>& active_of_camera = active_of_camera_;
   RayPair pair;
   for (int ca = 0; ca < num_cameras; ++ca) {
     if (active_of_camera[ca].empty()) continue;
@@ -71,7 +78,8 @@ void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
   }
   // Camera-major loops already add neighbours of i in increasing index for cameras after i's,
   // but neighbours from earlier cameras arrive interleaved: sort once for binary search.
-  for (auto& neighbours : adjacency_) {
+  for (int i : active_nodes_) {
+    std::vector<GraphEdge>& neighbours = adjacency_[i];
     std::sort(neighbours.begin(), neighbours.end(),
               [](const GraphEdge& x, const GraphEdge& y) { return x.other < y.other; });
   }
@@ -96,16 +104,22 @@ std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& ri
   std::vector<int> neighbour_of_b(n, -1);
   std::vector<std::pair<double, int>> order;
   // Cliques each node already belongs to: an edge whose ends share one grows the same clique
-  // again (a marker seen by k cameras has k(k-1)/2 edges), so it is skipped.
-  std::vector<std::vector<int>> cliques_of(n);
+  // again (a marker seen by k cameras has k(k-1)/2 edges), so it is skipped. Only active nodes
+  // have edges: they get a slot each.
+  std::vector<int> slot_of(n, -1);
+  for (size_t k = 0; k < active_nodes_.size(); ++k) slot_of[active_nodes_[k]] = static_cast<int>(k);
+  std::vector<std::vector<int>> clique_lists(active_nodes_.size());
+  const auto cliques_of = [&](int node) -> std::vector<int>& { return clique_lists[slot_of[node]]; };
   RayPair pair;
-  for (int a = 0; a < n; ++a) {
+  // active_nodes_ is in increasing index order (cameras in order, their observations in order).
+  for (int a : active_nodes_) {
     for (const GraphEdge& edge : adjacency_[a]) {
       const int b = edge.other;
       if (b < a) continue;
       bool covered = false;
-      for (int k : cliques_of[a]) {
-        if (std::find(cliques_of[b].begin(), cliques_of[b].end(), k) != cliques_of[b].end()) {
+      const std::vector<int>& of_b = cliques_of(b);
+      for (int k : cliques_of(a)) {
+        if (std::find(of_b.begin(), of_b.end(), k) != of_b.end()) {
           covered = true;
           break;
         }
@@ -146,7 +160,7 @@ std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& ri
         if (adjacent_to_all) clique.push_back(k);
       }
       std::sort(clique.begin(), clique.end());
-      for (int member : clique) cliques_of[member].push_back(static_cast<int>(cliques.size()));
+      for (int member : clique) cliques_of(member).push_back(static_cast<int>(cliques.size()));
       cliques.push_back(std::move(clique));
     }
   }

@@ -50,6 +50,10 @@ class EpipolarGraph {
 
  private:
   std::vector<std::vector<GraphEdge>> adjacency_;
+  // Nodes given an edge list this frame: after the prediction pass a frame of thousands of
+  // blobs leaves a few dozen active, and per-frame work must follow those, not all nodes.
+  std::vector<int> active_nodes_;
+  std::vector<std::vector<int>> active_of_camera_;
   int num_edges_ = 0;
 };
 

@@ -25,7 +25,8 @@ int RigModel::IndexOf(uint32_t camera_id) const {
   return it == index_of_id_.end() ? -1 : it->second;
 }
 
-void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views) {
+void LayoutFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views,
+                      std::vector<int>* frame_of_camera) {
   views->frame_number = frame_set.frame_number;
   views->observations.clear();
   views->skipped_unknown_cameras = 0;
@@ -34,39 +35,45 @@ void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews*
 
   // Counting pass first so observations can be laid out grouped by camera index even when the
   // frame set lists cameras in arrival order.
-  std::vector<int> frame_of_camera(num_cameras, -1);
+  frame_of_camera->assign(num_cameras, -1);
   for (int f = 0; f < static_cast<int>(frame_set.cameras.size()); ++f) {
     const int index = rig.IndexOf(frame_set.cameras[f].camera_id);
     if (index < 0) {
       ++views->skipped_unknown_cameras;
       continue;
     }
-    frame_of_camera[index] = f;
+    (*frame_of_camera)[index] = f;
   }
   int total = 0;
   for (int c = 0; c < num_cameras; ++c) {
     views->camera_begin[c] = total;
-    if (frame_of_camera[c] >= 0) {
-      total += static_cast<int>(frame_set.cameras[frame_of_camera[c]].blobs.size());
+    if ((*frame_of_camera)[c] >= 0) {
+      total += static_cast<int>(frame_set.cameras[(*frame_of_camera)[c]].blobs.size());
     }
   }
   views->camera_begin[num_cameras] = total;
   views->observations.resize(total);
+}
 
-  for (int c = 0; c < num_cameras; ++c) {
-    if (frame_of_camera[c] < 0) continue;
-    const CameraModel& model = rig.camera(c);
-    const std::vector<Blob>& blobs = frame_set.cameras[frame_of_camera[c]].blobs;
-    for (int b = 0; b < static_cast<int>(blobs.size()); ++b) {
-      Observation& obs = views->observations[views->camera_begin[c] + b];
-      obs.camera = c;
-      obs.blob = b;
-      obs.flags = blobs[b].flags;
-      obs.normalized = model.undistorter->Undistort(blobs[b].pixel);
-      obs.ray_in_world =
-          (model.cam_from_world_rotation.transpose() * obs.normalized.homogeneous()).normalized();
-    }
+void UndistortCamera(const RigModel& rig, const FrameSet& frame_set, const std::vector<int>& frame_of_camera,
+                     int camera, FrameViews* views) {
+  if (frame_of_camera[camera] < 0) return;
+  const CameraModel& model = rig.camera(camera);
+  const std::vector<Blob>& blobs = frame_set.cameras[frame_of_camera[camera]].blobs;
+  for (int b = 0; b < static_cast<int>(blobs.size()); ++b) {
+    Observation& obs = views->observations[views->camera_begin[camera] + b];
+    obs.camera = camera;
+    obs.blob = b;
+    obs.flags = blobs[b].flags;
+    obs.normalized = model.undistorter->Undistort(blobs[b].pixel);
+    obs.ray_in_world = (model.cam_from_world_rotation.transpose() * obs.normalized.homogeneous()).normalized();
   }
+}
+
+void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views) {
+  std::vector<int> frame_of_camera;
+  LayoutFrameViews(rig, frame_set, views, &frame_of_camera);
+  for (int c = 0; c < rig.NumCameras(); ++c) UndistortCamera(rig, frame_set, frame_of_camera, c, views);
 }
 
 }  // namespace mocap

@@ -63,4 +63,12 @@ struct FrameViews {
 // Refills *views from the frame set (reuses its memory between frames).
 void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views);
 
+// BuildFrameViews in two steps, for callers that undistort cameras on several threads: the
+// layout (camera ranges; *frame_of_camera gets each rig camera's index in frame_set.cameras or
+// -1), then each camera on its own (different cameras write disjoint ranges).
+void LayoutFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views,
+                      std::vector<int>* frame_of_camera);
+void UndistortCamera(const RigModel& rig, const FrameSet& frame_set, const std::vector<int>& frame_of_camera,
+                     int camera, FrameViews* views);
+
 }  // namespace mocap

@@ -57,6 +57,10 @@ void ReconstructorOptions::Check() const {
   ghosts.Check();
   Require(min_views_without_prediction >= triangulation.min_views,
           "min_views_without_prediction must be >= triangulation.min_views");
+  Require(seed_cameras == 0 || seed_cameras >= min_views_without_prediction,
+          "seed_cameras must be 0 or >= min_views_without_prediction");
+  Require(seed_from_blobs_per_camera >= 0.0, "seed_from_blobs_per_camera must be >= 0");
+  Require(threads >= 1 && threads <= 256, "threads must be in [1, 256]");
 }
 
 std::string MatcherTypeToString(MatcherType type) {
@@ -74,10 +78,6 @@ MatcherType MatcherTypeFromString(const std::string& name) {
   if (name == "greedy") return MatcherType::kGreedy;
   throw std::invalid_argument("unknown matcher '" + name +
                               "' (expected relaxation, clustering or greedy)");
-}
-
-bool IsAvailable(const Observation& observation, unsigned char use_count) {
-  return use_count == 0 || ((observation.flags & kBlobMerged) != 0 && use_count < 2);
 }
 
 void MarkUsed(const TriangulatedPoint& point, UseCounts* used) {

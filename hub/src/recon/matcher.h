@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "ingest/camera_frame.h"
 #include "recon/frame_views.h"
 #include "recon/recon_options.h"
 #include "recon/triangulation.h"
@@ -14,8 +15,11 @@ namespace mocap {
 // Use counts per observation, indexed like FrameViews::observations.
 using UseCounts = std::vector<unsigned char>;
 
-// True when the observation may still join a point: unused, or a merged blob used once.
-bool IsAvailable(const Observation& observation, unsigned char use_count);
+// True when the observation may still join a point: unused, or a merged blob used once. Inline:
+// every gated blob search asks it.
+inline bool IsAvailable(const Observation& observation, unsigned char use_count) {
+  return use_count == 0 || ((observation.flags & kBlobMerged) != 0 && use_count < 2);
+}
 
 // Marks the point's observations used.
 void MarkUsed(const TriangulatedPoint& point, UseCounts* used);

@@ -25,12 +25,14 @@ bool CloserToAnother(const std::vector<PointPrediction>& predictions, size_t own
 
 }  // namespace
 
-PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-                              const std::vector<char>* served, TriangulatedPoint* point) {
+                              const std::vector<char>* served, Attempt* attempt) const {
   const PointPrediction& prediction = predictions[which];
   const int num_cameras = rig.NumCameras();
-  gathered_.clear();
+  std::vector<int>& picked = attempt->picked;
+  picked.clear();
+  attempt->outcome = Outcome::kRejected;
   for (int c = 0; c < num_cameras; ++c) {
     const CameraModel& cam = rig.camera(c);
     const Eigen::Vector3d p =
@@ -41,15 +43,23 @@ PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const F
     const int best = index.Nearest(views, c, p.head<2>() / p.z(), gate_px / cam.focal_px, [&](int o) {
       return IsAvailable(views.observations[o], used[o]);
     });
-    if (best >= 0) gathered_.push_back(best);
+    if (best >= 0) picked.push_back(best);
   }
-  if (static_cast<int>(gathered_.size()) < triangulation_options_.min_views) return Outcome::kRejected;
-  if (!TriangulateRobust(rig, views, gathered_, triangulation_options_, point)) return Outcome::kRejected;
-  CompleteViews(rig, views, index, used, triangulation_options_, point);
-  const size_t kept = point->observations.size();
+  const size_t gathered = picked.size();
+  if (static_cast<int>(gathered) < triangulation_options_.min_views) return;
+  if (!TriangulateRobust(rig, views, picked, triangulation_options_, &attempt->point)) return;
+  CompleteViews(rig, views, index, used, triangulation_options_, &attempt->point, &picked);
+  attempt->outcome = Judge(predictions, which, served, gathered, attempt->point);
+}
+
+PredictionMatcher::Outcome PredictionMatcher::Judge(const std::vector<PointPrediction>& predictions, size_t which,
+                                                    const std::vector<char>* served, size_t gathered,
+                                                    const TriangulatedPoint& point) const {
+  const PointPrediction& prediction = predictions[which];
+  const size_t kept = point.observations.size();
   // Two views left out of many gathered: the prediction collected other markers' blobs and two
   // of them happen to agree. A real marker keeps most of its views.
-  if (kept == 2 && gathered_.size() >= 4) return Outcome::kRejected;
+  if (kept == 2 && gathered >= 4) return Outcome::kRejected;
   // A marker seen in only two views could be two other markers' blobs that happen to fall in
   // the gates; the shift check bounds how far such a combination may land.
   // Few views leave a wrong blob near an epipolar line free to drag the point along it; such a
@@ -58,25 +68,44 @@ PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const F
                         : kept == 3 ? 0.75 * options_.max_shift_factor
                                     : options_.max_shift_factor;
   const double max_shift = factor * prediction.gate_mm;
-  if ((point->point_in_world - prediction.point_in_world).norm() > max_shift) return Outcome::kRejected;
+  if ((point.point_in_world - prediction.point_in_world).norm() > max_shift) return Outcome::kRejected;
   if (!options_.defer_contested) return Outcome::kServed;
-  return CloserToAnother(predictions, which, point->point_in_world, served) ? Outcome::kDeferred : Outcome::kServed;
+  return CloserToAnother(predictions, which, point.point_in_world, served) ? Outcome::kDeferred : Outcome::kServed;
 }
 
 void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, UseCounts* used,
-                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids) {
-  TriangulatedPoint point;
+                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids, WorkerTeam* team) {
   deferred_.clear();
   served_.assign(predictions.size(), 0);
+  const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
+  if (speculate) {
+    speculative_.resize(predictions.size());
+    const UseCounts& at_start = *used;
+    team->Run(static_cast<int>(predictions.size()), [&](int i) {
+      Serve(rig, views, index, predictions, static_cast<size_t>(i), at_start, nullptr, &speculative_[i]);
+    });
+  }
+  const auto still_free = [&](const Attempt& attempt) {
+    for (int o : attempt.picked) {
+      if (!IsAvailable(views.observations[o], (*used)[o])) return false;
+    }
+    return true;
+  };
   for (size_t i = 0; i < predictions.size(); ++i) {
-    const Outcome outcome = Serve(rig, views, index, predictions, i, *used, nullptr, &point);
-    if (outcome == Outcome::kServed) {
+    const Attempt* attempt = &attempt_;
+    if (speculate && still_free(speculative_[i])) {
+      attempt = &speculative_[i];
+    } else {
+      served_again_ += speculate;
+      Serve(rig, views, index, predictions, i, *used, nullptr, &attempt_);
+    }
+    if (attempt->outcome == Outcome::kServed) {
       served_[i] = 1;
-      MarkUsed(point, used);
-      points->push_back(point);
+      MarkUsed(attempt->point, used);
+      points->push_back(attempt->point);
       track_ids->push_back(predictions[i].track_id);
-    } else if (outcome == Outcome::kDeferred) {
+    } else if (attempt->outcome == Outcome::kDeferred) {
       deferred_.push_back(i);
     }
   }
@@ -85,10 +114,11 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
   // marker may land near a track that already has its own point); two predictions that took
   // each other's markers both stay unserved, for the matcher and the tracker.
   for (size_t i : deferred_) {
-    if (Serve(rig, views, index, predictions, i, *used, &served_, &point) == Outcome::kServed) {
+    Serve(rig, views, index, predictions, i, *used, &served_, &attempt_);
+    if (attempt_.outcome == Outcome::kServed) {
       served_[i] = 1;
-      MarkUsed(point, used);
-      points->push_back(point);
+      MarkUsed(attempt_.point, used);
+      points->push_back(attempt_.point);
       track_ids->push_back(predictions[i].track_id);
     }
   }

@@ -10,6 +10,7 @@
 
 #include "recon/blob_index.h"
 #include "recon/matcher.h"
+#include "util/worker_team.h"
 
 namespace mocap {
 
@@ -27,25 +28,41 @@ class PredictionMatcher {
       : options_(options), triangulation_options_(triangulation_options) {}
 
   // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
-  // Predictions are served in the given order: put the most trusted tracks first.
+  // Predictions are served in the given order: put the most trusted tracks first. With a team
+  // of several threads every prediction is first served at once against the blobs free at the
+  // start, then committed in order; a prediction one of whose blobs an earlier one took is served
+  // again, so the result is the one-thread result exactly.
   void Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, UseCounts* used,
-             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
+             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids, WorkerTeam* team = nullptr);
+  // Predictions served again because an earlier one took a blob of their parallel attempt.
+  long long served_again() const { return served_again_; }
 
  private:
+  enum class Outcome { kServed, kRejected, kDeferred };
+  // One prediction served: its point, and every blob its searches picked (kept or not): the
+  // attempt stands as long as all of those are still free.
+  struct Attempt {
+    Outcome outcome = Outcome::kRejected;
+    TriangulatedPoint point;
+    std::vector<int> picked;
+  };
   // Gathers and triangulates one prediction's blobs: rejected when they do not make its marker,
   // deferred when they make a point nearer another prediction (only those not `served`, when
-  // given).
-  enum class Outcome { kServed, kRejected, kDeferred };
-  Outcome Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+  // given). Reads only its arguments: safe on several threads with different attempts.
+  void Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-             const std::vector<char>* served, TriangulatedPoint* point);
+             const std::vector<char>* served, Attempt* attempt) const;
+  Outcome Judge(const std::vector<PointPrediction>& predictions, size_t which, const std::vector<char>* served,
+                size_t gathered, const TriangulatedPoint& point) const;
 
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
-  std::vector<int> gathered_;
+  std::vector<Attempt> speculative_;
+  Attempt attempt_;
   std::vector<size_t> deferred_;
   std::vector<char> served_;
+  long long served_again_ = 0;
 };
 
 }  // namespace mocap

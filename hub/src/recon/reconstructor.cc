@@ -1,35 +1,38 @@
 // The per-frame reconstruction pipeline.
 #include "recon/reconstructor.h"
 
+#include "recon/seed_cameras.h"
+
 #include <algorithm>
+#include <chrono>
 
 namespace mocap {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Adds the time since *since to *total and restarts *since.
+void Lap(Clock::time_point* since, double* total) {
+  const Clock::time_point now = Clock::now();
+  *total += std::chrono::duration<double, std::micro>(now - *since).count();
+  *since = now;
+}
+
+}  // namespace
 
 Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options)
     : rig_(rig),
       options_((options.Check(), options)),
       matcher_(CreateMatcher(options)),
       prediction_matcher_(options.prediction, options.triangulation),
-      ghost_filter_(options.ghosts, options.triangulation) {}
+      ghost_filter_(options.ghosts, options.triangulation),
+      seed_mask_(SpreadCameras(rig_, options.seed_cameras)),
+      team_(options_.threads) {}
 
-void Reconstructor::Process(const FrameSet& frame_set,
-                            const std::vector<PointPrediction>& predictions,
-                            std::vector<ReconstructedPoint>* points) {
-  BuildFrameViews(rig_, frame_set, &views_);
-  used_.assign(views_.NumObservations(), 0);
-  triangulated_.clear();
-  track_ids_.clear();
-  index_.Build(rig_, views_);
-  if (options_.use_predictions && !predictions.empty()) {
-    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_);
-  }
-  size_t from_predictions = triangulated_.size();
-  stats_.observations += views_.NumObservations();
-  for (int i = 0; i < views_.NumObservations(); ++i) stats_.leftover_observations += used_[i] == 0;
-  matcher_->Match(rig_, views_, &used_, &triangulated_);
+void Reconstructor::CompleteFrom(size_t first) {
   // Matchers work on whole cliques; a view a clique missed (an edge just over the threshold)
   // joins its point here, before another point could claim it.
-  for (size_t i = from_predictions; i < triangulated_.size(); ++i) {
+  for (size_t i = first; i < triangulated_.size(); ++i) {
     const std::vector<int> before = triangulated_[i].observations;
     CompleteViews(rig_, views_, index_, used_, options_.triangulation, &triangulated_[i]);
     const std::vector<int>& after = triangulated_[i].observations;
@@ -40,7 +43,57 @@ void Reconstructor::Process(const FrameSet& frame_set,
       if (std::find(before.begin(), before.end(), o) == before.end()) ++used_[o];
     }
   }
+}
+
+void Reconstructor::MatchLeftovers(int leftover) {
+  const int num_cameras = rig_.NumCameras();
+  if (!seed_mask_.empty() && leftover > options_.seed_from_blobs_per_camera * num_cameras) {
+    // Two more uses make a blob unavailable to every matcher whatever its flags; taken back
+    // once the seed cameras' points have their other views.
+    for (int c = 0; c < num_cameras; ++c) {
+      if (seed_mask_[c]) continue;
+      for (int o = views_.camera_begin[c]; o < views_.camera_begin[c + 1]; ++o) used_[o] += 2;
+    }
+    const size_t first = triangulated_.size();
+    matcher_->Match(rig_, views_, &used_, &triangulated_);
+    for (int c = 0; c < num_cameras; ++c) {
+      if (seed_mask_[c]) continue;
+      for (int o = views_.camera_begin[c]; o < views_.camera_begin[c + 1]; ++o) used_[o] -= 2;
+    }
+    CompleteFrom(first);
+  }
+  const size_t first = triangulated_.size();
+  matcher_->Match(rig_, views_, &used_, &triangulated_);
+  CompleteFrom(first);
+}
+
+void Reconstructor::Process(const FrameSet& frame_set,
+                            const std::vector<PointPrediction>& predictions,
+                            std::vector<ReconstructedPoint>* points) {
+  Clock::time_point lap = Clock::now();
+  LayoutFrameViews(rig_, frame_set, &views_, &frame_of_camera_);
+  team_.Run(rig_.NumCameras(), [&](int c) { UndistortCamera(rig_, frame_set, frame_of_camera_, c, &views_); });
+  used_.assign(views_.NumObservations(), 0);
+  triangulated_.clear();
+  track_ids_.clear();
+  Lap(&lap, &stage_times_.views_us);
+  index_.Resize(rig_);
+  team_.Run(rig_.NumCameras(), [&](int c) { index_.BuildCamera(rig_, views_, c); });
+  Lap(&lap, &stage_times_.index_us);
+  if (options_.use_predictions && !predictions.empty()) {
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, &team_);
+  }
+  stats_.predictions_served_again = prediction_matcher_.served_again();
+  Lap(&lap, &stage_times_.predictions_us);
+  size_t from_predictions = triangulated_.size();
+  stats_.observations += views_.NumObservations();
+  int leftover = 0;
+  for (int i = 0; i < views_.NumObservations(); ++i) leftover += used_[i] == 0;
+  stats_.leftover_observations += leftover;
+  MatchLeftovers(leftover);
+  Lap(&lap, &stage_times_.matcher_us);
   stats_.ghosts_rejected += ghost_filter_.Apply(rig_, views_, index_, triangulated_, from_predictions, &used_, &keep_);
+  Lap(&lap, &stage_times_.ghosts_us);
   size_t kept = 0, kept_from_predictions = 0;
   for (size_t i = 0; i < triangulated_.size(); ++i) {
     if (!keep_[i]) continue;

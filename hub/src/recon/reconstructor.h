@@ -14,6 +14,7 @@
 #include "recon/matcher.h"
 #include "recon/prediction_matcher.h"
 #include "recon/recon_options.h"
+#include "util/worker_team.h"
 
 namespace mocap {
 
@@ -33,6 +34,17 @@ struct ReconstructionStats {
   long long leftover_observations = 0;  // not used by a prediction: the matcher's input
   long long unknown_camera_frames = 0;
   long long ghosts_rejected = 0;  // duplicates and points without views of their own
+  long long predictions_served_again = 0;  // several threads: a parallel attempt lost a blob
+};
+
+// Where a frame's time goes, microseconds of wall clock summed over the frames processed (the
+// bench's breakdown; a few clock reads per frame).
+struct ReconstructionStageTimes {
+  double views_us = 0.0;        // undistortion into observations and rays
+  double index_us = 0.0;        // the per-camera blob grid
+  double predictions_us = 0.0;  // serving the tracker's predictions
+  double matcher_us = 0.0;      // matching the blobs left over, completing their points' views
+  double ghosts_us = 0.0;       // the ghost filter
 };
 
 class Reconstructor {
@@ -46,22 +58,33 @@ class Reconstructor {
   const FrameViews& views() const { return views_; }
   const RigModel& rig_model() const { return rig_; }
   const ReconstructionStats& stats() const { return stats_; }
+  const ReconstructionStageTimes& stage_times() const { return stage_times_; }
   // The last frame's points with the views they were made from (same order as *points).
   const std::vector<TriangulatedPoint>& triangulated() const { return triangulated_; }
 
  private:
+  // Runs the matcher on the available observations (first on the seed cameras when many are
+  // left) and completes the views of the points it makes.
+  void MatchLeftovers(int leftover);
+  // Gives the points from `first` on the views their cliques missed.
+  void CompleteFrom(size_t first);
+
   RigModel rig_;
   ReconstructorOptions options_;
   std::unique_ptr<Matcher> matcher_;
   PredictionMatcher prediction_matcher_;
   GhostFilter ghost_filter_;
   std::vector<char> keep_;
+  std::vector<char> seed_mask_;  // empty: acquisition matches over all cameras
+  WorkerTeam team_;
+  std::vector<int> frame_of_camera_;
   FrameViews views_;
   BlobIndex index_;
   UseCounts used_;
   std::vector<TriangulatedPoint> triangulated_;
   std::vector<int> track_ids_;
   ReconstructionStats stats_;
+  ReconstructionStageTimes stage_times_;
 };
 
 }  // namespace mocap

