@@ -4,7 +4,8 @@ shape its own) fly fast around a walking subject (`sim project --bodies`: fast t
 passing 150 mm apart), 8 simulated cameras with the hub issue's faults; `reconstruct --bodies`
 with the same bodies file, and `eval --bodies-truth` against the true poses the simulator wrote:
 pose error (mm, degrees), identity swaps (gross errors) and the share of frames with a pose where
-at least 3 of a body's markers were seen. The subject is the simulator's synthetic walker; where
+at least 3 of a body's markers were seen. The same reconstruction with each frame fitted alone
+(`--bodies-window 0`) shows what the refinement over neighbouring frames gains. The subject is the simulator's synthetic walker; where
 ../shared/data/motions exists beside the checkout, walk.trc is the subject too.
 
 usage: sim_bodies_e2e.py BIN_DIR WORK_DIR"""
@@ -30,17 +31,7 @@ def hub(*args):
     return run(BIN, *args, timeout=600).stdout
 
 
-def bodies_report(name, motion):
-    work = os.path.join(WORK, name)
-    os.makedirs(work)
-    bodies = os.path.join(work, "bodies.json")
-    with open(bodies, "w") as f:
-        json.dump(BODIES, f)
-    rig, session, out = (os.path.join(work, n) for n in ("rig.json", "session", "out.trc"))
-    hub("sim", "rig", "--motion", motion, "--cameras", "8", "-o", rig)
-    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, "--bodies", bodies, *SIM_FAULTS)
-    hub("reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", out,
-        "--bodies", bodies)
+def evaluate(session, out, name):
     report = json.loads(hub("eval", "--truth", os.path.join(session, "truth.trc"), "--result", out, "--session",
                             session, "--bodies-truth", os.path.join(session, "truth.bodies.tsv"), "--json"))
     for b in report["rigid_bodies"]["bodies"]:
@@ -50,20 +41,45 @@ def bodies_report(name, motion):
     return report["rigid_bodies"]["bodies"]
 
 
+def bodies_report(name, motion):
+    """(refined, per-frame) reports per body."""
+    work = os.path.join(WORK, name)
+    os.makedirs(work)
+    bodies = os.path.join(work, "bodies.json")
+    with open(bodies, "w") as f:
+        json.dump(BODIES, f)
+    rig, session, out = (os.path.join(work, n) for n in ("rig.json", "session", "out.trc"))
+    hub("sim", "rig", "--motion", motion, "--cameras", "8", "-o", rig)
+    hub("sim", "project", "--motion", motion, "--rig", rig, "-o", session, "--bodies", bodies, *SIM_FAULTS)
+    single = os.path.join(work, "single.trc")
+    for path, extra in ((out, []), (single, ["--bodies-window", "0"])):
+        hub("reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", path,
+            "--bodies", bodies, *extra)
+    return evaluate(session, out, name), evaluate(session, single, name + " (each frame alone)")
+
+
 class SimBodiesE2e(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         shutil.rmtree(WORK, ignore_errors=True)
         os.makedirs(WORK)
 
-    def check(self, bodies):
+    def check(self, reports):
+        bodies, single = reports
         self.assertEqual([b["name"] for b in bodies], ["wand", "drone", "tool"])
-        for b in bodies:
+        for b, s in zip(bodies, single):
             self.assertEqual(b["gross"], 0, b["name"])  # identity never swapped
             self.assertGreaterEqual(b["available_share"], 0.995, b["name"])
+            # Issue 14's targets. One frame alone cannot reach 0.2 deg here: the rotation's
+            # Cramer-Rao bound from one frame's blobs is 0.22-0.30 deg for these bodies (README).
             self.assertLessEqual(b["p50_mm"], 0.5, b["name"])
-            # Issue 14 asks 0.2 deg; bodies of 4-6 markers within 120 mm reach about 0.4 (README).
-            self.assertLessEqual(b["p50_deg"], 0.6, b["name"])
+            self.assertLessEqual(b["p50_deg"], 0.2, b["name"])
+            # What the refinement does: a parabola through 13 frames keeps 0.42 of one frame's
+            # rotation noise where it holds; occlusions and shrunk windows keep a little more.
+            self.assertLess(b["p50_deg"], 0.6 * s["p50_deg"], b["name"])
+            # ... and no worse at the fast turns (the tail) than each frame alone.
+            self.assertLess(b["p95_deg"], s["p95_deg"], b["name"])
+            self.assertEqual(b["fitted"], s["fitted"], b["name"])
 
     def test_bodies_around_a_walking_subject(self):
         motion = os.path.join(WORK, "walker.trc")

@@ -11,9 +11,13 @@
 namespace mocap {
 
 std::vector<BodyPoseRow> TrackBodies(const MarkerTrajectories& markers, const std::vector<RigidBodyDefinition>& bodies,
-                                     const BodyTrackerOptions& options) {
+                                     const BodyTrackerOptions& options, const BodySmoothingOptions& smoothing,
+                                     std::vector<BodySmoothingStats>* stats) {
+  smoothing.Check();
   BodyTracker tracker(bodies, options);
   std::vector<BodyPoseRow> rows(markers.NumFrames());
+  // Per body and frame the markers fitted and their points, for the smoothing.
+  std::vector<std::vector<BodyFrameMarkers>> fitted(bodies.size(), std::vector<BodyFrameMarkers>(markers.NumFrames()));
   std::vector<Eigen::Vector3d> points;
   for (size_t f = 0; f < markers.NumFrames(); ++f) {
     points.clear();
@@ -21,6 +25,24 @@ std::vector<BodyPoseRow> TrackBodies(const MarkerTrajectories& markers, const st
       if (markers.Has(f, m)) points.push_back(markers.At(f, m));
     rows[f].frame_number = markers.frame_numbers[f];
     rows[f].poses = tracker.Update(points);
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      const BodyPose& pose = rows[f].poses[b];
+      if (!pose.tracked) continue;
+      for (size_t i = 0; i < pose.point_of_marker.size(); ++i) {
+        const int p = pose.point_of_marker[i];
+        if (p < 0) continue;
+        fitted[b][f].in_body.push_back(bodies[b].markers[i]);
+        fitted[b][f].in_world.push_back(points[static_cast<size_t>(p)]);
+      }
+    }
+  }
+  if (stats) stats->assign(bodies.size(), {});
+  std::vector<BodyPose> poses(markers.NumFrames());
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (size_t f = 0; f < rows.size(); ++f) poses[f] = std::move(rows[f].poses[b]);
+    const BodySmoothingStats s = SmoothBodyPoses(bodies[b], fitted[b], &poses, smoothing);
+    if (stats) (*stats)[b] = s;
+    for (size_t f = 0; f < rows.size(); ++f) rows[f].poses[b] = std::move(poses[f]);
   }
   return rows;
 }

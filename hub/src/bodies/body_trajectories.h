@@ -1,6 +1,7 @@
 // Rigid bodies over a whole recording (reconstruct --bodies): the tracker run over every frame of
-// a marker file's points (taken as anonymous: identity comes from the bodies' shapes), the poses
-// as a tab-separated file, and one virtual marker per body (its pivot) for TRC/C3D.
+// a marker file's points (taken as anonymous: identity comes from the bodies' shapes), then each
+// body's orientations refined over neighbouring frames (body_smoothing.h), the poses as a
+// tab-separated file, and one virtual marker per body (its pivot) for TRC/C3D.
 // Pose file columns: frame (the file's Frame#, 1-based), time_s, body, tracked, predicted,
 // x, y, z (the pivot, mm), qx, qy, qz, qw (body -> world), mean_error_mm, markers; one row per
 // body and frame. Errors: std::runtime_error "<file>: <reason>".
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bodies/body_smoothing.h"
 #include "bodies/body_tracker.h"
 #include "io/marker_trajectories.h"
 
@@ -19,8 +21,11 @@ struct BodyPoseRow {
   std::vector<BodyPose> poses;  // one per body
 };
 
+// `stats`, when given, gets one entry per body: what the smoothing did.
 std::vector<BodyPoseRow> TrackBodies(const MarkerTrajectories& markers, const std::vector<RigidBodyDefinition>& bodies,
-                                     const BodyTrackerOptions& options = {});
+                                     const BodyTrackerOptions& options = {},
+                                     const BodySmoothingOptions& smoothing = {},
+                                     std::vector<BodySmoothingStats>* stats = nullptr);
 
 // Appends a column per body named after it: its pivot where fitted or predicted, else a gap.
 void AddVirtualMarkers(MarkerTrajectories* markers, const std::vector<RigidBodyDefinition>& bodies,

@@ -39,6 +39,7 @@ struct ReconstructArgs {
   TrackerOptions tracker;
   GapFillOptions gap_fill;
   std::string bodies;  // rigid bodies file; empty: none
+  BodySmoothingOptions body_smoothing;
   std::string labels;  // marker set; empty: anonymous columns
   std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
 };
@@ -57,7 +58,8 @@ void AddLabels(const ReconstructArgs& args) {
 void AddRigidBodies(const ReconstructArgs& args) {
   const std::vector<RigidBodyDefinition> bodies = ReadBodiesFile(args.bodies);
   MarkerTrajectories markers = ReadTrajectories(args.output);
-  const std::vector<BodyPoseRow> rows = TrackBodies(markers, bodies);
+  std::vector<BodySmoothingStats> smoothing;
+  const std::vector<BodyPoseRow> rows = TrackBodies(markers, bodies, {}, args.body_smoothing, &smoothing);
   const std::string poses = args.output.substr(0, args.output.find_last_of('.')) + ".bodies.tsv";
   WriteBodyPoses(poses, bodies, rows, markers.rate_hz);
   AddVirtualMarkers(&markers, bodies, rows);
@@ -65,7 +67,11 @@ void AddRigidBodies(const ReconstructArgs& args) {
   for (size_t b = 0; b < bodies.size(); ++b) {
     size_t tracked = 0;
     for (const BodyPoseRow& row : rows) tracked += row.poses[b].tracked;
-    std::printf("%s: body %s fitted in %zu of %zu frames\n", poses.c_str(), bodies[b].name.c_str(), tracked, rows.size());
+    const BodySmoothingStats& s = smoothing[b];
+    std::printf("%s: body %s fitted in %zu of %zu frames; orientation over +-%d frames in %zu, fewer in %zu, "
+                "alone in %zu (point noise %.3f mm per axis)\n",
+                poses.c_str(), bodies[b].name.c_str(), tracked, rows.size(), args.body_smoothing.half_window,
+                s.refined, s.shrunk, s.unchanged, s.noise_mm);
   }
 }
 
@@ -215,6 +221,16 @@ void AddReconstructCommand(CLI::App& app) {
                       "Rigid bodies file: their poses to OUT.bodies.tsv and a virtual marker each (memory then "
                       "grows with the session)")
       ->check(CLI::ExistingFile);
+  command->add_option("--bodies-window", args->body_smoothing.half_window,
+                      "Rigid bodies: each orientation refitted over this many frames each side, fewer where the "
+                      "motion disagrees with the model (0: each frame alone)")
+      ->check(CLI::Range(0, 50))
+      ->capture_default_str();
+  command->add_option("--bodies-degree", args->body_smoothing.degree,
+                      "Rigid bodies: degree of the orientation's polynomial over that window (1: steady angular "
+                      "velocity, 2: steady angular acceleration)")
+      ->check(CLI::Range(1, 3))
+      ->capture_default_str();
   command->add_option("--labels", args->labels,
                       "Marker set (labels learn): named columns for the markers it places, M001... for the rest")
       ->check(CLI::ExistingFile);
