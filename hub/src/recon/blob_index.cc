@@ -23,7 +23,8 @@ void BlobIndex::Build(const RigModel& rig, const FrameViews& views) {
 }
 
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point) {
+                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
+                   const std::vector<char>* shared) {
   const int num_cameras = rig.NumCameras();
   std::vector<char> has_camera(num_cameras, 0);
   for (int o : point->observations) has_camera[views.observations[o].camera] = 1;
@@ -41,7 +42,7 @@ void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex
   TriangulatedPoint completed;
   // The extra views were chosen within the residual limit; if the joint solve disagrees, the
   // original point stands.
-  if (TriangulateRobust(rig, views, extended, options, &completed) &&
+  if (TriangulateRobust(rig, views, extended, options, &completed, shared) &&
       completed.observations.size() > point->observations.size()) {
     completed.rejected.insert(completed.rejected.begin(), point->rejected.begin(), point->rejected.end());
     *point = completed;

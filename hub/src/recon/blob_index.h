@@ -65,6 +65,7 @@ void BlobIndex::ForEachWithin(const FrameViews& views, int camera, const Eigen::
 // gathered (prediction gates are small in some views) would otherwise leave blobs from which
 // the matcher builds a duplicate.
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
-                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point);
+                   const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
+                   const std::vector<char>* shared = nullptr);
 
 }  // namespace mocap

@@ -25,9 +25,32 @@ bool CloserToAnother(const std::vector<PointPrediction>& predictions, size_t own
 
 }  // namespace
 
+int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                    const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
+                    std::vector<char>* shared) {
+  shared->assign(views.observations.size(), 0);
+  if (!(coincident_px > 0.0) || predictions.size() < 2) return 0;
+  int found = 0;
+  for (int c = 0; c < rig.NumCameras(); ++c) {
+    const CameraModel& cam = rig.camera(c);
+    for (const PointPrediction& prediction : predictions) {
+      const Eigen::Vector3d p = cam.cam_from_world_rotation * prediction.point_in_world + cam.cam_from_world_translation;
+      if (!(p.z() > min_depth_mm)) continue;
+      // 1: one prediction near the blob so far; 2: two or more.
+      index.ForEachWithin(views, c, p.head<2>() / p.z(), coincident_px / cam.focal_px, [&](int o, double) {
+        char& mark = (*shared)[static_cast<size_t>(o)];
+        if (mark < 2) found += ++mark == 2;
+      });
+    }
+  }
+  for (char& mark : *shared) mark = mark == 2;
+  return found;
+}
+
 PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-                              const std::vector<char>* served, TriangulatedPoint* point) {
+                              const std::vector<char>* served, const std::vector<char>* shared,
+                              TriangulatedPoint* point) {
   const PointPrediction& prediction = predictions[which];
   const int num_cameras = rig.NumCameras();
   gathered_.clear();
@@ -44,8 +67,8 @@ PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const F
     if (best >= 0) gathered_.push_back(best);
   }
   if (static_cast<int>(gathered_.size()) < triangulation_options_.min_views) return Outcome::kRejected;
-  if (!TriangulateRobust(rig, views, gathered_, triangulation_options_, point)) return Outcome::kRejected;
-  CompleteViews(rig, views, index, used, triangulation_options_, point);
+  if (!TriangulateRobust(rig, views, gathered_, triangulation_options_, point, shared)) return Outcome::kRejected;
+  CompleteViews(rig, views, index, used, triangulation_options_, point, shared);
   const size_t kept = point->observations.size();
   // Two views left out of many gathered: the prediction collected other markers' blobs and two
   // of them happen to agree. A real marker keeps most of its views.
@@ -65,12 +88,13 @@ PredictionMatcher::Outcome PredictionMatcher::Serve(const RigModel& rig, const F
 
 void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, UseCounts* used,
-                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids) {
+                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
+                              const std::vector<char>* shared) {
   TriangulatedPoint point;
   deferred_.clear();
   served_.assign(predictions.size(), 0);
   for (size_t i = 0; i < predictions.size(); ++i) {
-    const Outcome outcome = Serve(rig, views, index, predictions, i, *used, nullptr, &point);
+    const Outcome outcome = Serve(rig, views, index, predictions, i, *used, nullptr, shared, &point);
     if (outcome == Outcome::kServed) {
       served_[i] = 1;
       MarkUsed(point, used);
@@ -85,7 +109,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
   // marker may land near a track that already has its own point); two predictions that took
   // each other's markers both stay unserved, for the matcher and the tracker.
   for (size_t i : deferred_) {
-    if (Serve(rig, views, index, predictions, i, *used, &served_, &point) == Outcome::kServed) {
+    if (Serve(rig, views, index, predictions, i, *used, &served_, shared, &point) == Outcome::kServed) {
       served_[i] = 1;
       MarkUsed(point, used);
       points->push_back(point);

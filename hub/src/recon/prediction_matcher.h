@@ -20,6 +20,13 @@ struct PointPrediction {
   double gate_mm = 20.0;
 };
 
+// Marks in *shared (one entry per observation) every blob that lies within coincident_px
+// (pixels) of two or more predictions' reprojections in its camera (see
+// PredictionMatchOptions::coincident_px); returns how many.
+int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                    const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
+                    std::vector<char>* shared);
+
 class PredictionMatcher {
  public:
   PredictionMatcher(const PredictionMatchOptions& options,
@@ -27,10 +34,12 @@ class PredictionMatcher {
       : options_(options), triangulation_options_(triangulation_options) {}
 
   // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
-  // Predictions are served in the given order: put the most trusted tracks first.
+  // Predictions are served in the given order: put the most trusted tracks first. Blobs that
+  // `shared` marks (FindSharedBlobs; may be null) are left out of the points' solves.
   void Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, UseCounts* used,
-             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids);
+             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
+             const std::vector<char>* shared = nullptr);
 
  private:
   // Gathers and triangulates one prediction's blobs: rejected when they do not make its marker,
@@ -39,7 +48,7 @@ class PredictionMatcher {
   enum class Outcome { kServed, kRejected, kDeferred };
   Outcome Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-             const std::vector<char>* served, TriangulatedPoint* point);
+             const std::vector<char>* served, const std::vector<char>* shared, TriangulatedPoint* point);
 
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;

@@ -21,7 +21,9 @@ void Reconstructor::Process(const FrameSet& frame_set,
   track_ids_.clear();
   index_.Build(rig_, views_);
   if (options_.use_predictions && !predictions.empty()) {
-    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_);
+    stats_.coincident_blobs += FindSharedBlobs(rig_, views_, index_, predictions, options_.prediction.coincident_px,
+                                               options_.triangulation.min_depth_mm, &shared_);
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, &shared_);
   }
   size_t from_predictions = triangulated_.size();
   stats_.observations += views_.NumObservations();

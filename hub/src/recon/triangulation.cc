@@ -77,58 +77,115 @@ bool InFrontOfAll(const RigModel& rig, const FrameViews& views, const std::vecto
   return true;
 }
 
-// Solve, then drop the worst view while its residual is over the limit and three or more remain.
+// True when the worst view, though within the absolute limit, stands out from the others: its
+// error against the point the other views make alone is over outlier_ratio times their median
+// error. That is a blob biased by another marker (two markers projecting a pixel or two apart
+// make one round blob, which the node's shape test cannot flag) that, kept, pulls the point by
+// its share; the fewer the views, the larger that share. With four or more views only, so that
+// three remain to judge; cheap when the worst error is under outlier_floor_px.
+bool StandsOut(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
+               const Eigen::Vector3d& point, size_t worst, double worst_px, const TriangulationOptions& options) {
+  if (observations.size() < 4 || !(worst_px > options.outlier_floor_px)) return false;
+  std::vector<int> others;
+  others.reserve(observations.size() - 1);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    if (i != worst) others.push_back(observations[i]);
+  }
+  Eigen::Vector3d alone = point;
+  if (!RefinePoint(rig, views, others, options.refine_iterations, &alone)) return false;
+  std::vector<double> errors;
+  ReprojectionErrors(rig, views, others, alone, &errors);
+  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2), errors.end());
+  const double median_px = errors[errors.size() / 2];
+  if (!(median_px < options.precise_fraction * options.max_reprojection_px)) return false;
+  std::vector<double> own;
+  ReprojectionErrors(rig, views, {observations[worst]}, alone, &own);
+  return own[0] > options.outlier_ratio * median_px;
+}
+
+// Solve, then drop the worst view while its residual is over the limit (or it stands out) and
+// three or more remain.
 // Appends dropped views to result->rejected.
 bool SolveDroppingOutliers(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
                            const TriangulationOptions& options, TriangulatedPoint* result) {
   std::vector<double> errors;
+  // Views that stood out: left out of the solve, and then members of the point as a merged
+  // blob is (within max_merged_px), so that they cannot seed a ghost.
+  std::vector<int> aside;
   while (static_cast<int>(observations.size()) >= options.min_views) {
     Eigen::Vector3d point;
     if (!TriangulateLinear(rig, views, observations, &point)) return false;
     if (!RefinePoint(rig, views, observations, options.refine_iterations, &point)) return false;
     ReprojectionErrors(rig, views, observations, point, &errors);
     const auto worst = std::max_element(errors.begin(), errors.end());
+    const size_t worst_index = static_cast<size_t>(worst - errors.begin());
     const bool in_front = InFrontOfAll(rig, views, observations, point, options.min_depth_mm);
-    if (*worst <= options.max_reprojection_px && in_front) {
+    const bool within = *worst <= options.max_reprojection_px && in_front;
+    const bool stands_out = within && StandsOut(rig, views, observations, point, worst_index, *worst, options);
+    if (within && !stands_out) {
       double sum_squares = 0.0;
       for (double e : errors) sum_squares += e * e;
       result->point_in_world = point;
       result->rms_px = std::sqrt(sum_squares / errors.size());
       result->max_px = *worst;
       result->observations = std::move(observations);
+      if (!aside.empty()) {
+        ReprojectionErrors(rig, views, aside, point, &errors);
+        for (size_t i = 0; i < aside.size(); ++i) {
+          (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(aside[i]);
+        }
+      }
       return true;
     }
     // With two views a large residual cannot say which view is wrong: give up.
     if (observations.size() <= 2) return false;
-    const size_t drop = static_cast<size_t>(worst - errors.begin());
-    result->rejected.push_back(observations[drop]);
-    observations.erase(observations.begin() + static_cast<std::ptrdiff_t>(drop));
+    (stands_out ? aside : result->rejected).push_back(observations[worst_index]);
+    observations.erase(observations.begin() + static_cast<std::ptrdiff_t>(worst_index));
   }
   return false;
+}
+
+// Solves without the views `set_aside` picks when any and min_views others remain; the views set
+// aside then stay members of the point when within max_merged_px of it. With a non-zero
+// max_rms_px, the point of the other views must also be that precise. False: not so solved.
+template <typename SetAside>
+bool SolveSettingAside(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
+                       const TriangulationOptions& options, double max_rms_px, SetAside set_aside,
+                       TriangulatedPoint* result) {
+  std::vector<int> kept, aside;
+  for (int index : observations) (set_aside(index) ? aside : kept).push_back(index);
+  result->rejected.clear();
+  if (aside.empty() || static_cast<int>(kept.size()) < options.min_views ||
+      !SolveDroppingOutliers(rig, views, kept, options, result) || (max_rms_px > 0.0 && !(result->rms_px < max_rms_px))) {
+    result->rejected.clear();
+    return false;
+  }
+  std::vector<double> errors;
+  ReprojectionErrors(rig, views, aside, result->point_in_world, &errors);
+  for (size_t i = 0; i < aside.size(); ++i) {
+    (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(aside[i]);
+  }
+  return true;
 }
 
 }  // namespace
 
 bool TriangulateRobust(const RigModel& rig, const FrameViews& views, std::vector<int> observations,
-                       const TriangulationOptions& options, TriangulatedPoint* result) {
-  result->rejected.clear();
-  std::vector<int> unmerged, merged;
-  for (int index : observations) {
-    (views.observations[index].flags & kBlobMerged ? merged : unmerged).push_back(index);
+                       const TriangulationOptions& options, TriangulatedPoint* result,
+                       const std::vector<char>* shared) {
+  const auto merged = [&](int index) { return (views.observations[index].flags & kBlobMerged) != 0; };
+  // A blob two predictions share (its centroid off for both markers) is set aside as a merged
+  // one, but only when the other views alone make a precise point: a noisy point keeps it.
+  if (shared != nullptr &&
+      SolveSettingAside(rig, views, observations, options, options.precise_fraction * options.max_reprojection_px,
+                        [&](int index) { return merged(index) || (*shared)[static_cast<size_t>(index)] != 0; },
+                        result)) {
+    return true;
   }
   // A merged blob's centroid lies between its markers and measures neither: with enough other
   // views the point is solved without it, and it stays a member (so it cannot start a ghost)
   // when it lies within a marker's radius or so of the solution.
-  if (!merged.empty() && static_cast<int>(unmerged.size()) >= options.min_views &&
-      SolveDroppingOutliers(rig, views, unmerged, options, result)) {
-    std::vector<double> errors;
-    ReprojectionErrors(rig, views, merged, result->point_in_world, &errors);
-    for (size_t i = 0; i < merged.size(); ++i) {
-      (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(merged[i]);
-    }
-    return true;
-  }
-  result->rejected.clear();
+  if (SolveSettingAside(rig, views, observations, options, 0.0, merged, result)) return true;
   return SolveDroppingOutliers(rig, views, std::move(observations), options, result);
 }
 
