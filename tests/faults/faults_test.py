@@ -208,16 +208,22 @@ class FaultsTest(unittest.TestCase):
     def test_03_loss_10_percent(self):
         r = self.loss_case(10, 10)
         # The issue's done-when: >= 95 % of the frames reconstructed (held: all of them), rmse
-        # within 10 % of the loss-free run: NOT held, measured 1.12-1.21 x over five runs (README,
-        # "Faults"): the points lose a tenth of their views. Asserted with a margin above that
-        # spread, so that losing more than the views (whole frame sets, tracks) still fails.
+        # within 10 % of the loss-free run. Measured 1.06-1.07 x live (README, "Faults") and
+        # 1.06-1.11 x over 20 random 10 % drops of the loss-free capture's frames: what a point
+        # pays for a tenth fewer views (about sqrt(E[8/n]) = 1.06 for n of 8 views kept), plus at
+        # most a few points left with three views. Before recon set aside blobs two markers share
+        # and views that stand out from precise ones, a single such blob in a point that had lost
+        # views cost 1.1-1.3 x; asserted with a margin over the spread, below that.
         self.assertGreaterEqual(r["rows"], 0.95 * FRAMES)
-        self.assertLessEqual(r["final"]["rmse_mm"], 1.35 * self.baseline["final"]["rmse_mm"])
+        self.assertLessEqual(r["final"]["rmse_mm"], 1.15 * self.baseline["final"]["rmse_mm"])
 
     def test_04_loss_20_percent(self):
         r = self.loss_case(20, 20)
-        # No crash and figures reported; the hub keeps assembling what arrives.
-        self.assertGreater(r["rows"], FRAMES // 2)
+        # No crash and figures reported; the hub keeps assembling what arrives: a frame set keeps
+        # about 6.4 of its 8 cameras, and every frame is reconstructed. (No rmse bound: a marker
+        # left with fewer than two clean views in a frame is filled by the tracker, and one such
+        # fill can cost 2-3 x the loss-free rmse over 300 frames; README, "Faults".)
+        self.assertGreaterEqual(r["rows"], 0.95 * FRAMES)
         self.assertTrue(math.isfinite(r["final"]["rmse_mm"]))
 
     def test_05_duplication_and_reordering(self):
@@ -398,7 +404,11 @@ class FaultsTest(unittest.TestCase):
         self.assertEqual(info["rescaled_frames"], node2["rescaled_frames"])
         self.assertEqual(info["wrong_size_frames"], 0)
         self.assertIn("rescaled, 0 refused", out)
-        self.assertLessEqual(final["rmse_mm"], 1.05 * as_sent["rmse_mm"])
+        # The rescaled camera's errors are counted in the calibration's pixels, twice its own: the
+        # solve weighs its views four times as much as the others', which with equal errors
+        # per view costs up to sqrt(8 (7 + 16) / 11^2) = 1.23 x (measured 1.14 x; the probe's
+        # camera used unscaled: 1.48 x).
+        self.assertLessEqual(final["rmse_mm"], 1.25 * as_sent["rmse_mm"])
         self.assertIn("0 rescaled", refused_out)
         self.assertIn("refused", refused_out)
         self.assertGreaterEqual(refused_rows, 0.95 * FRAMES)

@@ -57,7 +57,7 @@ void BlobIndex::Build(const RigModel& rig, const FrameViews& views) {
 
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                    const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
-                   std::vector<int>* picked) {
+                   const std::vector<char>* shared, std::vector<int>* picked) {
   const int num_cameras = rig.NumCameras();
   // Per-thread scratch: called for every point of every frame.
   thread_local std::vector<char> has_camera;
@@ -79,7 +79,7 @@ void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex
   if (extended.size() == point->observations.size()) return;
   // The extra views were chosen within the residual limit; if the joint solve disagrees, the
   // original point stands.
-  if (TriangulateRobust(rig, views, extended, options, &completed) &&
+  if (TriangulateRobust(rig, views, extended, options, &completed, shared) &&
       completed.observations.size() > point->observations.size()) {
     completed.rejected.insert(completed.rejected.begin(), point->rejected.begin(), point->rejected.end());
     std::swap(*point, completed);

@@ -102,10 +102,11 @@ void BlobIndex::ForEachWithin(const FrameViews&, int camera, const Eigen::Vector
 // Adds to the point every camera's available observation that lies within the triangulation's
 // residual limit of its reprojection and is not yet a view, then re-solves. A marker partly
 // gathered (prediction gates are small in some views) would otherwise leave blobs from which
-// the matcher builds a duplicate. Every observation it considered is appended to *picked when
-// given (whether the joint solve kept it or not).
+// the matcher builds a duplicate. Blobs `shared` marks (may be null) are solved as
+// TriangulateRobust does. Every observation it considered is appended to *picked when given
+// (whether the joint solve kept it or not).
 void CompleteViews(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                    const UseCounts& used, const TriangulationOptions& options, TriangulatedPoint* point,
-                   std::vector<int>* picked = nullptr);
+                   const std::vector<char>* shared = nullptr, std::vector<int>* picked = nullptr);
 
 }  // namespace mocap

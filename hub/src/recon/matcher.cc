@@ -21,6 +21,9 @@ void TriangulationOptions::Check() const {
   Require(max_reprojection_px > 0.0, "triangulation.max_reprojection_px must be > 0");
   Require(max_merged_px >= max_reprojection_px, "triangulation.max_merged_px must be >= max_reprojection_px");
   Require(refine_iterations >= 0, "triangulation.refine_iterations must be >= 0");
+  Require(outlier_floor_px >= 0.0, "triangulation.outlier_floor_px must be >= 0");
+  Require(outlier_ratio > 1.0, "triangulation.outlier_ratio must be > 1");
+  Require(precise_fraction >= 0.0 && precise_fraction <= 1.0, "triangulation.precise_fraction must lie in 0..1");
   Require(min_depth_mm >= 0.0, "triangulation.min_depth_mm must be >= 0");
 }
 
@@ -42,6 +45,7 @@ void PredictionMatchOptions::Check() const {
   Require(min_gate_px > 0.0, "prediction.min_gate_px must be > 0");
   Require(max_gate_px >= min_gate_px, "prediction.max_gate_px must be >= min_gate_px");
   Require(max_shift_factor > 0.0, "prediction.max_shift_factor must be > 0");
+  Require(coincident_px >= 0.0, "prediction.coincident_px must be >= 0");
 }
 
 void GhostFilterOptions::Check() const {

@@ -4,6 +4,7 @@
 
 #include "recon/clustering_matcher.h"
 #include "recon/greedy_matcher.h"
+#include "recon/prediction_matcher.h"
 #include "recon/relaxation_matcher.h"
 #include "simcore/test_scenes.h"
 
@@ -225,6 +226,34 @@ TEST(MatcherType, StringRoundTrip) {
     EXPECT_EQ(MatcherTypeFromString(MatcherTypeToString(type)), type);
   }
   EXPECT_THROW(MatcherTypeFromString("hungarian"), std::invalid_argument);
+}
+
+TEST(SharedBlobs, BlobTwoPredictionsFallInIsMarkedAndNoOther) {
+  // Two markers 3 mm apart (a pixel or so in every image at 4 m) and one far away: every camera
+  // sees one blob for the close pair (at the first one's projection) and one for the third.
+  const Rig rig = testing::MakeRingRig(4, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  const Eigen::Vector3d a(0, 0, 1000), b(3, 0, 1000), far(300, 200, 1100);
+  FrameViews views;
+  BuildFrameViews(model, ExactFrame(rig, {a, far}, {{0, 1, 2, 3}, {0, 1, 2, 3}}), &views);
+  BlobIndex index;
+  index.Build(model, views);
+  std::vector<PointPrediction> predictions(3);
+  predictions[0].point_in_world = a;
+  predictions[1].point_in_world = b;
+  predictions[2].point_in_world = far;
+  std::vector<char> shared;
+  EXPECT_EQ(FindSharedBlobs(model, views, index, predictions, 2.0, 50.0, &shared), 4);
+  ASSERT_EQ(shared.size(), views.observations.size());
+  // The blobs of camera c are in marker order (a first, then far).
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(shared[static_cast<size_t>(views.camera_begin[c])], 1) << "camera " << c;
+    EXPECT_EQ(shared[static_cast<size_t>(views.camera_begin[c]) + 1], 0) << "camera " << c;
+  }
+  // Off (0 px), or a single prediction: nothing is shared.
+  EXPECT_EQ(FindSharedBlobs(model, views, index, predictions, 0.0, 50.0, &shared), 0);
+  predictions.resize(1);
+  EXPECT_EQ(FindSharedBlobs(model, views, index, predictions, 2.0, 50.0, &shared), 0);
 }
 
 }  // namespace

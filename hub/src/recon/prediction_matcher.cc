@@ -25,9 +25,41 @@ bool CloserToAnother(const std::vector<PointPrediction>& predictions, size_t own
 
 }  // namespace
 
+int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                    const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
+                    std::vector<char>* shared, WorkerTeam* team) {
+  shared->assign(views.observations.size(), 0);
+  if (!(coincident_px > 0.0) || predictions.size() < 2) return 0;
+  // Each camera marks only its own observations: cameras may run on several threads.
+  const auto mark_camera = [&](int c) {
+    const CameraModel& cam = rig.camera(c);
+    for (const PointPrediction& prediction : predictions) {
+      const Eigen::Vector3d p = cam.cam_from_world_rotation * prediction.point_in_world + cam.cam_from_world_translation;
+      if (!(p.z() > min_depth_mm)) continue;
+      // 1: one prediction near the blob so far; 2: two or more.
+      index.ForEachWithin(views, c, p.head<2>() / p.z(), coincident_px / cam.focal_px, [&](int o, double) {
+        char& mark = (*shared)[static_cast<size_t>(o)];
+        if (mark < 2) ++mark;
+      });
+    }
+  };
+  if (team != nullptr) {
+    team->Run(rig.NumCameras(), mark_camera);
+  } else {
+    for (int c = 0; c < rig.NumCameras(); ++c) mark_camera(c);
+  }
+  int found = 0;
+  for (char& mark : *shared) {
+    mark = mark == 2;
+    found += mark;
+  }
+  return found;
+}
+
 void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-                              const std::vector<char>* served, Attempt* attempt) const {
+                              const std::vector<char>* served, const std::vector<char>* shared,
+                              Attempt* attempt) const {
   const PointPrediction& prediction = predictions[which];
   const int num_cameras = rig.NumCameras();
   std::vector<int>& picked = attempt->picked;
@@ -47,8 +79,8 @@ void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, cons
   }
   const size_t gathered = picked.size();
   if (static_cast<int>(gathered) < triangulation_options_.min_views) return;
-  if (!TriangulateRobust(rig, views, picked, triangulation_options_, &attempt->point)) return;
-  CompleteViews(rig, views, index, used, triangulation_options_, &attempt->point, &picked);
+  if (!TriangulateRobust(rig, views, picked, triangulation_options_, &attempt->point, shared)) return;
+  CompleteViews(rig, views, index, used, triangulation_options_, &attempt->point, shared, &picked);
   attempt->outcome = Judge(predictions, which, served, gathered, attempt->point);
 }
 
@@ -75,7 +107,8 @@ PredictionMatcher::Outcome PredictionMatcher::Judge(const std::vector<PointPredi
 
 void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, UseCounts* used,
-                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids, WorkerTeam* team) {
+                              std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
+                              const std::vector<char>* shared, WorkerTeam* team) {
   deferred_.clear();
   served_.assign(predictions.size(), 0);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
@@ -83,7 +116,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
     speculative_.resize(predictions.size());
     const UseCounts& at_start = *used;
     team->Run(static_cast<int>(predictions.size()), [&](int i) {
-      Serve(rig, views, index, predictions, static_cast<size_t>(i), at_start, nullptr, &speculative_[i]);
+      Serve(rig, views, index, predictions, static_cast<size_t>(i), at_start, nullptr, shared, &speculative_[i]);
     });
   }
   const auto still_free = [&](const Attempt& attempt) {
@@ -98,7 +131,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
       attempt = &speculative_[i];
     } else {
       served_again_ += speculate;
-      Serve(rig, views, index, predictions, i, *used, nullptr, &attempt_);
+      Serve(rig, views, index, predictions, i, *used, nullptr, shared, &attempt_);
     }
     if (attempt->outcome == Outcome::kServed) {
       served_[i] = 1;
@@ -114,7 +147,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
   // marker may land near a track that already has its own point); two predictions that took
   // each other's markers both stay unserved, for the matcher and the tracker.
   for (size_t i : deferred_) {
-    Serve(rig, views, index, predictions, i, *used, &served_, &attempt_);
+    Serve(rig, views, index, predictions, i, *used, &served_, shared, &attempt_);
     if (attempt_.outcome == Outcome::kServed) {
       served_[i] = 1;
       MarkUsed(attempt_.point, used);

@@ -21,6 +21,13 @@ struct PointPrediction {
   double gate_mm = 20.0;
 };
 
+// Marks in *shared (one entry per observation) every blob that lies within coincident_px
+// (pixels) of two or more predictions' reprojections in its camera (see
+// PredictionMatchOptions::coincident_px); returns how many. Cameras on the team when given.
+int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                    const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
+                    std::vector<char>* shared, WorkerTeam* team = nullptr);
+
 class PredictionMatcher {
  public:
   PredictionMatcher(const PredictionMatchOptions& options,
@@ -32,9 +39,11 @@ class PredictionMatcher {
   // of several threads every prediction is first served at once against the blobs free at the
   // start, then committed in order; a prediction one of whose blobs an earlier one took is served
   // again, so the result is the one-thread result exactly.
+  // Blobs that `shared` marks (FindSharedBlobs; may be null) are left out of the points' solves.
   void Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, UseCounts* used,
-             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids, WorkerTeam* team = nullptr);
+             std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
+             const std::vector<char>* shared = nullptr, WorkerTeam* team = nullptr);
   // Predictions served again because an earlier one took a blob of their parallel attempt.
   long long served_again() const { return served_again_; }
 
@@ -52,7 +61,7 @@ class PredictionMatcher {
   // given). Reads only its arguments: safe on several threads with different attempts.
   void Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-             const std::vector<char>* served, Attempt* attempt) const;
+             const std::vector<char>* served, const std::vector<char>* shared, Attempt* attempt) const;
   Outcome Judge(const std::vector<PointPrediction>& predictions, size_t which, const std::vector<char>* served,
                 size_t gathered, const TriangulatedPoint& point) const;
 

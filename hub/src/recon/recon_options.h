@@ -12,6 +12,17 @@ struct TriangulationOptions {
   // A view whose refined reprojection error exceeds this is an outlier (merged blob, wrong
   // match); with three or more views the worst one is dropped and the point re-solved.
   double max_reprojection_px = 1.5;
+  // With four or more views, the worst view is also dropped when its error exceeds
+  // outlier_floor_px and, against the point the other views make without it, outlier_ratio times
+  // their median error: a blob biased by a coincident marker's spot, which the absolute limit
+  // keeps on a precise rig. The ratio lets Gaussian noise pass (a good view's error there stays
+  // under about three times the median), so noisy cameras are judged by the limit above alone.
+  double outlier_floor_px = 0.3;
+  double outlier_ratio = 8.0;
+  // Both relative tests (the view standing out above, a blob two predictions share) apply only
+  // to points whose other views agree to this fraction of max_reprojection_px: on noisier
+  // cameras the limit alone judges.
+  double precise_fraction = 0.1;
   // A view from a blob flagged merged is left out of the solve when min_views other views
   // remain, and stays one of the point's views when its residual is within this (its centroid
   // lies between its markers, up to about a marker radius from each).
@@ -59,6 +70,11 @@ struct PredictionMatchOptions {
   // not served yet is deferred and served again after the others (it gathered its neighbour's
   // blobs). Off by default: on the tennis serve's fast hand it costs points (real-motion test).
   bool defer_contested = false;
+  // Two predictions whose reprojections fall within this of one blob (pixels) share it: two
+  // markers a pixel or two apart in that image make one round blob that the node's shape test
+  // cannot flag, whose centroid is off for both. It is then treated as a merged blob (left out
+  // of the solve while two other views remain). 0 turns this off.
+  double coincident_px = 2.0;
 
   void Check() const;
 };

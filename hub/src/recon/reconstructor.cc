@@ -80,8 +80,18 @@ void Reconstructor::Process(const FrameSet& frame_set,
   index_.Resize(rig_);
   team_.Run(rig_.NumCameras(), [&](int c) { index_.BuildCamera(rig_, views_, c); });
   Lap(&lap, &stage_times_.index_us);
-  if (options_.use_predictions && !predictions.empty()) {
-    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, &team_);
+  // Blobs two predictions share are only set aside for precise points (precise_fraction), which
+  // a rig as noisy as the last frame's points were cannot make: then the search is skipped.
+  const double precise_px = options_.triangulation.precise_fraction * options_.triangulation.max_reprojection_px;
+  const bool look_for_shared = median_rms_px_ < 1.25 * precise_px;
+  if (options_.use_predictions && !predictions.empty() && look_for_shared) {
+    stats_.coincident_blobs += FindSharedBlobs(rig_, views_, index_, predictions, options_.prediction.coincident_px,
+                                               options_.triangulation.min_depth_mm, &shared_, &team_);
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, &shared_,
+                              &team_);
+  } else if (options_.use_predictions && !predictions.empty()) {
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, nullptr,
+                              &team_);
   }
   stats_.predictions_served_again = prediction_matcher_.served_again();
   Lap(&lap, &stage_times_.predictions_us);
@@ -115,6 +125,12 @@ void Reconstructor::Process(const FrameSet& frame_set,
     out.track_hint = i < from_predictions ? track_ids_[i] : -1;
     points->push_back(out);
     stats_.outlier_views_rejected += static_cast<long long>(triangulated_[i].rejected.size());
+  }
+  if (!triangulated_.empty()) {
+    rms_scratch_.clear();
+    for (const TriangulatedPoint& point : triangulated_) rms_scratch_.push_back(point.rms_px);
+    std::nth_element(rms_scratch_.begin(), rms_scratch_.begin() + rms_scratch_.size() / 2, rms_scratch_.end());
+    median_rms_px_ = rms_scratch_[rms_scratch_.size() / 2];
   }
   ++stats_.frames;
   stats_.points += static_cast<long long>(triangulated_.size());

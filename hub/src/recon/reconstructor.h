@@ -30,6 +30,7 @@ struct ReconstructionStats {
   long long points = 0;
   long long points_from_predictions = 0;
   long long outlier_views_rejected = 0;
+  long long coincident_blobs = 0;  // blobs two predictions fell in, left out of their solves
   long long observations = 0;
   long long leftover_observations = 0;  // not used by a prediction: the matcher's input
   long long unknown_camera_frames = 0;
@@ -81,6 +82,9 @@ class Reconstructor {
   FrameViews views_;
   BlobIndex index_;
   UseCounts used_;
+  std::vector<char> shared_;  // blobs two predictions fall in (FindSharedBlobs)
+  double median_rms_px_ = 0.0;  // the last frame's median point residual: how precise the rig is
+  std::vector<double> rms_scratch_;
   std::vector<TriangulatedPoint> triangulated_;
   std::vector<int> track_ids_;
   ReconstructionStats stats_;

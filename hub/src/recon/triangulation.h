@@ -35,8 +35,11 @@ void ReprojectionErrors(const RigModel& rig, const FrameViews& views,
                         std::vector<double>* errors_px);
 
 // The full pipeline with outlier rejection. False when fewer than options.min_views consistent
-// views remain.
+// views remain. Views flagged merged, and those `shared` marks (one entry per observation, may
+// be null: blobs two markers share), are left out of the solve while min_views others remain.
+// Reentrant (per-thread scratch).
 bool TriangulateRobust(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
-                       const TriangulationOptions& options, TriangulatedPoint* result);
+                       const TriangulationOptions& options, TriangulatedPoint* result,
+                       const std::vector<char>* shared = nullptr);
 
 }  // namespace mocap

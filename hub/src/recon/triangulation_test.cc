@@ -108,6 +108,81 @@ TEST(Triangulation, RejectsOneOutlierView) {
   EXPECT_LT((result.point_in_world - truth).norm(), 1.0);
 }
 
+TEST(Triangulation, ViewStandingOutFromPreciseOnesIsDropped) {
+  // The fault suite's rig: rendered blobs within 0.02 px, except where two markers project a
+  // pixel or two apart and make one round blob whose centroid is off by about a pixel for
+  // both. Under the 1.5 px limit, such a view moved points by up to a millimetre, the more the
+  // fewer views the point had (10 % datagram loss: rmse 1.17 x the loss-free run).
+  const Rig rig = testing::MakeRingRig(6, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  std::mt19937 rng(7);
+  const Eigen::Vector3d truth(150.0, -80.0, 1100.0);
+  FrameSet frame_set = OnePointFrame(rig, truth, 0.01, &rng);
+  frame_set.cameras[2].blobs[0].pixel += Eigen::Vector2d(0.8, 0.5);
+  FrameViews views;
+  BuildFrameViews(model, frame_set, &views);
+  TriangulatedPoint result;
+  ASSERT_TRUE(TriangulateRobust(model, views, AllObservations(views), TriangulationOptions(), &result));
+  // Left out of the solve; as a merged blob, it stays a member (it cannot seed a ghost).
+  EXPECT_EQ(result.observations.size(), 6u);
+  EXPECT_TRUE(result.rejected.empty());
+  EXPECT_LT(result.max_px, 0.1);
+  EXPECT_LT((result.point_in_world - truth).norm(), 0.1);
+}
+
+TEST(Triangulation, GaussianNoiseDoesNotMakeViewsStandOut) {
+  // 0.2 px of noise on every view: the relative test must leave such points whole (the 1.5 px
+  // limit judges noisy cameras); 300 points of eight views.
+  const Rig rig = testing::MakeRingRig(8, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> coord(-600.0, 600.0);
+  size_t rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::Vector3d truth(coord(rng), coord(rng), 1000.0 + coord(rng));
+    FrameViews views;
+    BuildFrameViews(model, OnePointFrame(rig, truth, 0.2, &rng), &views);
+    TriangulatedPoint result;
+    ASSERT_TRUE(TriangulateRobust(model, views, AllObservations(views), TriangulationOptions(), &result));
+    rejected += result.rejected.size();
+  }
+  EXPECT_EQ(rejected, 0u);
+}
+
+TEST(Triangulation, BlobTwoPredictionsShareIsSetAsideWhenTheOthersArePrecise) {
+  // Three views, one of them a blob two markers share (off by about a pixel): too few views for
+  // a residual test to tell which is off; marked shared, it is left out of the solve and stays a
+  // member of the point.
+  const Rig rig = testing::MakeRingRig(3, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  std::mt19937 rng(9);
+  const Eigen::Vector3d truth(-60.0, 90.0, 1000.0);
+  FrameSet frame_set = OnePointFrame(rig, truth, 0.0, &rng);
+  frame_set.cameras[1].blobs[0].pixel += Eigen::Vector2d(0.7, -0.6);
+  FrameViews views;
+  BuildFrameViews(model, frame_set, &views);
+  TriangulatedPoint plain, set_aside;
+  ASSERT_TRUE(TriangulateRobust(model, views, AllObservations(views), TriangulationOptions(), &plain));
+  EXPECT_GT((plain.point_in_world - truth).norm(), 0.5);  // what the shared blob costs when used
+  std::vector<char> shared(views.observations.size(), 0);
+  shared[1] = 1;
+  ASSERT_TRUE(TriangulateRobust(model, views, AllObservations(views), TriangulationOptions(), &set_aside, &shared));
+  EXPECT_LT((set_aside.point_in_world - truth).norm(), 0.01);
+  EXPECT_EQ(set_aside.observations.size(), 3u);
+  // The other two views 0.6 px apart across the (horizontal) epipolar lines do not make a
+  // precise point: the shared blob stays a view, as without the marking.
+  FrameSet noisy_set = frame_set;
+  noisy_set.cameras[0].blobs[0].pixel.y() += 0.6;
+  noisy_set.cameras[2].blobs[0].pixel.y() -= 0.6;
+  FrameViews noisy;
+  BuildFrameViews(model, noisy_set, &noisy);
+  TriangulatedPoint kept, kept_plain;
+  ASSERT_TRUE(TriangulateRobust(model, noisy, AllObservations(noisy), TriangulationOptions(), &kept_plain));
+  ASSERT_TRUE(TriangulateRobust(model, noisy, AllObservations(noisy), TriangulationOptions(), &kept, &shared));
+  EXPECT_LT((kept.point_in_world - kept_plain.point_in_world).norm(), 1e-9);
+  EXPECT_GT((kept.point_in_world - set_aside.point_in_world).norm(), 0.1);
+}
+
 TEST(Triangulation, TwoInconsistentViewsFail) {
   // Two cameras a quarter turn apart; the second blob moves 30 px, mostly off the epipolar line.
   const Rig rig = testing::MakeRingRig(4, 4000.0, 2000.0, Eigen::Vector3d(0, 0, 1000));
