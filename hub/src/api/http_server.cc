@@ -142,6 +142,14 @@ std::string FrameMessage(const LiveFrame& frame) {
   return out;
 }
 
+// Writes a response head. Built with std::string rather than mg_printf: civetweb's workers run on
+// the small stacks of Debian's build (about 100 KB), and mg_printf's buffer plus glibc's printf
+// machinery took the deepest static-file request over it (a worker crashed once the process's
+// static TLS grew by a few hundred bytes).
+void WriteHead(mg_connection* connection, const std::string& head) {
+  mg_write(connection, head.data(), head.size());
+}
+
 // The file's bytes as the body of a 200 answer, read in pieces (a session's raw log may be large;
 // a file still growing, as a running capture's, is sent as long as it was when opened).
 int SendFile(mg_connection* connection, const std::string& path, const std::string& content_type, bool head,
@@ -150,16 +158,13 @@ int SendFile(mg_connection* connection, const std::string& path, const std::stri
   struct stat st;
   if (!in || ::stat(path.c_str(), &st) != 0) {
     const std::string body = R"({"error":"the file cannot be read"})";
-    mg_printf(connection,
-              "HTTP/1.1 404 Not Found\r\nContent-Type: application/json\r\nContent-Length: %zu\r\n"
-              "Connection: close\r\n\r\n%s",
-              body.size(), body.c_str());
+    WriteHead(connection, "HTTP/1.1 404 Not Found\r\nContent-Type: application/json\r\nContent-Length: " +
+                              std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body);
     return 404;
   }
   const long long size = static_cast<long long>(st.st_size);
-  mg_printf(connection,
-            "HTTP/1.1 200 OK\r\nContent-Type: %s\r\nContent-Length: %lld\r\n%sConnection: close\r\n\r\n",
-            content_type.c_str(), size, extra_headers.c_str());
+  WriteHead(connection, "HTTP/1.1 200 OK\r\nContent-Type: " + content_type + "\r\nContent-Length: " +
+                            std::to_string(size) + "\r\n" + extra_headers + "Connection: close\r\n\r\n");
   if (head) return 200;
   std::vector<char> buffer(64 * 1024);
   long long left = size;
@@ -241,10 +246,9 @@ int HttpServer::OnRequest(mg_connection* connection) {
   }
   if (response.status == 200 && !response.file.empty())
     return SendFile(connection, response.file, response.content_type, request.method == "HEAD", "");
-  mg_printf(connection,
-            "HTTP/1.1 %d %s\r\nContent-Type: %s\r\nContent-Length: %zu\r\nCache-Control: no-store\r\n"
-            "Connection: close\r\n\r\n",
-            response.status, Reason(response.status), response.content_type.c_str(), response.body.size());
+  WriteHead(connection, "HTTP/1.1 " + std::to_string(response.status) + " " + Reason(response.status) +
+                            "\r\nContent-Type: " + response.content_type + "\r\nContent-Length: " +
+                            std::to_string(response.body.size()) + "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n");
   mg_write(connection, response.body.data(), response.body.size());
   return response.status;
 }
@@ -269,9 +273,9 @@ int HttpServer::OnStaticRequest(mg_connection* connection) {
     }
   }
   if (status) {
-    mg_printf(connection,
-              "HTTP/1.1 %d %s\r\nContent-Type: application/json\r\nContent-Length: %zu\r\nConnection: close\r\n\r\n",
-              status, Reason(status), body.size());
+    WriteHead(connection, "HTTP/1.1 " + std::to_string(status) + " " + Reason(status) +
+                              "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) +
+                              "\r\nConnection: close\r\n\r\n");
     mg_write(connection, body.data(), body.size());
     return status;
   }
@@ -284,8 +288,8 @@ int HttpServer::OnStaticRequest(mg_connection* connection) {
                       static_cast<unsigned long long>(st.st_mtim.tv_nsec));
   const char* if_none_match = mg_get_header(connection, "If-None-Match");
   if (etag[0] && if_none_match && std::strcmp(if_none_match, etag) == 0) {
-    mg_printf(connection, "HTTP/1.1 304 Not Modified\r\nETag: %s\r\nCache-Control: no-cache\r\nContent-Length: 0\r\n"
-              "Connection: close\r\n\r\n", etag);
+    WriteHead(connection, std::string("HTTP/1.1 304 Not Modified\r\nETag: ") + etag +
+                              "\r\nCache-Control: no-cache\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
     return 304;
   }
   const std::string headers =
