@@ -82,16 +82,14 @@ void Reconstructor::Process(const FrameSet& frame_set,
   Lap(&lap, &stage_times_.index_us);
   // Blobs two predictions share are only set aside for precise points (precise_fraction), which
   // a rig as noisy as the last frame's points were cannot make: then the search is skipped.
-  const double precise_px = options_.triangulation.precise_fraction * options_.triangulation.max_reprojection_px;
-  const bool look_for_shared = median_rms_px_ < 1.25 * precise_px;
-  if (options_.use_predictions && !predictions.empty() && look_for_shared) {
-    stats_.coincident_blobs += FindSharedBlobs(rig_, views_, index_, predictions, options_.prediction.coincident_px,
-                                               options_.triangulation.min_depth_mm, &shared_, &team_);
-    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, &shared_,
-                              &team_);
-  } else if (options_.use_predictions && !predictions.empty()) {
-    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_, nullptr,
-                              &team_);
+  if (options_.use_predictions && !predictions.empty()) {
+    const bool look_for_shared = median_rms_px_ < PreciseGatePx(options_.triangulation);
+    if (look_for_shared) {
+      stats_.coincident_blobs += FindSharedBlobs(rig_, views_, index_, predictions, options_.prediction.coincident_px,
+                                                 options_.triangulation.min_depth_mm, &shared_, &team_);
+    }
+    prediction_matcher_.Match(rig_, views_, index_, predictions, &used_, &triangulated_, &track_ids_,
+                              look_for_shared ? &shared_ : nullptr, &team_);
   }
   stats_.predictions_served_again = prediction_matcher_.served_again();
   Lap(&lap, &stage_times_.predictions_us);

@@ -102,7 +102,7 @@ bool StandsOut(const RigModel& rig, const FrameViews& views, const std::vector<i
       if (i != worst) errors.push_back(errors_px[i]);
     }
     std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2), errors.end());
-    if (!(errors[errors.size() / 2] < 1.25 * precise_px)) return false;
+    if (!(errors[errors.size() / 2] < PreciseGatePx(options))) return false;
   }
   thread_local std::vector<int> others;
   others.clear();

@@ -34,6 +34,13 @@ void ReprojectionErrors(const RigModel& rig, const FrameViews& views,
                         const std::vector<int>& observations, const Eigen::Vector3d& point_in_world,
                         std::vector<double>* errors_px);
 
+// The residual (px) under which a median error may still belong to a precise point once one
+// biased view is out: 25 % over the precise limit (precise_fraction of max_reprojection_px). The
+// cheap gates in front of the coincident-view tests use it.
+inline double PreciseGatePx(const TriangulationOptions& options) {
+  return 1.25 * options.precise_fraction * options.max_reprojection_px;
+}
+
 // The full pipeline with outlier rejection. False when fewer than options.min_views consistent
 // views remain. Views flagged merged, and those `shared` marks (one entry per observation, may
 // be null: blobs two markers share), are left out of the solve while min_views others remain.
