@@ -247,8 +247,8 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_flag("--no-predictions", args->no_predictions,
                     "Match every frame from scratch (no reprojected track predictions)");
   command->add_option("--contested-gate-factor", args->recon.prediction.contested_gate_factor,
-                      "Predictions nearer each other than this times the sum of their gates are left to the matcher "
-                      "(dense clusters); 0 serves every prediction")
+                      "Predictions nearer each other than this times the sum of their gates (each counted up to "
+                      "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
       ->capture_default_str();
   command->add_option("--threads", args->recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "

@@ -220,8 +220,8 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
   command->add_option("--contested-gate-factor", o.recon.prediction.contested_gate_factor,
-                      "Predictions nearer each other than this times the sum of their gates are left to the matcher "
-                      "(dense clusters); 0 serves every prediction")
+                      "Predictions nearer each other than this times the sum of their gates (each counted up to "
+                      "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
       ->capture_default_str();
   command->add_option("--threads", o.recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "

@@ -6,7 +6,8 @@
 
 namespace mocap {
 
-void MarkContested(const std::vector<PointPrediction>& predictions, double factor, std::vector<char>* contested) {
+void MarkContested(const std::vector<PointPrediction>& predictions, double factor, double gate_cap_mm,
+                   std::vector<char>* contested) {
   contested->assign(predictions.size(), 0);
   if (!(factor > 0.0) || predictions.size() < 2) return;
   // Sweep along x: a pair can only be contested while their x distance is under the factor
@@ -17,15 +18,16 @@ void MarkContested(const std::vector<PointPrediction>& predictions, double facto
   std::sort(by_x.begin(), by_x.end(), [&](size_t a, size_t b) {
     return predictions[a].point_in_world.x() < predictions[b].point_in_world.x();
   });
+  const auto gate_of = [&](const PointPrediction& p) { return std::min(p.gate_mm, gate_cap_mm); };
   double max_gate = 0.0;
-  for (const PointPrediction& p : predictions) max_gate = std::max(max_gate, p.gate_mm);
+  for (const PointPrediction& p : predictions) max_gate = std::max(max_gate, gate_of(p));
   for (size_t a = 0; a < by_x.size(); ++a) {
     const PointPrediction& first = predictions[by_x[a]];
-    const double reach = factor * (first.gate_mm + max_gate);
+    const double reach = factor * (gate_of(first) + max_gate);
     for (size_t b = a + 1; b < by_x.size(); ++b) {
       const PointPrediction& second = predictions[by_x[b]];
       if (second.point_in_world.x() - first.point_in_world.x() > reach) break;
-      const double limit = factor * (first.gate_mm + second.gate_mm);
+      const double limit = factor * (gate_of(first) + gate_of(second));
       if ((second.point_in_world - first.point_in_world).squaredNorm() < limit * limit)
         (*contested)[by_x[a]] = (*contested)[by_x[b]] = 1;
     }
@@ -110,7 +112,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
                               const std::vector<PointPrediction>& predictions, UseCounts* used,
                               std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
                               const std::vector<char>* shared, WorkerTeam* team) {
-  MarkContested(predictions, options_.contested_gate_factor, &contested_);
+  MarkContested(predictions, options_.contested_gate_factor, options_.contested_gate_cap_mm, &contested_);
   contested_count_ = std::count(contested_.begin(), contested_.end(), 1);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
   if (speculate) {

@@ -25,9 +25,11 @@ struct PointPrediction {
 // (pixels) of two or more predictions' reprojections in its camera (see
 // PredictionMatchOptions::coincident_px); returns how many. Cameras on the team when given.
 // Sets (*contested)[i] for every prediction whose centre lies nearer another's than `factor`
-// times the sum of their gates (PredictionMatchOptions::contested_gate_factor); none when factor
-// is 0. Cost: a sort and the neighbours along x.
-void MarkContested(const std::vector<PointPrediction>& predictions, double factor, std::vector<char>* contested);
+// times the sum of their gates, each gate counted up to gate_cap_mm
+// (PredictionMatchOptions::contested_gate_factor, contested_gate_cap_mm); none when factor is 0.
+// Cost: a sort and the neighbours along x.
+void MarkContested(const std::vector<PointPrediction>& predictions, double factor, double gate_cap_mm,
+                   std::vector<char>* contested);
 
 int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                     const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,

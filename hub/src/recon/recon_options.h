@@ -72,6 +72,10 @@ struct PredictionMatchOptions {
   // blobs go to the matcher, whose epipolar consistency decides, and the tracker's assignment
   // gives the points to the tracks. 0 serves every prediction (faster, less safe).
   double contested_gate_factor = 1.5;
+  // Gates count up to this (mm) in that test: a fast track's wide gate says its own velocity is
+  // uncertain, not that its neighbours are near (the serve's racket hand: markers ~100 mm apart
+  // whose predictions the triangulation checks still tell apart).
+  double contested_gate_cap_mm = 30.0;
   // Two predictions whose reprojections fall within this of one blob (pixels) share it: two
   // markers a pixel or two apart in that image make one round blob that the node's shape test
   // cannot flag, whose centroid is off for both. It is then treated as a merged blob (left out
