@@ -22,6 +22,8 @@ usage: deploy/sim-session.sh --motion M.trc | --frames-dir DIR   [options]
   --serve-args "..."   extra `serve` options for the live result (default the same gate)
   --hub-cpus LIST      run serve on these CPUs only (taskset list, e.g. 0), so that benchmarks
   --node-cpus LIST     measure the hub apart from the node processes sharing its machine
+  --hub-nice N         run serve at this nice value (deploy/mocap-hub.service runs it at -5;
+                       below 0 needs root)
   --threshold T        node detection threshold (default 32: background 12, noise sigma 1.5)
   --network MODE       netns: one network namespace + veth per node (default when root and
                        `ip netns` works); loopback: every node on 127.0.0.1; auto (default)
@@ -35,7 +37,7 @@ die() { echo "sim-session: error: $*" >&2; exit 1; }
 motion="" frames_dir="" cameras=8 out=sim-session bin=build/bin threshold=32 network=auto json=0
 reconstruct_args="--max-ray-distance-mm 3"
 serve_args="--max-ray-distance-mm 3"
-hub_cpus="" node_cpus=""
+hub_cpus="" node_cpus="" hub_nice=""
 render_args="--occlusion 0.02 --noise 1.5"
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -48,6 +50,7 @@ while [ $# -gt 0 ]; do
         --reconstruct-args) reconstruct_args=${2?}; shift 2 ;;
         --serve-args) serve_args=${2?}; shift 2 ;;
         --hub-cpus) hub_cpus=${2:?}; shift 2 ;;
+        --hub-nice) hub_nice=${2:?}; shift 2 ;;
         --node-cpus) node_cpus=${2:?}; shift 2 ;;
         --threshold) threshold=${2:?}; shift 2 ;;
         --network) network=${2:?}; shift 2 ;;
@@ -62,6 +65,7 @@ node="$bin/mocap-node"
 [ -x "$node" ] || die "$node not found (build it first, or pass --bin)"
 case "$network" in auto|netns|loopback) ;; *) die "--network must be auto, netns or loopback" ;; esac
 [[ "$cameras" =~ ^[0-9]+$ ]] && [ "$cameras" -ge 2 ] || die "--cameras must be a number >= 2"
+[[ -z "$hub_nice" || "$hub_nice" =~ ^-?[0-9]+$ ]] || die "--hub-nice must be a whole number"
 [[ "$threshold" =~ ^[0-9]+$ ]] || die "--threshold must be a number 1..255"
 log() { [ "$json" = 1 ] && echo "$*" >&2 || echo "$*"; }
 
@@ -127,7 +131,8 @@ epoch=$(( $(date +%s%N) + 3000000000 ))
 : > "$out/serve.log"
 # shellcheck disable=SC2086  # serve_args is a list of options
 hub_pin=() node_pin=()
-[ -z "$hub_cpus" ] || hub_pin=(taskset -c "$hub_cpus")
+[ -z "$hub_nice" ] || hub_pin=(nice -n "$hub_nice")
+[ -z "$hub_cpus" ] || hub_pin+=(taskset -c "$hub_cpus")
 [ -z "$node_cpus" ] || node_pin=(taskset -c "$node_cpus")
 "${hub_pin[@]}" "$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
     --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" --keys "$keys" $serve_args \

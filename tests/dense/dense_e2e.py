@@ -5,9 +5,10 @@ cluster markers 18-30 mm beside each) through the CLI as a user runs it: `sim ri
 `reconstruct`, `eval` against the known-correspondence floor (`reconstruct
 --known-correspondences`). Registered only where the shared data exists.
 
-Asserted (issue 15's limits): rmse within 1.3x the floor with and without predictions; matching
-every frame from scratch (--no-predictions) also meets ghosts <= 0.02 and missing <= 0.01 per frame
-and trajectories <= 1.05x markers; and --threads 2 writes the very same file as one thread.
+Asserted (issue 15's limits): with the defaults (predictions; contested ones left to the matcher)
+and matching every frame from scratch (--no-predictions): rmse within 1.3x the floor, ghosts <=
+0.02 and missing <= 0.01 per frame, trajectories <= 1.05x markers; and --threads 2 writes the very
+same file as one thread. (Issue 15's 10 swaps is not met: 278.)
 usage: dense_e2e.py BIN_DIR WORK_DIR DENSE_TRC
 """
 import json
@@ -61,20 +62,21 @@ class DenseMarkers(unittest.TestCase):
               f"(floor rmse {self.floor['rmse_mm']:.3f} mm, {self.markers} markers)", flush=True)
         return figures
 
-    def test_predictions_keep_the_floor_accuracy_on_any_number_of_threads(self):
-        one = self.figures("predictions")
-        self.assertLessEqual(one["rmse_mm"], 1.3 * self.floor["rmse_mm"])
+    def meets_the_limits(self, f):
+        self.assertLessEqual(f["rmse_mm"], 1.3 * self.floor["rmse_mm"])
+        self.assertLessEqual(f["ghosts_per_frame"], 0.02)
+        self.assertLessEqual(f["missing_per_frame"], 0.01)
+        self.assertLessEqual(f["trajectories"], 1.05 * self.markers)
+
+    def test_predictions_meet_the_limits_on_any_number_of_threads(self):
+        self.meets_the_limits(self.figures("predictions"))
         two = reconstruct(self.session, self.rig, "predictions_2_threads", "--threads", "2")
         with open(os.path.join(WORK, "predictions.trc")) as a, open(two) as b:
             # The first line names the file itself.
             self.assertEqual(a.readlines()[1:], b.readlines()[1:], "two threads changed the result")
 
-    def test_matching_every_frame_meets_the_ghost_missing_and_trajectory_limits(self):
-        f = self.figures("from_scratch", "--no-predictions")
-        self.assertLessEqual(f["rmse_mm"], 1.3 * self.floor["rmse_mm"])
-        self.assertLessEqual(f["ghosts_per_frame"], 0.02)
-        self.assertLessEqual(f["missing_per_frame"], 0.01)
-        self.assertLessEqual(f["trajectories"], 1.05 * self.markers)
+    def test_matching_every_frame_meets_the_limits(self):
+        self.meets_the_limits(self.figures("from_scratch", "--no-predictions"))
 
 
 if __name__ == "__main__":

@@ -6,9 +6,9 @@
 # received (kernel time) -> its 3D result published (complete sets), p50 / p99 / max, and the
 # reconstruction + tracking time alone, beside the frame sets assembled (incomplete: a camera
 # missed the deadline) and the live result's accuracy. Milliseconds.
-# The hub runs on CPU 0 and the nodes on the others (taskset), so the figure is the hub's, not
-# the scheduler's: on a small machine the nodes' detection would otherwise starve it. Images are
-# 1280x800 by default (--width/--height).
+# The hub runs on CPU 0 (at nice -5 when root, as deploy/mocap-hub.service runs it) and the nodes
+# on the others (taskset), so the figure is the hub's, not the scheduler's: on a small machine
+# the nodes' detection would otherwise starve it. Images are 1280x800 by default (--width/--height).
 # usage: tools/serve-bench/serve-bench.sh [--cameras "8 16 32"] [--markers 60] [--rate 240]
 #                                         [--seconds 4] [--width 1280 --height 800]
 #                                         [--serve-args "EXTRA SERVE OPTIONS"]
@@ -39,6 +39,9 @@ frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
 printf "%7s %7s %6s %10s %11s %11s %11s %11s %11s %11s %13s %12s\n" cameras markers rate "sets" "incomplete" \
     "hub p50" "hub p99" "hub max" "proc p50" "proc p99" "live missing" "live ghosts"
 cpus=$(nproc)
+# As deploy/mocap-hub.service runs it (Nice=-5), when this user may.
+hub_nice=()
+[ "$(id -u)" != 0 ] || hub_nice=(--hub-nice -5)
 node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 for n in $cameras; do
     mkdir -p "$out/c$n"
@@ -48,7 +51,7 @@ for n in $cameras; do
     "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/c$n/rig.json" -o "$out/c$n/frames" \
         --occlusion 0.02 --noise 1.5 > /dev/null
     "$here/deploy/sim-session.sh" --frames-dir "$out/c$n/frames" --out "$out/c$n" --bin "$bin" \
-        --hub-cpus 0 --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 $serve_args" --json \
+        --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 $serve_args" --json \
         > "$out/c$n.json" 2> "$out/c$n.log"
     python3 - "$out/c$n.json" "$n" "$markers" "$rate" <<'PY'
 import json, sys

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Latency per protocol, trigger edge -> received by a client: a synthetic subject of MARKERS
 # markers at RATE Hz, rendered for CAMERAS cameras and replayed through real mocap-node
-# processes (deploy/sim-session.sh: nodes in network namespaces when root, hub pinned to CPU 0,
+# processes (deploy/sim-session.sh: nodes in network namespaces when root, hub pinned to CPU 0 at nice -5 when root,
 # nodes to the others) into `mocap-hub serve`, with probe clients on loopback:
 #   stream  the C client's example (clients/c), which also prints publish -> received: what the
 #           stream adds to the hub's own latency
@@ -52,9 +52,12 @@ pids+=($!)
 "$python" "$here/tools/stream-bench/qtm_probe.py" "$qtm_port" "$probe_frames" 30 > "$out/qtm.txt" 2> "$out/qtm.err" &
 pids+=($!)
 cpus=$(nproc)
+# As deploy/mocap-hub.service runs it (Nice=-5), when this user may.
+hub_nice=()
+[ "$(id -u)" != 0 ] || hub_nice=(--hub-nice -5)
 node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 "$here/deploy/sim-session.sh" --frames-dir "$out/frames" --out "$out/session" --bin "$bin" \
-    --hub-cpus 0 --node-cpus "$node_cpus" --json \
+    --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --json \
     --serve-args "--max-ray-distance-mm 3 --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
     > "$out/session.json" 2> "$out/session.log"
 for p in "${pids[@]}"; do wait "$p" || true; done

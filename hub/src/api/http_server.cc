@@ -20,6 +20,7 @@
 #include "service/api_router.h"
 #include "stream/stream_encoding.h"
 #include "util/log.h"
+#include "util/thread_priority.h"
 
 namespace mocap::api {
 
@@ -199,6 +200,11 @@ HttpServer::HttpServer(service::HubService& service, const std::string& listen, 
                            "enable_websocket_ping_pong", "yes", nullptr};
   mg_callbacks callbacks;
   std::memset(&callbacks, 0, sizeof(callbacks));
+  // Requests are answered after the frame at hand: civetweb's threads run below the frame loop.
+  callbacks.init_thread = [](const mg_context*, int) -> void* {
+    SetThisThreadPriority(ThreadPriority::kService);
+    return nullptr;
+  };
   context_ = mg_start(&callbacks, this, options);
   if (!context_) throw std::runtime_error("HTTP API: cannot listen on " + ports + " (in use, or not an address of this host)");
   mg_server_port bound[4];
@@ -209,7 +215,10 @@ HttpServer::HttpServer(service::HubService& service, const std::string& listen, 
   mg_set_request_handler(context_, "**", StaticTrampoline, nullptr);
   for (const char* path : {"/api/live", "/api/stream"})
     mg_set_websocket_handler(context_, path, WebSocketConnect, WebSocketReady, WebSocketData, WebSocketClose, nullptr);
-  broadcaster_ = std::thread([this] { Broadcast(); });
+  broadcaster_ = std::thread([this] {
+    SetThisThreadPriority(ThreadPriority::kService);
+    Broadcast();
+  });
 }
 
 HttpServer::~HttpServer() {
@@ -340,6 +349,7 @@ void HttpServer::Broadcast() {
 }
 
 void HttpServer::Write(Client* client) {
+  SetThisThreadPriority(ThreadPriority::kService);
   while (!client->queue.closed()) {
     const stream::SharedFrame frame = client->queue.Pop(std::chrono::seconds(1));
     if (!frame) continue;

@@ -246,9 +246,10 @@ void AddReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--no-predictions", args->no_predictions,
                     "Match every frame from scratch (no reprojected track predictions)");
-  command->add_flag("--defer-contested-predictions", args->recon.prediction.defer_contested,
-                    "Dense marker sets: a prediction whose point lies nearer another track's prediction is served "
-                    "after the others");
+  command->add_option("--contested-gate-factor", args->recon.prediction.contested_gate_factor,
+                      "Predictions nearer each other than this times the sum of their gates (each counted up to "
+                      "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
+      ->capture_default_str();
   command->add_option("--threads", args->recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
                       "for any count")

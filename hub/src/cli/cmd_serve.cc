@@ -219,9 +219,10 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
-  command->add_flag("--defer-contested-predictions", o.recon.prediction.defer_contested,
-                    "Dense marker sets: a prediction whose point lies nearer another track's prediction is served "
-                    "after the others");
+  command->add_option("--contested-gate-factor", o.recon.prediction.contested_gate_factor,
+                      "Predictions nearer each other than this times the sum of their gates (each counted up to "
+                      "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
+      ->capture_default_str();
   command->add_option("--threads", o.recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
                       "for any count")

@@ -46,6 +46,8 @@ void PredictionMatchOptions::Check() const {
   Require(max_gate_px >= min_gate_px, "prediction.max_gate_px must be >= min_gate_px");
   Require(max_shift_factor > 0.0, "prediction.max_shift_factor must be > 0");
   Require(coincident_px >= 0.0, "prediction.coincident_px must be >= 0");
+  Require(contested_gate_factor >= 0.0, "prediction.contested_gate_factor must be >= 0");
+  Require(contested_gate_cap_mm > 0.0, "prediction.contested_gate_cap_mm must be > 0");
 }
 
 void GhostFilterOptions::Check() const {

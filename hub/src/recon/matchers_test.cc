@@ -1,4 +1,7 @@
 // Matchers on a crafted ghost case and on random frames with spurious blobs and occlusions.
+#include <algorithm>
+#include <random>
+
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
@@ -254,6 +257,56 @@ TEST(SharedBlobs, BlobTwoPredictionsFallInIsMarkedAndNoOther) {
   EXPECT_EQ(FindSharedBlobs(model, views, index, predictions, 0.0, 50.0, &shared), 0);
   predictions.resize(1);
   EXPECT_EQ(FindSharedBlobs(model, views, index, predictions, 2.0, 50.0, &shared), 0);
+}
+
+}  // namespace
+}  // namespace mocap
+
+namespace mocap {
+namespace {
+
+TEST(ContestedPredictions, PairsWhoseGatesMeetAndNoOther) {
+  std::vector<PointPrediction> predictions(4);
+  predictions[0].point_in_world = {0, 0, 1000};
+  predictions[1].point_in_world = {25, 0, 1000};  // 25 mm from 0: contested with gates of 10 at 1.5 (30 mm)
+  predictions[2].point_in_world = {0, 200, 1000};
+  predictions[3].point_in_world = {0, 240, 1000};  // 40 mm from 2: free at 1.5, contested at 2.5
+  for (PointPrediction& p : predictions) p.gate_mm = 10.0;
+  std::vector<char> contested;
+  MarkContested(predictions, 1.5, 1e9, &contested);
+  EXPECT_EQ(contested, (std::vector<char>{1, 1, 0, 0}));
+  MarkContested(predictions, 2.5, 1e9, &contested);
+  EXPECT_EQ(contested, (std::vector<char>{1, 1, 1, 1}));
+  MarkContested(predictions, 0.0, 1e9, &contested);  // off
+  EXPECT_EQ(contested, (std::vector<char>(4, 0)));
+  predictions[3].gate_mm = 20.0;  // a wider gate reaches further: 1.5 x (10 + 20) = 45 mm
+  MarkContested(predictions, 1.5, 1e9, &contested);
+  EXPECT_EQ(contested, (std::vector<char>{1, 1, 1, 1}));
+  MarkContested(predictions, 1.5, 15.0, &contested);  // ... up to the cap: 1.5 x (10 + 15) = 37.5 mm
+  EXPECT_EQ(contested, (std::vector<char>{1, 1, 0, 0}));
+}
+
+TEST(ContestedPredictions, SweepFindsWhatEveryPairFinds) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> position(-300.0, 300.0), gate(10.0, 40.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<PointPrediction> predictions(150);
+    for (PointPrediction& p : predictions) {
+      p.point_in_world = {position(random), position(random), 1000.0 + position(random)};
+      p.gate_mm = trial % 2 ? gate(random) : 10.0;
+    }
+    std::vector<char> contested, every_pair(predictions.size(), 0);
+    MarkContested(predictions, 1.5, 30.0, &contested);
+    const auto capped = [](const PointPrediction& p) { return std::min(p.gate_mm, 30.0); };
+    for (size_t a = 0; a < predictions.size(); ++a)
+      for (size_t b = a + 1; b < predictions.size(); ++b)
+        if ((predictions[a].point_in_world - predictions[b].point_in_world).norm() <
+            1.5 * (capped(predictions[a]) + capped(predictions[b])))
+          every_pair[a] = every_pair[b] = 1;
+    EXPECT_EQ(contested, every_pair) << "trial " << trial;
+    EXPECT_GT(std::count(every_pair.begin(), every_pair.end(), 1), 0);  // both outcomes occur
+    EXPECT_GT(std::count(every_pair.begin(), every_pair.end(), 0), 0);
+  }
 }
 
 }  // namespace

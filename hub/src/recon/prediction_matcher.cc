@@ -6,24 +6,34 @@
 
 namespace mocap {
 
-namespace {
-
-// True when another prediction not yet served (served may be null: none is) lies clearly closer
-// to `point` (at most half as far) than prediction `own`: the blobs near `own` belonged to a neighbour (in a dense
-// cluster, a prediction whose marker is hidden in some views gathers its neighbour's blobs
-// there, and the neighbour's prediction would then take this marker's blobs: the two would
-// trade identities).
-bool CloserToAnother(const std::vector<PointPrediction>& predictions, size_t own, const Eigen::Vector3d& point,
-                     const std::vector<char>* served) {
-  const double limit2 = 0.25 * (point - predictions[own].point_in_world).squaredNorm();
-  for (size_t j = 0; j < predictions.size(); ++j) {
-    if (j == own || (served != nullptr && (*served)[j])) continue;
-    if ((point - predictions[j].point_in_world).squaredNorm() < limit2) return true;
+void MarkContested(const std::vector<PointPrediction>& predictions, double factor, double gate_cap_mm,
+                   std::vector<char>* contested) {
+  contested->assign(predictions.size(), 0);
+  if (!(factor > 0.0) || predictions.size() < 2) return;
+  // Sweep along x: a pair can only be contested while their x distance is under the factor
+  // times their gates, so each prediction meets only its neighbours along x.
+  thread_local std::vector<size_t> by_x;
+  by_x.resize(predictions.size());
+  for (size_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(), [&](size_t a, size_t b) {
+    return predictions[a].point_in_world.x() < predictions[b].point_in_world.x();
+  });
+  const auto gate_of = [&](const PointPrediction& p) { return std::min(p.gate_mm, gate_cap_mm); };
+  double max_gate = 0.0;
+  for (const PointPrediction& p : predictions) max_gate = std::max(max_gate, gate_of(p));
+  for (size_t a = 0; a < by_x.size(); ++a) {
+    const PointPrediction& first = predictions[by_x[a]];
+    const double reach = factor * (gate_of(first) + max_gate);
+    for (size_t b = a + 1; b < by_x.size(); ++b) {
+      const PointPrediction& second = predictions[by_x[b]];
+      if (second.point_in_world.x() - first.point_in_world.x() > reach) break;
+      const double limit = factor * (gate_of(first) + gate_of(second));
+      if ((second.point_in_world - first.point_in_world).squaredNorm() < limit * limit)
+        (*contested)[by_x[a]] = (*contested)[by_x[b]] = 1;
+    }
   }
-  return false;
 }
 
-}  // namespace
 
 int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                     const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
@@ -58,13 +68,12 @@ int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobInde
 
 void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-                              const std::vector<char>* served, const std::vector<char>* shared,
-                              Attempt* attempt) const {
+                              const std::vector<char>* shared, Attempt* attempt) const {
   const PointPrediction& prediction = predictions[which];
   const int num_cameras = rig.NumCameras();
   std::vector<int>& picked = attempt->picked;
   picked.clear();
-  attempt->outcome = Outcome::kRejected;
+  attempt->served = false;
   for (int c = 0; c < num_cameras; ++c) {
     const CameraModel& cam = rig.camera(c);
     const Eigen::Vector3d p =
@@ -81,17 +90,14 @@ void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, cons
   if (static_cast<int>(gathered) < triangulation_options_.min_views) return;
   if (!TriangulateRobust(rig, views, picked, triangulation_options_, &attempt->point, shared)) return;
   CompleteViews(rig, views, index, used, triangulation_options_, &attempt->point, shared, &picked);
-  attempt->outcome = Judge(predictions, which, served, gathered, attempt->point);
+  attempt->served = Judge(predictions[which], gathered, attempt->point);
 }
 
-PredictionMatcher::Outcome PredictionMatcher::Judge(const std::vector<PointPrediction>& predictions, size_t which,
-                                                    const std::vector<char>* served, size_t gathered,
-                                                    const TriangulatedPoint& point) const {
-  const PointPrediction& prediction = predictions[which];
+bool PredictionMatcher::Judge(const PointPrediction& prediction, size_t gathered, const TriangulatedPoint& point) const {
   const size_t kept = point.observations.size();
   // Two views left out of many gathered: the prediction collected other markers' blobs and two
   // of them happen to agree. A real marker keeps most of its views.
-  if (kept == 2 && gathered >= 4) return Outcome::kRejected;
+  if (kept == 2 && gathered >= 4) return false;
   // A marker seen in only two views could be two other markers' blobs that happen to fall in
   // the gates; the shift check bounds how far such a combination may land.
   // Few views leave a wrong blob near an epipolar line free to drag the point along it; such a
@@ -99,24 +105,21 @@ PredictionMatcher::Outcome PredictionMatcher::Judge(const std::vector<PointPredi
   const double factor = kept == 2 ? 0.5 * options_.max_shift_factor
                         : kept == 3 ? 0.75 * options_.max_shift_factor
                                     : options_.max_shift_factor;
-  const double max_shift = factor * prediction.gate_mm;
-  if ((point.point_in_world - prediction.point_in_world).norm() > max_shift) return Outcome::kRejected;
-  if (!options_.defer_contested) return Outcome::kServed;
-  return CloserToAnother(predictions, which, point.point_in_world, served) ? Outcome::kDeferred : Outcome::kServed;
+  return (point.point_in_world - prediction.point_in_world).norm() <= factor * prediction.gate_mm;
 }
 
 void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, UseCounts* used,
                               std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
                               const std::vector<char>* shared, WorkerTeam* team) {
-  deferred_.clear();
-  served_.assign(predictions.size(), 0);
+  MarkContested(predictions, options_.contested_gate_factor, options_.contested_gate_cap_mm, &contested_);
+  contested_count_ = std::count(contested_.begin(), contested_.end(), 1);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
   if (speculate) {
     speculative_.resize(predictions.size());
     const UseCounts& at_start = *used;
     team->Run(static_cast<int>(predictions.size()), [&](int i) {
-      Serve(rig, views, index, predictions, static_cast<size_t>(i), at_start, nullptr, shared, &speculative_[i]);
+      if (!contested_[i]) Serve(rig, views, index, predictions, static_cast<size_t>(i), at_start, shared, &speculative_[i]);
     });
   }
   const auto still_free = [&](const Attempt& attempt) {
@@ -126,34 +129,18 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
     return true;
   };
   for (size_t i = 0; i < predictions.size(); ++i) {
+    if (contested_[i]) continue;
     const Attempt* attempt = &attempt_;
     if (speculate && still_free(speculative_[i])) {
       attempt = &speculative_[i];
     } else {
       served_again_ += speculate;
-      Serve(rig, views, index, predictions, i, *used, nullptr, shared, &attempt_);
+      Serve(rig, views, index, predictions, i, *used, shared, &attempt_);
     }
-    if (attempt->outcome == Outcome::kServed) {
-      served_[i] = 1;
-      MarkUsed(attempt->point, used);
-      points->push_back(attempt->point);
-      track_ids->push_back(predictions[i].track_id);
-    } else if (attempt->outcome == Outcome::kDeferred) {
-      deferred_.push_back(i);
-    }
-  }
-  // A second chance once the others took their blobs: a prediction that gathered a neighbour's
-  // blobs now finds its own. Only predictions still unserved can claim its point now (a fast
-  // marker may land near a track that already has its own point); two predictions that took
-  // each other's markers both stay unserved, for the matcher and the tracker.
-  for (size_t i : deferred_) {
-    Serve(rig, views, index, predictions, i, *used, &served_, shared, &attempt_);
-    if (attempt_.outcome == Outcome::kServed) {
-      served_[i] = 1;
-      MarkUsed(attempt_.point, used);
-      points->push_back(attempt_.point);
-      track_ids->push_back(predictions[i].track_id);
-    }
+    if (!attempt->served) continue;
+    MarkUsed(attempt->point, used);
+    points->push_back(attempt->point);
+    track_ids->push_back(predictions[i].track_id);
   }
 }
 

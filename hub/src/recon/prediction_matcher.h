@@ -24,6 +24,13 @@ struct PointPrediction {
 // Marks in *shared (one entry per observation) every blob that lies within coincident_px
 // (pixels) of two or more predictions' reprojections in its camera (see
 // PredictionMatchOptions::coincident_px); returns how many. Cameras on the team when given.
+// Sets (*contested)[i] for every prediction whose centre lies nearer another's than `factor`
+// times the sum of their gates, each gate counted up to gate_cap_mm
+// (PredictionMatchOptions::contested_gate_factor, contested_gate_cap_mm); none when factor is 0.
+// Cost: a sort and the neighbours along x.
+void MarkContested(const std::vector<PointPrediction>& predictions, double factor, double gate_cap_mm,
+                   std::vector<char>* contested);
+
 int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                     const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
                     std::vector<char>* shared, WorkerTeam* team = nullptr);
@@ -35,6 +42,7 @@ class PredictionMatcher {
       : options_(options), triangulation_options_(triangulation_options) {}
 
   // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
+  // Contested predictions (MarkContested) are skipped: their blobs stay free for the matcher.
   // Predictions are served in the given order: put the most trusted tracks first. With a team
   // of several threads every prediction is first served at once against the blobs free at the
   // start, then committed in order; a prediction one of whose blobs an earlier one took is served
@@ -46,31 +54,31 @@ class PredictionMatcher {
              const std::vector<char>* shared = nullptr, WorkerTeam* team = nullptr);
   // Predictions served again because an earlier one took a blob of their parallel attempt.
   long long served_again() const { return served_again_; }
+  // Predictions of the last Match left to the matcher as contested.
+  long long contested() const { return contested_count_; }
 
  private:
-  enum class Outcome { kServed, kRejected, kDeferred };
   // One prediction served: its point, and every blob its searches picked (kept or not): the
   // attempt stands as long as all of those are still free.
   struct Attempt {
-    Outcome outcome = Outcome::kRejected;
+    bool served = false;
     TriangulatedPoint point;
     std::vector<int> picked;
   };
-  // Gathers and triangulates one prediction's blobs: rejected when they do not make its marker,
-  // deferred when they make a point nearer another prediction (only those not `served`, when
-  // given). Reads only its arguments: safe on several threads with different attempts.
+  // Gathers and triangulates one prediction's blobs; not served when they do not make its marker.
+  // Reads only its arguments: safe on several threads with different attempts.
   void Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
-             const std::vector<char>* served, const std::vector<char>* shared, Attempt* attempt) const;
-  Outcome Judge(const std::vector<PointPrediction>& predictions, size_t which, const std::vector<char>* served,
-                size_t gathered, const TriangulatedPoint& point) const;
+             const std::vector<char>* shared, Attempt* attempt) const;
+  // Whether the point triangulated from `gathered` blobs is the prediction's marker.
+  bool Judge(const PointPrediction& prediction, size_t gathered, const TriangulatedPoint& point) const;
 
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
   std::vector<Attempt> speculative_;
   Attempt attempt_;
-  std::vector<size_t> deferred_;
-  std::vector<char> served_;
+  std::vector<char> contested_;
+  long long contested_count_ = 0;
   long long served_again_ = 0;
 };
 

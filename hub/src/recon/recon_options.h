@@ -66,10 +66,16 @@ struct PredictionMatchOptions {
   // The point triangulated from the gathered blobs must land this close to the prediction,
   // relative to the prediction's own 3D gate.
   double max_shift_factor = 1.5;
-  // Dense marker sets: a prediction whose point lands at most half as far from another prediction
-  // not served yet is deferred and served again after the others (it gathered its neighbour's
-  // blobs). Off by default: on the tennis serve's fast hand it costs points (real-motion test).
-  bool defer_contested = false;
+  // Contested predictions are not served: two predictions whose centres are nearer than this
+  // factor times the sum of their 3D gates may each take the other's nearest blobs (dense
+  // clusters, markers passing each other), and a wrong pick makes a swapped or ghost point. Their
+  // blobs go to the matcher, whose epipolar consistency decides, and the tracker's assignment
+  // gives the points to the tracks. 0 serves every prediction (faster, less safe).
+  double contested_gate_factor = 1.5;
+  // Gates count up to this (mm) in that test: a fast track's wide gate says its own velocity is
+  // uncertain, not that its neighbours are near (the serve's racket hand: markers ~100 mm apart
+  // whose predictions the triangulation checks still tell apart).
+  double contested_gate_cap_mm = 30.0;
   // Two predictions whose reprojections fall within this of one blob (pixels) share it: two
   // markers a pixel or two apart in that image make one round blob that the node's shape test
   // cannot flag, whose centroid is off for both. It is then treated as a merged blob (left out

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "util/log.h"
+#include "util/thread_priority.h"
 
 namespace mocap::service {
 
@@ -75,6 +76,7 @@ void CalibrationMonitor::StartCheck(uint64_t frame) {
   const bool may_solve = options_.refine && (!solved_any_ || frame >= last_solve_frame_ + resolve_frames_);
   // The worker gets copies: the loop goes on collecting while it judges and solves.
   pending_ = std::async(std::launch::async, [rig = rig_, window = window_, options = options_, frame, may_solve]() {
+    SetThisThreadPriority(ThreadPriority::kBackground);  // never ahead of the frame path
     CheckResult result;
     result.frame = frame;
     try {

@@ -10,10 +10,14 @@
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
+#include "util/thread_priority.h"
 
 namespace mocap::service {
 
-WandSolveJob::WandSolveJob(WandSolveInput input) : input_(std::move(input)), worker_([this] { Run(); }) {}
+WandSolveJob::WandSolveJob(WandSolveInput input) : input_(std::move(input)), worker_([this] {
+      SetThisThreadPriority(ThreadPriority::kBackground);  // the live frames go on meanwhile
+      Run();
+    }) {}
 
 WandSolveJob::~WandSolveJob() {
   if (worker_.joinable()) worker_.join();
