@@ -200,14 +200,17 @@ class LabelsE2e(unittest.TestCase):
         """walk.trc's set names running.trc (another person) where the shared data exists; else the
         walker's set names the walker made larger with its markers placed elsewhere."""
         if os.path.isdir(MOTIONS):
+            # 89.17 % measured: the four wrist markers (10 %) stay unnamed (README).
             name, motion, trials = "running", os.path.join(MOTIONS, "running.trc"), [os.path.join(MOTIONS, "walk.trc")]
+            floor = 0.85
         else:
             name, motion = "other_walker", os.path.join(WORK, "other_walker.trc")
             another_subject(self.motion, motion)
             trials = [os.path.join(WORK, "walker_first_half.trc")]
+            floor = 0.6
         _, _, _, report = labelled_reconstruction(name, motion, trials)
         # What cannot be told apart on another subject stays unnamed, never wrongly named.
-        self.assertGreaterEqual(report["correct_share"], 0.6)
+        self.assertGreaterEqual(report["correct_share"], floor)
         self.assertLessEqual(report["wrong_share"], 0.001)
 
     def test_second_half_from_the_first(self):

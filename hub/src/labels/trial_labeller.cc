@@ -6,6 +6,7 @@
 #include <map>
 #include <tuple>
 
+#include "labels/segment_frames.h"
 #include "util/assignment.h"
 
 namespace mocap {
@@ -48,8 +49,9 @@ double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair, double 
 // assignment the distances pose). Fixes what the mean shape gets wrong along a chain of markers
 // that moves far from its mean pose (an arm serving), where the distances are right.
 // Returns the share of a distance the subject's markers may differ from the set's (see below).
-double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<int64_t>& run_at,
-                         std::vector<Run>* runs_in, std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
+double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<SegmentAnchors>& anchors,
+                         const std::vector<int64_t>& run_at, std::vector<Run>* runs_in,
+                         std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
   std::vector<Run>& runs = *runs_in;
   const size_t r_count = runs.size();
   if (r_count < 2 || r_count > 2000) return 0.15;  // bounded: pairs grow with the square
@@ -200,16 +202,95 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
     }
     if (!improved) break;
   }
+  // Inside a segment, where the distances cannot tell its names apart (another subject's cluster
+  // has other sides), the anchors' frame decides (segment_frames.h): each run's votes over its
+  // frames; a run whose votes clearly favour another name of its segment takes it when the
+  // segment's runs so renamed are a permutation of their names that is not a turn about the limb
+  // and the distances do not object (the total rises by less than the ambiguity margin per run).
+  // Runs whose names the votes clearly confirm are not dropped as ambiguous below.
+  constexpr double kAmbiguityMargin = 2.0;
+  constexpr double kClearShare = 0.75;
+  constexpr double kMinFrameVotes = 20.0;
+  std::vector<std::map<int, double>> frame_votes(r_count);
+  {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<int> labels_now, votes;
+    std::vector<size_t> run_of_point;
+    for (size_t f = 0; f < in.NumFrames() && !anchors.empty(); ++f) {
+      points.clear(), labels_now.clear(), run_of_point.clear();
+      for (size_t c = 0; c < columns; ++c) {
+        const int64_t r = run_at[f * columns + c];
+        if (r < 0 || runs[static_cast<size_t>(r)].label < 0) continue;
+        points.push_back(in.At(f, c));
+        labels_now.push_back(runs[static_cast<size_t>(r)].label);
+        run_of_point.push_back(static_cast<size_t>(r));
+      }
+      VoteInSegmentFrames(set, anchors, points, labels_now, &votes);
+      for (size_t p = 0; p < points.size(); ++p)
+        if (votes[p] >= 0) frame_votes[run_of_point[p]][votes[p]] += 1.0;
+    }
+  }
+  std::vector<char> confirmed(r_count, 0);
+  std::vector<int> anchors_of_segment(set.segments.size(), -1);
+  for (size_t k = 0; k < anchors.size(); ++k) anchors_of_segment[static_cast<size_t>(anchors[k].segment)] = static_cast<int>(k);
+  for (const SegmentAnchors& a : anchors) {
+    std::vector<size_t> members_runs, changed;
+    std::vector<std::pair<int, int>> relabel;  // old -> new
+    std::vector<int> new_label(r_count, -1);
+    for (size_t r = 0; r < r_count; ++r)
+      if (runs[r].label >= 0 && set.SegmentOf(runs[r].label) == a.segment) members_runs.push_back(r);
+    bool consistent = true;
+    for (size_t r : members_runs) {
+      int best = -1;
+      double best_votes = 0.0, total = 0.0;
+      for (const auto& [l, v] : frame_votes[r]) {
+        total += v;
+        if (v > best_votes) best = l, best_votes = v;
+      }
+      if (total < kMinFrameVotes || best < 0 || best == runs[r].label || best_votes < kClearShare * total) continue;
+      changed.push_back(r), new_label[r] = best;
+      bool known = false;
+      for (const auto& [from, into] : relabel)
+        if (from == runs[r].label) known = true, consistent = consistent && into == best;
+      if (!known) relabel.push_back({runs[r].label, best});
+    }
+    // A permutation: the new names are the old ones.
+    for (const auto& [from, into] : relabel) {
+      bool held = false;
+      for (const auto& other : relabel) held = held || other.first == into;
+      consistent = consistent && held;
+    }
+    if (!changed.empty() && consistent && !IsTurnAboutLimb(set, a, relabel)) {
+      const double before = total_cost();
+      std::vector<int> old(r_count, -1);
+      for (size_t r : changed) old[r] = runs[r].label, runs[r].label = new_label[r];
+      bool clash = false;
+      for (size_t r : changed) clash = clash || !free_for(runs[r].label, r, r);
+      if (clash || total_cost() - before > kAmbiguityMargin * static_cast<double>(changed.size()))
+        for (size_t r : changed) runs[r].label = old[r];
+    }
+    for (size_t r : members_runs) {
+      double total = 0.0, agree = 0.0;
+      for (const auto& [l, v] : frame_votes[r]) total += v, agree += l == runs[r].label ? v : 0.0;
+      confirmed[r] = total >= kMinFrameVotes && agree >= kClearShare * total;
+    }
+  }
   // Two overlapping runs whose names could be exchanged at almost no cost cannot be told apart
   // (a pair of markers whose distances to the rest are alike, placed differently on this
-  // subject): both lose their names rather than carry a coin toss.
-  constexpr double kAmbiguityMargin = 2.0;
+  // subject): both lose their names rather than carry a coin toss, unless the anchors' frame
+  // confirms both and their exchange is not a turn about the limb.
   std::vector<char> ambiguous(r_count, 0);
   for (size_t i = 0; i < r_count; ++i)
     for (size_t j = i + 1; j < r_count; ++j) {
       const int li = runs[i].label, lj = runs[j].label;
       if (li < 0 || lj < 0 || pairs[i * r_count + j].frames < 10) continue;
       if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+      const int segment = set.SegmentOf(li);
+      if (confirmed[i] && confirmed[j] && segment >= 0 && segment == set.SegmentOf(lj) &&
+          anchors_of_segment[static_cast<size_t>(segment)] >= 0 &&
+          !IsTurnAboutLimb(set, anchors[static_cast<size_t>(anchors_of_segment[static_cast<size_t>(segment)])],
+                           {{li, lj}, {lj, li}}))
+        continue;
       const double now = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
       const double exchanged = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
       if (exchanged - now < kAmbiguityMargin) ambiguous[i] = ambiguous[j] = 1;
@@ -393,9 +474,10 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
     ++out.named_runs;
   }
 
-  double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  const std::vector<SegmentAnchors> anchors = ChooseSegmentAnchors(set);
+  double relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   // Runs the tracker swapped mid-way: split where they break their distances, then named again.
-  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   out.runs = runs.size();
   out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
 
