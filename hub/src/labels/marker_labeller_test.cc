@@ -100,6 +100,42 @@ TEST(TrialLabeller, ASwapCostsTheNameAfterIt) {
   }
 }
 
+TEST(TrialLabeller, AnotherSubjectsClusterWithOtherSidesKeepsItsNames) {
+  // Another subject: 8 % larger, and one marker of a segment sits 30 % farther from its segment's
+  // centre (still rigid with it): its distances to its partners are not the set's, but they are
+  // steady, so the frame check (against this subject's own distances) must not take its name.
+  const MarkerTrajectories motion = Motion(400, 0);
+  MarkerTrajectories first = motion;
+  first.frame_numbers.resize(200);
+  first.points.resize(200 * motion.NumMarkers());
+  const MarkerSet set = LearnMarkerSet({first}, {"first half"});
+  ASSERT_FALSE(set.segments.empty());
+  const std::vector<int>* segment = &set.segments[0];
+  for (const std::vector<int>& s : set.segments)
+    if (s.size() > segment->size()) segment = &s;
+  ASSERT_GE(segment->size(), 3u);
+  const size_t moved = static_cast<size_t>((*segment)[0]);
+  MarkerTrajectories other = motion;
+  for (size_t f = 0; f < other.NumFrames(); ++f) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int m : *segment) centre += motion.At(f, static_cast<size_t>(m)) / static_cast<double>(segment->size());
+    other.At(f, moved) = centre + 1.3 * (motion.At(f, moved) - centre);
+    for (size_t m = 0; m < other.NumMarkers(); ++m) other.At(f, m) *= 1.08;
+  }
+  std::vector<size_t> order;
+  const MarkerTrajectories second = Anonymous(other, 200, 400, &order);
+  LabellerOptions options;
+  options.up_axis = 2;
+  const TrialLabelling result = LabelTrajectories(second, set, options);
+  const auto column = std::find(result.named.names.begin(), result.named.names.end(), set.names[moved]);
+  ASSERT_NE(column, result.named.names.end());
+  const size_t c = static_cast<size_t>(column - result.named.names.begin());
+  size_t right = 0;
+  for (size_t f = 0; f < 200; ++f) right += result.named.Has(f, c) && (result.named.At(f, c) - other.At(200 + f, moved)).norm() < 1e-6;
+  EXPECT_GE(right, 190u);
+  EXPECT_GE(CorrectShare(result, other, 200), 0.95);
+}
+
 TEST(MarkerLabeller, NamesFollowTracksFrameByFrame) {
   const MarkerTrajectories motion = Motion(200, 0);
   const MarkerSet set = LearnMarkerSet({motion}, {"motion"});

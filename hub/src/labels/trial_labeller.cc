@@ -314,13 +314,47 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
   return relative;
 }
 
+// This subject's own mean distance of every pair of names over the frames both are named (per
+// a * n + b; NaN where fewer than 20 frames): on another subject the frame check below measures
+// against these, since its clusters have other sides than the set's (a swap is a departure from
+// the subject's own distance, not from another person's).
+std::vector<double> OwnDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<Run>& runs,
+                                 const std::vector<int64_t>& run_at) {
+  const size_t n = set.NumMarkers(), columns = in.NumMarkers();
+  std::vector<double> sum(n * n, 0.0);
+  std::vector<int> count(n * n, 0);
+  std::vector<std::pair<int, size_t>> named;  // (label, column)
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    named.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = run_at[f * columns + c];
+      if (r >= 0 && runs[static_cast<size_t>(r)].label >= 0) named.push_back({runs[static_cast<size_t>(r)].label, c});
+    }
+    for (size_t x = 0; x < named.size(); ++x)
+      for (size_t y = x + 1; y < named.size(); ++y) {
+        const int a = std::min(named[x].first, named[y].first), b = std::max(named[x].first, named[y].first);
+        const MarkerDistance* d = set.Distance(a, b);
+        if (d == nullptr || d->sd > 5.0 || d->mean > 500.0) continue;  // only the pairs the check uses
+        sum[static_cast<size_t>(a) * n + static_cast<size_t>(b)] += (in.At(f, named[x].second) - in.At(f, named[y].second)).norm();
+        ++count[static_cast<size_t>(a) * n + static_cast<size_t>(b)];
+      }
+  }
+  std::vector<double> own(n * n, std::nan(""));
+  for (size_t i = 0; i < own.size(); ++i)
+    if (count[i] >= 20) own[i] = sum[i] / count[i];
+  return own;
+}
+
 // In one frame, the named points (label per point, -1: none) whose distances to the other named
 // points break most of the set's steady pairs lose their names for that frame: a run the tracker
 // swapped with another marker is not carried under the wrong name. Steady: an sd of at most 5 mm
 // in the set, or 15 mm when the set fits this subject closely (relative <= 2 %: the same person,
-// whose looser pairs are still known well). Returns how many.
-size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
-                       std::vector<int>* labels) {
+// whose looser pairs are still known well). The distance expected is the set's mean, or on
+// another subject (relative > 2 %) the subject's own (`own`, OwnDistances) where known. Returns
+// how many.
+size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<double>& own,
+                       const std::vector<Eigen::Vector3d>& points, std::vector<int>* labels) {
+  const size_t n = set.NumMarkers();
   std::vector<size_t> drop;
   for (size_t p = 0; p < points.size(); ++p) {
     const int a = (*labels)[p];
@@ -330,7 +364,12 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
       const MarkerDistance* d = q == p || (*labels)[q] < 0 ? nullptr : set.Distance(a, (*labels)[q]);
       if (d == nullptr || d->sd > (relative <= 0.02 ? 15.0 : 5.0) || d->mean > 500.0) continue;
       ++checks;
-      breaks += std::abs((points[p] - points[q]).norm() - d->mean) > 3.0 * d->sd + 5.0 + relative * d->mean;
+      double expected = d->mean;
+      if (relative > 0.02) {
+        const double subject = own[static_cast<size_t>(std::min(a, (*labels)[q])) * n + static_cast<size_t>(std::max(a, (*labels)[q]))];
+        if (std::isfinite(subject)) expected = subject;
+      }
+      breaks += std::abs((points[p] - points[q]).norm() - expected) > 3.0 * d->sd + 5.0 + relative * d->mean;
     }
     if (checks >= 2 && 2 * breaks > checks) drop.push_back(p);
   }
@@ -343,6 +382,7 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
 // its own without a name, to be named again by the refinement. Returns whether any was split.
 bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double relative, size_t min_frames,
                      std::vector<Run>* runs, std::vector<int64_t>* run_at) {
+  const std::vector<double> own = OwnDistances(in, set, *runs, *run_at);
   const size_t columns = in.NumMarkers();
   std::vector<char> broken(in.points.size(), 0);
   std::vector<Eigen::Vector3d> points;
@@ -358,7 +398,7 @@ bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double 
       which.push_back(c);
     }
     original = labels;
-    DropBrokenNames(set, relative, points, &labels);
+    DropBrokenNames(set, relative, own, points, &labels);
     for (size_t i = 0; i < which.size(); ++i)
       broken[f * columns + which[i]] = original[i] >= 0 && labels[i] < 0;
   }
@@ -491,6 +531,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       named.names.push_back(set.names[a]);
     }
   out.names_placed = named.names.size();
+  const std::vector<double> own = OwnDistances(in, set, runs, run_at);
   // Per frame and input column the name its point carries (-1: none), after the frame check.
   std::vector<int> label_at(in.points.size(), -1);
   std::vector<int> leftover_column(columns, -1);
@@ -506,7 +547,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       frame_labels.push_back(runs[static_cast<size_t>(r)].label);
       frame_columns.push_back(c);
     }
-    out.frame_names_dropped += DropBrokenNames(set, relative, frame_points, &frame_labels);
+    out.frame_names_dropped += DropBrokenNames(set, relative, own, frame_points, &frame_labels);
     for (size_t i = 0; i < frame_columns.size(); ++i) {
       label_at[f * columns + frame_columns[i]] = frame_labels[i];
       if (frame_labels[i] < 0) leftover_column[frame_columns[i]] = 0;
