@@ -18,6 +18,7 @@ struct Run {
   std::map<int, double> support;
   double total = 0.0;
   int label = -1;
+  int candidate = -1;  // the name its frames supported (kept when the refinement leaves it unnamed)
 };
 
 // Distance statistics of two runs over the frames they share.
@@ -377,35 +378,81 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
   return drop.size();
 }
 
-// Splits named runs where they start or stop breaking their steady distances for at least
-// `min_frames` frames (the tracker swapped two markers there): the broken part becomes a run of
-// its own without a name, to be named again by the refinement. Returns whether any was split.
+// In one frame, the named points whose name another point of the frame (named or not) would
+// carry far better: the sum over the other named points of each distance's squared departure
+// from the set's (in units of the spread PairCost allows, capped at 25 like there) is at least
+// `margin` lower with that point in its place. A run the tracker swapped, even one whose
+// markers have few steady partners (an arm serving), fits its name worse than the marker it
+// swapped with. The names checked are `checked` (per point, -1: none), the partners' `labels`.
+// Per point, 1: contested. Frames of more than kMaxContestPoints points are not
+// checked (the test grows with the cube of the points).
+constexpr size_t kMaxContestPoints = 300;
+constexpr double kContestMargin = 20.0;
+void ContestedNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<int>& labels, const std::vector<int>& checked, std::vector<char>* contested) {
+  contested->assign(points.size(), 0);
+  if (points.size() > kMaxContestPoints) return;
+  auto pair_cost = [&](int a, int b, double distance) {
+    const MarkerDistance* d = set.Distance(std::min(a, b), std::max(a, b));
+    if (d == nullptr || (relative > 0.05 && d->sd > 5.0)) return 0.0;
+    const double z = (distance - d->mean) / (d->sd + 3.0 + relative * d->mean);
+    return std::min(z * z, 25.0);
+  };
+  for (size_t p = 0; p < points.size(); ++p) {
+    const int a = checked[p];
+    if (a < 0) continue;
+    double own = 0.0;
+    for (size_t q = 0; q < points.size(); ++q)
+      if (q != p && labels[q] >= 0) own += pair_cost(a, labels[q], (points[p] - points[q]).norm());
+    if (own < kContestMargin) continue;
+    for (size_t o = 0; o < points.size() && !(*contested)[p]; ++o) {
+      if (o == p) continue;
+      double other = 0.0;
+      for (size_t q = 0; q < points.size(); ++q)
+        if (q != p && q != o && labels[q] >= 0) other += pair_cost(a, labels[q], (points[o] - points[q]).norm());
+      (*contested)[p] = other <= own - kContestMargin;
+    }
+  }
+}
+
+// Splits runs where they start or stop breaking their steady distances, or having their name
+// contested (ContestedNames), for at least `min_frames` frames (the tracker swapped two markers
+// there): the broken part becomes a run of its own without a name, to be named again by the
+// refinement. A run the refinement left unnamed is checked with the name its frames supported
+// (a run joined from two markers by a swap fits no name as a whole); its pieces that keep
+// fitting that name take it back. Once broken, a run stays so until it fits its name again for
+// 5 times `min_frames`. Returns whether any was split.
 bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double relative, size_t min_frames,
                      std::vector<Run>* runs, std::vector<int64_t>* run_at) {
   const std::vector<double> own = OwnDistances(in, set, *runs, *run_at);
   const size_t columns = in.NumMarkers();
   std::vector<char> broken(in.points.size(), 0);
   std::vector<Eigen::Vector3d> points;
-  std::vector<int> labels, original;
+  std::vector<int> labels, original, checked;
+  std::vector<char> contested;
   std::vector<size_t> which;
   for (size_t f = 0; f < in.NumFrames(); ++f) {
-    points.clear(), labels.clear(), which.clear();
+    points.clear(), labels.clear(), checked.clear(), which.clear();
     for (size_t c = 0; c < columns; ++c) {
       const int64_t r = (*run_at)[f * columns + c];
       if (r < 0) continue;
+      const Run& run = (*runs)[static_cast<size_t>(r)];
       points.push_back(in.At(f, c));
-      labels.push_back((*runs)[static_cast<size_t>(r)].label);
+      labels.push_back(run.label);
+      checked.push_back(run.label >= 0 ? run.label : run.candidate);
       which.push_back(c);
     }
     original = labels;
+    ContestedNames(set, relative, points, original, checked, &contested);
     DropBrokenNames(set, relative, own, points, &labels);
     for (size_t i = 0; i < which.size(); ++i)
-      broken[f * columns + which[i]] = original[i] >= 0 && labels[i] < 0;
+      broken[f * columns + which[i]] = checked[i] >= 0 && ((original[i] >= 0 && labels[i] < 0) || contested[i]);
   }
   bool split = false;
   const size_t count = runs->size();
   for (size_t r = 0; r < count; ++r) {
-    if ((*runs)[r].label < 0) continue;
+    const int label = (*runs)[r].label >= 0 ? (*runs)[r].label : (*runs)[r].candidate;
+    if (label < 0) continue;
     const size_t column = (*runs)[r].column;
     // Pieces of equal state; short flickers join their neighbours.
     std::vector<std::pair<size_t, size_t>> pieces;  // [first, last]
@@ -421,26 +468,38 @@ bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double 
     }
     for (size_t i = 0; i < pieces.size(); ++i)
       if (pieces[i].second - pieces[i].first + 1 < min_frames && pieces.size() > 1) state[i] = i > 0 ? state[i - 1] : 0;
+    auto merge = [](const std::vector<std::pair<size_t, size_t>>& in_pieces, const std::vector<char>& in_state,
+                    std::vector<std::pair<size_t, size_t>>* out_pieces, std::vector<char>* out_state) {
+      out_pieces->clear(), out_state->clear();
+      for (size_t i = 0; i < in_pieces.size(); ++i) {
+        if (!out_pieces->empty() && out_state->back() == in_state[i]) out_pieces->back().second = in_pieces[i].second;
+        else out_pieces->push_back(in_pieces[i]), out_state->push_back(in_state[i]);
+      }
+    };
     std::vector<std::pair<size_t, size_t>> merged;
     std::vector<char> merged_state;
-    for (size_t i = 0; i < pieces.size(); ++i) {
-      if (!merged.empty() && merged_state.back() == state[i]) merged.back().second = pieces[i].second;
-      else merged.push_back(pieces[i]), merged_state.push_back(state[i]);
-    }
+    merge(pieces, state, &merged, &merged_state);
+    // Once broken, a run stays so until it fits its name again for a while (5 times min_frames):
+    // a swapped marker fits the name now and then as the limb moves (every such stretch would
+    // otherwise become a piece of its own, and the pieces block each other's renaming).
+    for (size_t i = 1; i < merged.size(); ++i)
+      if (!merged_state[i] && merged_state[i - 1] && merged[i].second - merged[i].first + 1 < 5 * min_frames)
+        merged_state[i] = 1;
+    pieces = merged, state = merged_state;
+    merge(pieces, state, &merged, &merged_state);
     if (merged.size() < 2) continue;
     split = true;
-    const int label = (*runs)[r].label;
     for (size_t i = 0; i < merged.size(); ++i) {
       size_t target = r;
       if (i == 0) {
         (*runs)[r].last = merged[0].second;
-        (*runs)[r].label = merged_state[0] ? -1 : label;
+        (*runs)[r].label = (*runs)[r].candidate = merged_state[0] ? -1 : label;
       } else {
         target = runs->size();
         Run piece;
         piece.column = column;
         piece.first = merged[i].first, piece.last = merged[i].second;
-        piece.label = merged_state[i] ? -1 : label;
+        piece.label = piece.candidate = merged_state[i] ? -1 : label;
         if (piece.label >= 0) piece.support[label] = 1.0, piece.total = 1.0;
         runs->push_back(piece);
       }
@@ -472,7 +531,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       }
       if (run_of_column[c] < 0 || broken[c]) {
         run_of_column[c] = static_cast<int64_t>(runs.size());
-        runs.push_back(Run{c, f, f, {}, 0.0, -1});
+        runs.push_back(Run{c, f, f, {}, 0.0, -1, -1});
         broken[c] = 0;
       }
       Run& run = runs[static_cast<size_t>(run_of_column[c])];
@@ -509,7 +568,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
     for (const auto& [first, last] : taken[static_cast<size_t>(label)])
       overlaps = overlaps || (run.first <= last && first <= run.last);
     if (overlaps) continue;
-    run.label = label;
+    run.label = run.candidate = label;
     taken[static_cast<size_t>(label)].push_back({run.first, run.last});
     ++out.named_runs;
   }
@@ -517,7 +576,8 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
   const std::vector<SegmentAnchors> anchors = ChooseSegmentAnchors(set);
   double relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   // Runs the tracker swapped mid-way: split where they break their distances, then named again.
-  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at))
+    relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   out.runs = runs.size();
   out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
 
