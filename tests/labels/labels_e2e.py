@@ -8,8 +8,9 @@ shared data and skips nothing without it: "another subject" is then the walker m
 its markers placed elsewhere, and "the rest of a trial" the walker after its first third. Where
 ../shared/data/motions exists beside the checkout, those two cases use the real motions: a set
 learned from walk.trc names the reconstruction of running.trc (another subject), and the tennis
-serve's first half names its whole reconstruction. Figures are printed; the floors asserted on
-the real cases are what the labeller reaches today (below issue 14's 99 %: README).
+serve's first half names its whole reconstruction (and, measured on its own, the half it did not
+learn from). Figures are printed; the floors asserted on the real cases are what the labeller
+reaches today with some room (below issue 14's 99 % where the README says why).
 
 usage: labels_e2e.py BIN_DIR WORK_DIR"""
 
@@ -73,6 +74,19 @@ def first_part(path, out, share):
         lines = f.read().splitlines()
     rows = [line for line in lines[5:] if line.strip()]
     keep = rows[:int(len(rows) * share)]
+    fields = lines[2].split("\t")
+    fields[2] = str(len(keep))
+    lines[2] = "\t".join(fields)
+    with open(out, "w") as f:
+        f.write("\n".join(lines[:5] + [""] + keep) + "\n")
+
+
+def last_part(path, out, share):
+    """The frames of a TRC after its first `share` (header counts fixed, frame numbers kept)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    rows = [line for line in lines[5:] if line.strip()]
+    keep = rows[int(len(rows) * share):]
     fields = lines[2].split("\t")
     fields[2] = str(len(keep))
     lines[2] = "\t".join(fields)
@@ -207,7 +221,7 @@ class LabelsE2e(unittest.TestCase):
             name, motion = "other_walker", os.path.join(WORK, "other_walker.trc")
             another_subject(self.motion, motion)
             trials = [os.path.join(WORK, "walker_first_half.trc")]
-            floor = 0.6
+            floor = 0.9  # 100.00 % measured
         _, _, _, report = labelled_reconstruction(name, motion, trials)
         # What cannot be told apart on another subject stays unnamed, never wrongly named.
         self.assertGreaterEqual(report["correct_share"], floor)
@@ -217,16 +231,28 @@ class LabelsE2e(unittest.TestCase):
         """The tennis serve named by a set from its first half where the shared data exists (its
         reconstruction swaps right-arm markers: README); else the walker from its first third."""
         if os.path.isdir(MOTIONS):
-            name, motion = "tennis", os.path.join(MOTIONS, "tennis_serve.trc")
-            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.9, 0.04
-            first_part(motion, first, 0.5)
+            # Measured with three fault seeds: whole serve 96.97-98.35 % right, 0.09-0.95 % wrong;
+            # second half 97.16-99.70 % right, at most 0.02 % wrong (README).
+            name, motion, share = "tennis", os.path.join(MOTIONS, "tennis_serve.trc"), 0.5
+            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.96, 0.01
+            later_floor, later_wrong = 0.97, 0.001
         else:
-            name, motion = "walker_third", self.motion
+            name, motion, share = "walker_third", self.motion, 1.0 / 3.0
             first, floor, wrong = os.path.join(WORK, "walker_first_third.trc"), 0.95, 0.01
-            first_part(motion, first, 1.0 / 3.0)
-        _, _, _, report = labelled_reconstruction(name, motion, [first])
+            later_floor, later_wrong = 0.95, 0.01
+        first_part(motion, first, share)
+        work, session, out, report = labelled_reconstruction(name, motion, [first])
         self.assertGreaterEqual(report["correct_share"], floor)
         self.assertLessEqual(report["wrong_share"], wrong)
+        # The part the set did not learn from, on its own.
+        truth_later, out_later = os.path.join(work, "truth_later.trc"), os.path.join(work, "named_later.trc")
+        last_part(os.path.join(session, "truth.trc"), truth_later, share)
+        last_part(out, out_later, share)
+        later = json.loads(hub("eval", "--truth", truth_later, "--result", out_later, "--json"))
+        print(f"{name}, the part not learned from: {100 * later['correct_share']:.2f} % of points correctly named, "
+              f"{100 * later['wrong_share']:.2f} % wrongly", file=sys.stderr)
+        self.assertGreaterEqual(later["correct_share"], later_floor)
+        self.assertLessEqual(later["wrong_share"], later_wrong)
 
     def test_a_set_learned_from_c3d_equals_the_trc_one(self):
         c3d = os.path.join(WORK, "walker_first_half.c3d")

@@ -45,6 +45,10 @@ double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair, double 
   return std::min(z_mean * z_mean + z_sd * z_sd, 25.0);
 }
 
+// Frames at the ends of two runs that may both hold one name after an exchange (see
+// free_for_exchange below).
+constexpr size_t kBoundaryFrames = 5;
+
 // The runs' names as a whole, by their distances: swaps of two runs' names, and moves to a name no
 // overlapping run holds, while they lower the total cost (local search on the quadratic
 // assignment the distances pose). Fixes what the mean shape gets wrong along a chain of markers
@@ -117,6 +121,22 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
         return false;
     return true;
   };
+  // The same for an exchange of two runs' names, but for a few frames at either end: where the
+  // tracker swapped two markers is known to a few frames only, so the pieces a swap left may
+  // overlap a run holding the name there (the frames two runs hold one name lose it in the
+  // output).
+  auto free_for_exchange = [&](int label, size_t i, size_t ignore) {
+    for (size_t j = 0; j < r_count; ++j) {
+      if (j == i || j == ignore || runs[j].label != label) continue;
+      const size_t first = std::max(runs[i].first, runs[j].first), last = std::min(runs[i].last, runs[j].last);
+      if (first > last) continue;
+      const size_t overlap = last - first + 1;
+      if (overlap > kBoundaryFrames || 4 * overlap >= runs[i].last - runs[i].first + 1 ||
+          4 * overlap >= runs[j].last - runs[j].first + 1)
+        return false;
+    }
+    return true;
+  };
   // A run left without a name costs as much as a poor fit to every named run it meets (the mean
   // pair cost that makes a name not worth giving).
   constexpr double kUnnamedPairCost = 4.0;
@@ -183,7 +203,7 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
       for (size_t j = i + 1; j < r_count && runs[i].label >= 0; ++j) {
         if (runs[j].label < 0 || runs[i].label < 0) continue;
         const int li = runs[i].label, lj = runs[j].label;
-        if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+        if (!free_for_exchange(lj, i, j) || !free_for_exchange(li, j, i)) continue;
         const double before = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
         const double after = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
         if (after < before - 1e-6) {
@@ -285,7 +305,7 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
     for (size_t j = i + 1; j < r_count; ++j) {
       const int li = runs[i].label, lj = runs[j].label;
       if (li < 0 || lj < 0 || pairs[i * r_count + j].frames < 10) continue;
-      if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+      if (!free_for_exchange(lj, i, j) || !free_for_exchange(li, j, i)) continue;
       const int segment = set.SegmentOf(li);
       if (confirmed[i] && confirmed[j] && segment >= 0 && segment == set.SegmentOf(lj) &&
           anchors_of_segment[static_cast<size_t>(segment)] >= 0 &&
@@ -598,6 +618,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
   std::vector<Eigen::Vector3d> frame_points;
   std::vector<int> frame_labels;
   std::vector<size_t> frame_columns;
+  std::vector<int> holders(set.NumMarkers(), 0);  // per name: the points holding it in a frame
   for (size_t f = 0; f < in.NumFrames(); ++f) {
     frame_points.clear(), frame_labels.clear(), frame_columns.clear();
     for (size_t c = 0; c < columns; ++c) {
@@ -608,6 +629,13 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       frame_columns.push_back(c);
     }
     out.frame_names_dropped += DropBrokenNames(set, relative, own, frame_points, &frame_labels);
+    // Two runs sharing a name for a few frames at their ends (free_for_exchange): neither is
+    // named in those frames.
+    for (int label : frame_labels)
+      if (label >= 0) ++holders[static_cast<size_t>(label)];
+    for (int& label : frame_labels)
+      if (label >= 0 && holders[static_cast<size_t>(label)] > 1) ++out.frame_names_dropped, label = -1;
+    std::fill(holders.begin(), holders.end(), 0);
     for (size_t i = 0; i < frame_columns.size(); ++i) {
       label_at[f * columns + frame_columns[i]] = frame_labels[i];
       if (frame_labels[i] < 0) leftover_column[frame_columns[i]] = 0;
