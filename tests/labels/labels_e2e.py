@@ -231,11 +231,12 @@ class LabelsE2e(unittest.TestCase):
         """The tennis serve named by a set from its first half where the shared data exists (its
         reconstruction swaps right-arm markers: README); else the walker from its first third."""
         if os.path.isdir(MOTIONS):
-            # Measured with three fault seeds: whole serve 96.97-98.35 % right, 0.09-0.95 % wrong;
-            # second half 97.16-99.70 % right, at most 0.02 % wrong (README).
+            # Measured with three fault seeds: whole serve 96.67-98.31 % right, 0.95-1.86 % wrong
+            # (chains of arm markers the tracker rotated in the first half); the second half
+            # 99.62-99.71 % right, at most 0.02 % wrong (README).
             name, motion, share = "tennis", os.path.join(MOTIONS, "tennis_serve.trc"), 0.5
-            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.96, 0.01
-            later_floor, later_wrong = 0.97, 0.001
+            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.96, 0.025
+            later_floor, later_wrong = 0.99, 0.001
         else:
             name, motion, share = "walker_third", self.motion, 1.0 / 3.0
             first, floor, wrong = os.path.join(WORK, "walker_first_third.trc"), 0.95, 0.01

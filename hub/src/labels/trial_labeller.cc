@@ -197,9 +197,16 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
   }
   for (size_t i = 0; i < r_count; ++i)
     if (short_label[i] >= 0 && free_for(short_label[i], i, i)) runs[i].label = short_label[i];
+  // Longer runs are visited first: a short piece must not take a name first that a long run
+  // fits far better (a move is never undone in favour of a run that would have to evict it).
+  std::vector<size_t> by_length(r_count);
+  for (size_t i = 0; i < r_count; ++i) by_length[i] = i;
+  std::stable_sort(by_length.begin(), by_length.end(), [&](size_t x, size_t y) {
+    return runs[x].last - runs[x].first > runs[y].last - runs[y].first;
+  });
   for (int sweep = 0; sweep < 20; ++sweep) {
     bool improved = false;
-    for (size_t i = 0; i < r_count; ++i) {
+    for (size_t i : by_length) {
       for (size_t j = i + 1; j < r_count && runs[i].label >= 0; ++j) {
         if (runs[j].label < 0 || runs[i].label < 0) continue;
         const int li = runs[i].label, lj = runs[j].label;

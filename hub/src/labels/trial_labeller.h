@@ -6,7 +6,7 @@
 // holds the same name with more support. The runs' names are then refined as a whole by their
 // distances (local search on the assignment: the long runs' names solved together, then
 // exchanges, which may leave two runs sharing a name for up to 5 frames at their ends, and
-// moves); inside a cluster of three or more markers the frame built on its neighbouring segments
+// moves, the longer runs first); inside a cluster of three or more markers the frame built on its neighbouring segments
 // (segment_frames.h) decides what the distances cannot; names two runs could exchange at almost
 // no cost are dropped unless that frame confirms them (they cannot be told apart), and so is a
 // name whose distances fit worse than none. A run that breaks its steady distances, or whose name
