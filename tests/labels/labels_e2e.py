@@ -8,8 +8,9 @@ shared data and skips nothing without it: "another subject" is then the walker m
 its markers placed elsewhere, and "the rest of a trial" the walker after its first third. Where
 ../shared/data/motions exists beside the checkout, those two cases use the real motions: a set
 learned from walk.trc names the reconstruction of running.trc (another subject), and the tennis
-serve's first half names its whole reconstruction. Figures are printed; the floors asserted on
-the real cases are what the labeller reaches today (below issue 14's 99 %: README).
+serve's first half names its whole reconstruction (and, measured on its own, the half it did not
+learn from). Figures are printed; the floors asserted on the real cases are what the labeller
+reaches today with some room (below issue 14's 99 % where the README says why).
 
 usage: labels_e2e.py BIN_DIR WORK_DIR"""
 
@@ -73,6 +74,19 @@ def first_part(path, out, share):
         lines = f.read().splitlines()
     rows = [line for line in lines[5:] if line.strip()]
     keep = rows[:int(len(rows) * share)]
+    fields = lines[2].split("\t")
+    fields[2] = str(len(keep))
+    lines[2] = "\t".join(fields)
+    with open(out, "w") as f:
+        f.write("\n".join(lines[:5] + [""] + keep) + "\n")
+
+
+def last_part(path, out, share):
+    """The frames of a TRC after its first `share` (header counts fixed, frame numbers kept)."""
+    with open(path) as f:
+        lines = f.read().splitlines()
+    rows = [line for line in lines[5:] if line.strip()]
+    keep = rows[int(len(rows) * share):]
     fields = lines[2].split("\t")
     fields[2] = str(len(keep))
     lines[2] = "\t".join(fields)
@@ -200,30 +214,46 @@ class LabelsE2e(unittest.TestCase):
         """walk.trc's set names running.trc (another person) where the shared data exists; else the
         walker's set names the walker made larger with its markers placed elsewhere."""
         if os.path.isdir(MOTIONS):
+            # 90.00 % measured: the four wrist markers (10 %) stay unnamed (README).
             name, motion, trials = "running", os.path.join(MOTIONS, "running.trc"), [os.path.join(MOTIONS, "walk.trc")]
+            floor = 0.85
         else:
             name, motion = "other_walker", os.path.join(WORK, "other_walker.trc")
             another_subject(self.motion, motion)
             trials = [os.path.join(WORK, "walker_first_half.trc")]
+            floor = 0.9  # 100.00 % measured
         _, _, _, report = labelled_reconstruction(name, motion, trials)
         # What cannot be told apart on another subject stays unnamed, never wrongly named.
-        self.assertGreaterEqual(report["correct_share"], 0.6)
+        self.assertGreaterEqual(report["correct_share"], floor)
         self.assertLessEqual(report["wrong_share"], 0.001)
 
     def test_second_half_from_the_first(self):
         """The tennis serve named by a set from its first half where the shared data exists (its
         reconstruction swaps right-arm markers: README); else the walker from its first third."""
         if os.path.isdir(MOTIONS):
-            name, motion = "tennis", os.path.join(MOTIONS, "tennis_serve.trc")
-            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.9, 0.04
-            first_part(motion, first, 0.5)
+            # Measured with three fault seeds: whole serve 96.67-98.31 % right, 0.95-1.86 % wrong
+            # (chains of arm markers the tracker rotated in the first half); the second half
+            # 99.62-99.71 % right, at most 0.02 % wrong (README).
+            name, motion, share = "tennis", os.path.join(MOTIONS, "tennis_serve.trc"), 0.5
+            first, floor, wrong = os.path.join(WORK, "tennis_first_half.trc"), 0.96, 0.025
+            later_floor, later_wrong = 0.99, 0.001
         else:
-            name, motion = "walker_third", self.motion
+            name, motion, share = "walker_third", self.motion, 1.0 / 3.0
             first, floor, wrong = os.path.join(WORK, "walker_first_third.trc"), 0.95, 0.01
-            first_part(motion, first, 1.0 / 3.0)
-        _, _, _, report = labelled_reconstruction(name, motion, [first])
+            later_floor, later_wrong = 0.95, 0.01
+        first_part(motion, first, share)
+        work, session, out, report = labelled_reconstruction(name, motion, [first])
         self.assertGreaterEqual(report["correct_share"], floor)
         self.assertLessEqual(report["wrong_share"], wrong)
+        # The part the set did not learn from, on its own.
+        truth_later, out_later = os.path.join(work, "truth_later.trc"), os.path.join(work, "named_later.trc")
+        last_part(os.path.join(session, "truth.trc"), truth_later, share)
+        last_part(out, out_later, share)
+        later = json.loads(hub("eval", "--truth", truth_later, "--result", out_later, "--json"))
+        print(f"{name}, the part not learned from: {100 * later['correct_share']:.2f} % of points correctly named, "
+              f"{100 * later['wrong_share']:.2f} % wrongly", file=sys.stderr)
+        self.assertGreaterEqual(later["correct_share"], later_floor)
+        self.assertLessEqual(later["wrong_share"], later_wrong)
 
     def test_a_set_learned_from_c3d_equals_the_trc_one(self):
         c3d = os.path.join(WORK, "walker_first_half.c3d")

@@ -100,6 +100,103 @@ TEST(TrialLabeller, ASwapCostsTheNameAfterIt) {
   }
 }
 
+TEST(TrialLabeller, AnotherSubjectsClusterWithOtherSidesKeepsItsNames) {
+  // Another subject: 8 % larger, and one marker of a segment sits 30 % farther from its segment's
+  // centre (still rigid with it): its distances to its partners are not the set's, but they are
+  // steady, so the frame check (against this subject's own distances) must not take its name.
+  const MarkerTrajectories motion = Motion(400, 0);
+  MarkerTrajectories first = motion;
+  first.frame_numbers.resize(200);
+  first.points.resize(200 * motion.NumMarkers());
+  const MarkerSet set = LearnMarkerSet({first}, {"first half"});
+  ASSERT_FALSE(set.segments.empty());
+  const std::vector<int>* segment = &set.segments[0];
+  for (const std::vector<int>& s : set.segments)
+    if (s.size() > segment->size()) segment = &s;
+  ASSERT_GE(segment->size(), 3u);
+  const size_t moved = static_cast<size_t>((*segment)[0]);
+  MarkerTrajectories other = motion;
+  for (size_t f = 0; f < other.NumFrames(); ++f) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int m : *segment) centre += motion.At(f, static_cast<size_t>(m)) / static_cast<double>(segment->size());
+    other.At(f, moved) = centre + 1.3 * (motion.At(f, moved) - centre);
+    for (size_t m = 0; m < other.NumMarkers(); ++m) other.At(f, m) *= 1.08;
+  }
+  std::vector<size_t> order;
+  const MarkerTrajectories second = Anonymous(other, 200, 400, &order);
+  LabellerOptions options;
+  options.up_axis = 2;
+  const TrialLabelling result = LabelTrajectories(second, set, options);
+  const auto column = std::find(result.named.names.begin(), result.named.names.end(), set.names[moved]);
+  ASSERT_NE(column, result.named.names.end());
+  const size_t c = static_cast<size_t>(column - result.named.names.begin());
+  size_t right = 0;
+  for (size_t f = 0; f < 200; ++f) right += result.named.Has(f, c) && (result.named.At(f, c) - other.At(200 + f, moved)).norm() < 1e-6;
+  EXPECT_GE(right, 190u);
+  EXPECT_GE(CorrectShare(result, other, 200), 0.95);
+}
+
+// A walking trunk with an arm swinging fast whose markers sit on soft tissue (18 mm of jitter
+// each): none of the arm's distances is steady, so only how well each point fits its name
+// against the others can tell that the tracker swapped two of them.
+MarkerTrajectories LooseArm(int frames) {
+  MarkerTrajectories motion;
+  motion.rate_hz = 100.0;
+  motion.names = {"T1", "T2", "T3", "T4", "Shoulder", "Elbow", "Wrist", "Hand"};
+  std::mt19937 random(11);
+  std::normal_distribution<double> jitter(0.0, 18.0);
+  const std::vector<Eigen::Vector3d> trunk = {{0, -120, 1000}, {0, 120, 1000}, {-60, 0, 1300}, {40, 0, 1450}};
+  for (int f = 0; f < frames; ++f) {
+    const double t = f / motion.rate_hz;
+    const Eigen::Vector3d centre(1000.0 * t, 0.0, 0.0);
+    const size_t row = motion.AddFrame(static_cast<uint64_t>(f));
+    for (size_t m = 0; m < trunk.size(); ++m) motion.At(row, m) = centre + trunk[m];
+    const Eigen::Vector3d shoulder = centre + Eigen::Vector3d(0, 200, 1400);
+    const double upper = 0.9 * std::sin(2.0 * M_PI * 1.1 * t), lower = upper + 0.7 + 0.6 * std::sin(2.0 * M_PI * 1.1 * t + 1.0);
+    const Eigen::Vector3d elbow = shoulder + 300.0 * Eigen::Vector3d(std::sin(upper), 0.15, -std::cos(upper));
+    const Eigen::Vector3d wrist = elbow + 260.0 * Eigen::Vector3d(std::sin(lower), 0.1, -std::cos(lower));
+    const Eigen::Vector3d hand = wrist + 90.0 * Eigen::Vector3d(std::sin(lower + 0.3), 0.0, -std::cos(lower + 0.3));
+    motion.At(row, 4) = shoulder;
+    motion.At(row, 5) = elbow + Eigen::Vector3d(jitter(random), jitter(random), jitter(random));
+    motion.At(row, 6) = wrist + Eigen::Vector3d(jitter(random), jitter(random), jitter(random));
+    motion.At(row, 7) = hand + Eigen::Vector3d(jitter(random), jitter(random), jitter(random));
+  }
+  return motion;
+}
+
+TEST(TrialLabeller, ASwapOfMarkersWithoutSteadyPartnersIsRenamed) {
+  const MarkerTrajectories motion = LooseArm(300);
+  const MarkerSet set = LearnMarkerSet({motion}, {"loose arm"});
+  for (const char* name : {"Elbow", "Wrist"}) {
+    const int m = set.Find(name);
+    for (const MarkerDistance& d : set.distances) {
+      if (d.a == m || d.b == m) {
+        ASSERT_GT(d.sd, 15.0) << name << " has a steady partner";
+      }
+    }
+  }
+  std::vector<size_t> order;
+  MarkerTrajectories swapped = Anonymous(motion, 0, 300, &order);
+  const size_t elbow = static_cast<size_t>(std::find(order.begin(), order.end(), 5u) - order.begin());
+  const size_t wrist = static_cast<size_t>(std::find(order.begin(), order.end(), 6u) - order.begin());
+  for (size_t f = 200; f < 300; ++f) std::swap(swapped.At(f, elbow), swapped.At(f, wrist));
+  LabellerOptions options;
+  options.up_axis = 2;
+  const TrialLabelling result = LabelTrajectories(swapped, set, options);
+  for (size_t marker : {5u, 6u}) {
+    const auto column = std::find(result.named.names.begin(), result.named.names.end(), set.names[marker]);
+    ASSERT_NE(column, result.named.names.end());
+    const size_t c = static_cast<size_t>(column - result.named.names.begin());
+    size_t right = 0, wrong = 0;
+    for (size_t f = 0; f < 300; ++f) {
+      if (!result.named.Has(f, c)) continue;
+      ((result.named.At(f, c) - motion.At(f, marker)).norm() < 1e-6 ? right : wrong)++;
+    }
+    EXPECT_LE(wrong, 5u) << set.names[marker];
+    EXPECT_GE(right, 270u) << set.names[marker];  // renamed after the swap, not only left unnamed
+  }
+}
+
 TEST(MarkerLabeller, NamesFollowTracksFrameByFrame) {
   const MarkerTrajectories motion = Motion(200, 0);
   const MarkerSet set = LearnMarkerSet({motion}, {"motion"});

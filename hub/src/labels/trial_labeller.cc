@@ -6,6 +6,7 @@
 #include <map>
 #include <tuple>
 
+#include "labels/segment_frames.h"
 #include "util/assignment.h"
 
 namespace mocap {
@@ -17,6 +18,7 @@ struct Run {
   std::map<int, double> support;
   double total = 0.0;
   int label = -1;
+  int candidate = -1;  // the name its frames supported (kept when the refinement leaves it unnamed)
 };
 
 // Distance statistics of two runs over the frames they share.
@@ -43,13 +45,18 @@ double PairCost(const MarkerSet& set, int a, int b, const RunPair& pair, double 
   return std::min(z_mean * z_mean + z_sd * z_sd, 25.0);
 }
 
+// Frames at the ends of two runs that may both hold one name after an exchange (see
+// free_for_exchange below).
+constexpr size_t kBoundaryFrames = 5;
+
 // The runs' names as a whole, by their distances: swaps of two runs' names, and moves to a name no
 // overlapping run holds, while they lower the total cost (local search on the quadratic
 // assignment the distances pose). Fixes what the mean shape gets wrong along a chain of markers
 // that moves far from its mean pose (an arm serving), where the distances are right.
 // Returns the share of a distance the subject's markers may differ from the set's (see below).
-double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<int64_t>& run_at,
-                         std::vector<Run>* runs_in, std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
+double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<SegmentAnchors>& anchors,
+                         const std::vector<int64_t>& run_at, std::vector<Run>* runs_in,
+                         std::vector<std::vector<std::pair<size_t, size_t>>>* taken) {
   std::vector<Run>& runs = *runs_in;
   const size_t r_count = runs.size();
   if (r_count < 2 || r_count > 2000) return 0.15;  // bounded: pairs grow with the square
@@ -114,6 +121,22 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
         return false;
     return true;
   };
+  // The same for an exchange of two runs' names, but for a few frames at either end: where the
+  // tracker swapped two markers is known to a few frames only, so the pieces a swap left may
+  // overlap a run holding the name there (the frames two runs hold one name lose it in the
+  // output).
+  auto free_for_exchange = [&](int label, size_t i, size_t ignore) {
+    for (size_t j = 0; j < r_count; ++j) {
+      if (j == i || j == ignore || runs[j].label != label) continue;
+      const size_t first = std::max(runs[i].first, runs[j].first), last = std::min(runs[i].last, runs[j].last);
+      if (first > last) continue;
+      const size_t overlap = last - first + 1;
+      if (overlap > kBoundaryFrames || 4 * overlap >= runs[i].last - runs[i].first + 1 ||
+          4 * overlap >= runs[j].last - runs[j].first + 1)
+        return false;
+    }
+    return true;
+  };
   // A run left without a name costs as much as a poor fit to every named run it meets (the mean
   // pair cost that makes a name not worth giving).
   constexpr double kUnnamedPairCost = 4.0;
@@ -174,13 +197,20 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
   }
   for (size_t i = 0; i < r_count; ++i)
     if (short_label[i] >= 0 && free_for(short_label[i], i, i)) runs[i].label = short_label[i];
+  // Longer runs are visited first: a short piece must not take a name first that a long run
+  // fits far better (a move is never undone in favour of a run that would have to evict it).
+  std::vector<size_t> by_length(r_count);
+  for (size_t i = 0; i < r_count; ++i) by_length[i] = i;
+  std::stable_sort(by_length.begin(), by_length.end(), [&](size_t x, size_t y) {
+    return runs[x].last - runs[x].first > runs[y].last - runs[y].first;
+  });
   for (int sweep = 0; sweep < 20; ++sweep) {
     bool improved = false;
-    for (size_t i = 0; i < r_count; ++i) {
+    for (size_t i : by_length) {
       for (size_t j = i + 1; j < r_count && runs[i].label >= 0; ++j) {
         if (runs[j].label < 0 || runs[i].label < 0) continue;
         const int li = runs[i].label, lj = runs[j].label;
-        if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+        if (!free_for_exchange(lj, i, j) || !free_for_exchange(li, j, i)) continue;
         const double before = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
         const double after = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
         if (after < before - 1e-6) {
@@ -200,16 +230,95 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
     }
     if (!improved) break;
   }
+  // Inside a segment, where the distances cannot tell its names apart (another subject's cluster
+  // has other sides), the anchors' frame decides (segment_frames.h): each run's votes over its
+  // frames; a run whose votes clearly favour another name of its segment takes it when the
+  // segment's runs so renamed are a permutation of their names that is not a turn about the limb
+  // and the distances do not object (the total rises by less than the ambiguity margin per run).
+  // Runs whose names the votes clearly confirm are not dropped as ambiguous below.
+  constexpr double kAmbiguityMargin = 2.0;
+  constexpr double kClearShare = 0.75;
+  constexpr double kMinFrameVotes = 20.0;
+  std::vector<std::map<int, double>> frame_votes(r_count);
+  {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<int> labels_now, votes;
+    std::vector<size_t> run_of_point;
+    for (size_t f = 0; f < in.NumFrames() && !anchors.empty(); ++f) {
+      points.clear(), labels_now.clear(), run_of_point.clear();
+      for (size_t c = 0; c < columns; ++c) {
+        const int64_t r = run_at[f * columns + c];
+        if (r < 0 || runs[static_cast<size_t>(r)].label < 0) continue;
+        points.push_back(in.At(f, c));
+        labels_now.push_back(runs[static_cast<size_t>(r)].label);
+        run_of_point.push_back(static_cast<size_t>(r));
+      }
+      VoteInSegmentFrames(set, anchors, points, labels_now, &votes);
+      for (size_t p = 0; p < points.size(); ++p)
+        if (votes[p] >= 0) frame_votes[run_of_point[p]][votes[p]] += 1.0;
+    }
+  }
+  std::vector<char> confirmed(r_count, 0);
+  std::vector<int> anchors_of_segment(set.segments.size(), -1);
+  for (size_t k = 0; k < anchors.size(); ++k) anchors_of_segment[static_cast<size_t>(anchors[k].segment)] = static_cast<int>(k);
+  for (const SegmentAnchors& a : anchors) {
+    std::vector<size_t> members_runs, changed;
+    std::vector<std::pair<int, int>> relabel;  // old -> new
+    std::vector<int> new_label(r_count, -1);
+    for (size_t r = 0; r < r_count; ++r)
+      if (runs[r].label >= 0 && set.SegmentOf(runs[r].label) == a.segment) members_runs.push_back(r);
+    bool consistent = true;
+    for (size_t r : members_runs) {
+      int best = -1;
+      double best_votes = 0.0, total = 0.0;
+      for (const auto& [l, v] : frame_votes[r]) {
+        total += v;
+        if (v > best_votes) best = l, best_votes = v;
+      }
+      if (total < kMinFrameVotes || best < 0 || best == runs[r].label || best_votes < kClearShare * total) continue;
+      changed.push_back(r), new_label[r] = best;
+      bool known = false;
+      for (const auto& [from, into] : relabel)
+        if (from == runs[r].label) known = true, consistent = consistent && into == best;
+      if (!known) relabel.push_back({runs[r].label, best});
+    }
+    // A permutation: the new names are the old ones.
+    for (const auto& [from, into] : relabel) {
+      bool held = false;
+      for (const auto& other : relabel) held = held || other.first == into;
+      consistent = consistent && held;
+    }
+    if (!changed.empty() && consistent && !IsTurnAboutLimb(set, a, relabel)) {
+      const double before = total_cost();
+      std::vector<int> old(r_count, -1);
+      for (size_t r : changed) old[r] = runs[r].label, runs[r].label = new_label[r];
+      bool clash = false;
+      for (size_t r : changed) clash = clash || !free_for(runs[r].label, r, r);
+      if (clash || total_cost() - before > kAmbiguityMargin * static_cast<double>(changed.size()))
+        for (size_t r : changed) runs[r].label = old[r];
+    }
+    for (size_t r : members_runs) {
+      double total = 0.0, agree = 0.0;
+      for (const auto& [l, v] : frame_votes[r]) total += v, agree += l == runs[r].label ? v : 0.0;
+      confirmed[r] = total >= kMinFrameVotes && agree >= kClearShare * total;
+    }
+  }
   // Two overlapping runs whose names could be exchanged at almost no cost cannot be told apart
   // (a pair of markers whose distances to the rest are alike, placed differently on this
-  // subject): both lose their names rather than carry a coin toss.
-  constexpr double kAmbiguityMargin = 2.0;
+  // subject): both lose their names rather than carry a coin toss, unless the anchors' frame
+  // confirms both and their exchange is not a turn about the limb.
   std::vector<char> ambiguous(r_count, 0);
   for (size_t i = 0; i < r_count; ++i)
     for (size_t j = i + 1; j < r_count; ++j) {
       const int li = runs[i].label, lj = runs[j].label;
       if (li < 0 || lj < 0 || pairs[i * r_count + j].frames < 10) continue;
-      if (!free_for(lj, i, j) || !free_for(li, j, i)) continue;
+      if (!free_for_exchange(lj, i, j) || !free_for_exchange(li, j, i)) continue;
+      const int segment = set.SegmentOf(li);
+      if (confirmed[i] && confirmed[j] && segment >= 0 && segment == set.SegmentOf(lj) &&
+          anchors_of_segment[static_cast<size_t>(segment)] >= 0 &&
+          !IsTurnAboutLimb(set, anchors[static_cast<size_t>(anchors_of_segment[static_cast<size_t>(segment)])],
+                           {{li, lj}, {lj, li}}))
+        continue;
       const double now = cost_of(i, li, j, lj) + cost_of(j, lj, i, li);
       const double exchanged = cost_of(i, lj, j, li) + cost_of(j, li, i, lj);
       if (exchanged - now < kAmbiguityMargin) ambiguous[i] = ambiguous[j] = 1;
@@ -233,13 +342,47 @@ double RefineByDistances(const MarkerTrajectories& in, const MarkerSet& set, con
   return relative;
 }
 
+// This subject's own mean distance of every pair of names over the frames both are named (per
+// a * n + b; NaN where fewer than 20 frames): on another subject the frame check below measures
+// against these, since its clusters have other sides than the set's (a swap is a departure from
+// the subject's own distance, not from another person's).
+std::vector<double> OwnDistances(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<Run>& runs,
+                                 const std::vector<int64_t>& run_at) {
+  const size_t n = set.NumMarkers(), columns = in.NumMarkers();
+  std::vector<double> sum(n * n, 0.0);
+  std::vector<int> count(n * n, 0);
+  std::vector<std::pair<int, size_t>> named;  // (label, column)
+  for (size_t f = 0; f < in.NumFrames(); ++f) {
+    named.clear();
+    for (size_t c = 0; c < columns; ++c) {
+      const int64_t r = run_at[f * columns + c];
+      if (r >= 0 && runs[static_cast<size_t>(r)].label >= 0) named.push_back({runs[static_cast<size_t>(r)].label, c});
+    }
+    for (size_t x = 0; x < named.size(); ++x)
+      for (size_t y = x + 1; y < named.size(); ++y) {
+        const int a = std::min(named[x].first, named[y].first), b = std::max(named[x].first, named[y].first);
+        const MarkerDistance* d = set.Distance(a, b);
+        if (d == nullptr || d->sd > 5.0 || d->mean > 500.0) continue;  // only the pairs the check uses
+        sum[static_cast<size_t>(a) * n + static_cast<size_t>(b)] += (in.At(f, named[x].second) - in.At(f, named[y].second)).norm();
+        ++count[static_cast<size_t>(a) * n + static_cast<size_t>(b)];
+      }
+  }
+  std::vector<double> own(n * n, std::nan(""));
+  for (size_t i = 0; i < own.size(); ++i)
+    if (count[i] >= 20) own[i] = sum[i] / count[i];
+  return own;
+}
+
 // In one frame, the named points (label per point, -1: none) whose distances to the other named
 // points break most of the set's steady pairs lose their names for that frame: a run the tracker
 // swapped with another marker is not carried under the wrong name. Steady: an sd of at most 5 mm
 // in the set, or 15 mm when the set fits this subject closely (relative <= 2 %: the same person,
-// whose looser pairs are still known well). Returns how many.
-size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
-                       std::vector<int>* labels) {
+// whose looser pairs are still known well). The distance expected is the set's mean, or on
+// another subject (relative > 2 %) the subject's own (`own`, OwnDistances) where known. Returns
+// how many.
+size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<double>& own,
+                       const std::vector<Eigen::Vector3d>& points, std::vector<int>* labels) {
+  const size_t n = set.NumMarkers();
   std::vector<size_t> drop;
   for (size_t p = 0; p < points.size(); ++p) {
     const int a = (*labels)[p];
@@ -249,7 +392,12 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
       const MarkerDistance* d = q == p || (*labels)[q] < 0 ? nullptr : set.Distance(a, (*labels)[q]);
       if (d == nullptr || d->sd > (relative <= 0.02 ? 15.0 : 5.0) || d->mean > 500.0) continue;
       ++checks;
-      breaks += std::abs((points[p] - points[q]).norm() - d->mean) > 3.0 * d->sd + 5.0 + relative * d->mean;
+      double expected = d->mean;
+      if (relative > 0.02) {
+        const double subject = own[static_cast<size_t>(std::min(a, (*labels)[q])) * n + static_cast<size_t>(std::max(a, (*labels)[q]))];
+        if (std::isfinite(subject)) expected = subject;
+      }
+      breaks += std::abs((points[p] - points[q]).norm() - expected) > 3.0 * d->sd + 5.0 + relative * d->mean;
     }
     if (checks >= 2 && 2 * breaks > checks) drop.push_back(p);
   }
@@ -257,34 +405,81 @@ size_t DropBrokenNames(const MarkerSet& set, double relative, const std::vector<
   return drop.size();
 }
 
-// Splits named runs where they start or stop breaking their steady distances for at least
-// `min_frames` frames (the tracker swapped two markers there): the broken part becomes a run of
-// its own without a name, to be named again by the refinement. Returns whether any was split.
+// In one frame, the named points whose name another point of the frame (named or not) would
+// carry far better: the sum over the other named points of each distance's squared departure
+// from the set's (in units of the spread PairCost allows, capped at 25 like there) is at least
+// `margin` lower with that point in its place. A run the tracker swapped, even one whose
+// markers have few steady partners (an arm serving), fits its name worse than the marker it
+// swapped with. The names checked are `checked` (per point, -1: none), the partners' `labels`.
+// Per point, 1: contested. Frames of more than kMaxContestPoints points are not
+// checked (the test grows with the cube of the points).
+constexpr size_t kMaxContestPoints = 300;
+constexpr double kContestMargin = 20.0;
+void ContestedNames(const MarkerSet& set, double relative, const std::vector<Eigen::Vector3d>& points,
+                    const std::vector<int>& labels, const std::vector<int>& checked, std::vector<char>* contested) {
+  contested->assign(points.size(), 0);
+  if (points.size() > kMaxContestPoints) return;
+  auto pair_cost = [&](int a, int b, double distance) {
+    const MarkerDistance* d = set.Distance(std::min(a, b), std::max(a, b));
+    if (d == nullptr || (relative > 0.05 && d->sd > 5.0)) return 0.0;
+    const double z = (distance - d->mean) / (d->sd + 3.0 + relative * d->mean);
+    return std::min(z * z, 25.0);
+  };
+  for (size_t p = 0; p < points.size(); ++p) {
+    const int a = checked[p];
+    if (a < 0) continue;
+    double own = 0.0;
+    for (size_t q = 0; q < points.size(); ++q)
+      if (q != p && labels[q] >= 0) own += pair_cost(a, labels[q], (points[p] - points[q]).norm());
+    if (own < kContestMargin) continue;
+    for (size_t o = 0; o < points.size() && !(*contested)[p]; ++o) {
+      if (o == p) continue;
+      double other = 0.0;
+      for (size_t q = 0; q < points.size(); ++q)
+        if (q != p && q != o && labels[q] >= 0) other += pair_cost(a, labels[q], (points[o] - points[q]).norm());
+      (*contested)[p] = other <= own - kContestMargin;
+    }
+  }
+}
+
+// Splits runs where they start or stop breaking their steady distances, or having their name
+// contested (ContestedNames), for at least `min_frames` frames (the tracker swapped two markers
+// there): the broken part becomes a run of its own without a name, to be named again by the
+// refinement. A run the refinement left unnamed is checked with the name its frames supported
+// (a run joined from two markers by a swap fits no name as a whole); its pieces that keep
+// fitting that name take it back. Once broken, a run stays so until it fits its name again for
+// 5 times `min_frames`. Returns whether any was split.
 bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double relative, size_t min_frames,
                      std::vector<Run>* runs, std::vector<int64_t>* run_at) {
+  const std::vector<double> own = OwnDistances(in, set, *runs, *run_at);
   const size_t columns = in.NumMarkers();
   std::vector<char> broken(in.points.size(), 0);
   std::vector<Eigen::Vector3d> points;
-  std::vector<int> labels, original;
+  std::vector<int> labels, original, checked;
+  std::vector<char> contested;
   std::vector<size_t> which;
   for (size_t f = 0; f < in.NumFrames(); ++f) {
-    points.clear(), labels.clear(), which.clear();
+    points.clear(), labels.clear(), checked.clear(), which.clear();
     for (size_t c = 0; c < columns; ++c) {
       const int64_t r = (*run_at)[f * columns + c];
       if (r < 0) continue;
+      const Run& run = (*runs)[static_cast<size_t>(r)];
       points.push_back(in.At(f, c));
-      labels.push_back((*runs)[static_cast<size_t>(r)].label);
+      labels.push_back(run.label);
+      checked.push_back(run.label >= 0 ? run.label : run.candidate);
       which.push_back(c);
     }
     original = labels;
-    DropBrokenNames(set, relative, points, &labels);
+    ContestedNames(set, relative, points, original, checked, &contested);
+    DropBrokenNames(set, relative, own, points, &labels);
     for (size_t i = 0; i < which.size(); ++i)
-      broken[f * columns + which[i]] = original[i] >= 0 && labels[i] < 0;
+      broken[f * columns + which[i]] = checked[i] >= 0 && ((original[i] >= 0 && labels[i] < 0) || contested[i]);
   }
   bool split = false;
   const size_t count = runs->size();
   for (size_t r = 0; r < count; ++r) {
-    if ((*runs)[r].label < 0) continue;
+    const int label = (*runs)[r].label >= 0 ? (*runs)[r].label : (*runs)[r].candidate;
+    if (label < 0) continue;
     const size_t column = (*runs)[r].column;
     // Pieces of equal state; short flickers join their neighbours.
     std::vector<std::pair<size_t, size_t>> pieces;  // [first, last]
@@ -300,26 +495,38 @@ bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double 
     }
     for (size_t i = 0; i < pieces.size(); ++i)
       if (pieces[i].second - pieces[i].first + 1 < min_frames && pieces.size() > 1) state[i] = i > 0 ? state[i - 1] : 0;
+    auto merge = [](const std::vector<std::pair<size_t, size_t>>& in_pieces, const std::vector<char>& in_state,
+                    std::vector<std::pair<size_t, size_t>>* out_pieces, std::vector<char>* out_state) {
+      out_pieces->clear(), out_state->clear();
+      for (size_t i = 0; i < in_pieces.size(); ++i) {
+        if (!out_pieces->empty() && out_state->back() == in_state[i]) out_pieces->back().second = in_pieces[i].second;
+        else out_pieces->push_back(in_pieces[i]), out_state->push_back(in_state[i]);
+      }
+    };
     std::vector<std::pair<size_t, size_t>> merged;
     std::vector<char> merged_state;
-    for (size_t i = 0; i < pieces.size(); ++i) {
-      if (!merged.empty() && merged_state.back() == state[i]) merged.back().second = pieces[i].second;
-      else merged.push_back(pieces[i]), merged_state.push_back(state[i]);
-    }
+    merge(pieces, state, &merged, &merged_state);
+    // Once broken, a run stays so until it fits its name again for a while (5 times min_frames):
+    // a swapped marker fits the name now and then as the limb moves (every such stretch would
+    // otherwise become a piece of its own, and the pieces block each other's renaming).
+    for (size_t i = 1; i < merged.size(); ++i)
+      if (!merged_state[i] && merged_state[i - 1] && merged[i].second - merged[i].first + 1 < 5 * min_frames)
+        merged_state[i] = 1;
+    pieces = merged, state = merged_state;
+    merge(pieces, state, &merged, &merged_state);
     if (merged.size() < 2) continue;
     split = true;
-    const int label = (*runs)[r].label;
     for (size_t i = 0; i < merged.size(); ++i) {
       size_t target = r;
       if (i == 0) {
         (*runs)[r].last = merged[0].second;
-        (*runs)[r].label = merged_state[0] ? -1 : label;
+        (*runs)[r].label = (*runs)[r].candidate = merged_state[0] ? -1 : label;
       } else {
         target = runs->size();
         Run piece;
         piece.column = column;
         piece.first = merged[i].first, piece.last = merged[i].second;
-        piece.label = merged_state[i] ? -1 : label;
+        piece.label = piece.candidate = merged_state[i] ? -1 : label;
         if (piece.label >= 0) piece.support[label] = 1.0, piece.total = 1.0;
         runs->push_back(piece);
       }
@@ -351,7 +558,7 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       }
       if (run_of_column[c] < 0 || broken[c]) {
         run_of_column[c] = static_cast<int64_t>(runs.size());
-        runs.push_back(Run{c, f, f, {}, 0.0, -1});
+        runs.push_back(Run{c, f, f, {}, 0.0, -1, -1});
         broken[c] = 0;
       }
       Run& run = runs[static_cast<size_t>(run_of_column[c])];
@@ -388,14 +595,16 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
     for (const auto& [first, last] : taken[static_cast<size_t>(label)])
       overlaps = overlaps || (run.first <= last && first <= run.last);
     if (overlaps) continue;
-    run.label = label;
+    run.label = run.candidate = label;
     taken[static_cast<size_t>(label)].push_back({run.first, run.last});
     ++out.named_runs;
   }
 
-  double relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  const std::vector<SegmentAnchors> anchors = ChooseSegmentAnchors(set);
+  double relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   // Runs the tracker swapped mid-way: split where they break their distances, then named again.
-  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at)) relative = RefineByDistances(in, set, run_at, &runs, &taken);
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at))
+    relative = RefineByDistances(in, set, anchors, run_at, &runs, &taken);
   out.runs = runs.size();
   out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
 
@@ -409,12 +618,14 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       named.names.push_back(set.names[a]);
     }
   out.names_placed = named.names.size();
+  const std::vector<double> own = OwnDistances(in, set, runs, run_at);
   // Per frame and input column the name its point carries (-1: none), after the frame check.
   std::vector<int> label_at(in.points.size(), -1);
   std::vector<int> leftover_column(columns, -1);
   std::vector<Eigen::Vector3d> frame_points;
   std::vector<int> frame_labels;
   std::vector<size_t> frame_columns;
+  std::vector<int> holders(set.NumMarkers(), 0);  // per name: the points holding it in a frame
   for (size_t f = 0; f < in.NumFrames(); ++f) {
     frame_points.clear(), frame_labels.clear(), frame_columns.clear();
     for (size_t c = 0; c < columns; ++c) {
@@ -424,7 +635,14 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       frame_labels.push_back(runs[static_cast<size_t>(r)].label);
       frame_columns.push_back(c);
     }
-    out.frame_names_dropped += DropBrokenNames(set, relative, frame_points, &frame_labels);
+    out.frame_names_dropped += DropBrokenNames(set, relative, own, frame_points, &frame_labels);
+    // Two runs sharing a name for a few frames at their ends (free_for_exchange): neither is
+    // named in those frames.
+    for (int label : frame_labels)
+      if (label >= 0) ++holders[static_cast<size_t>(label)];
+    for (int& label : frame_labels)
+      if (label >= 0 && holders[static_cast<size_t>(label)] > 1) ++out.frame_names_dropped, label = -1;
+    std::fill(holders.begin(), holders.end(), 0);
     for (size_t i = 0; i < frame_columns.size(); ++i) {
       label_at[f * columns + frame_columns[i]] = frame_labels[i];
       if (frame_labels[i] < 0) leftover_column[frame_columns[i]] = 0;

@@ -5,13 +5,18 @@
 // shape's votes), when that is at least half of its support and no run overlapping it in time
 // holds the same name with more support. The runs' names are then refined as a whole by their
 // distances (local search on the assignment: the long runs' names solved together, then
-// exchanges and moves), names two runs could exchange at almost no cost are dropped (they cannot
-// be told apart), and so is a name whose distances fit worse than none. A named run that breaks
-// its steady distances for 5 frames or more is split there (the tracker swapped it) and the
-// pieces named again the same way. Last, frame by frame, a
-// named point that breaks most of its steady distances loses its name for that frame (a swap
-// inside a run). A run or point without a name keeps its column's anonymous name, so the output
-// holds one column per name placed (in the set's order) and then the leftovers. Pure.
+// exchanges, which may leave two runs sharing a name for up to 5 frames at their ends, and
+// moves, the longer runs first); inside a cluster of three or more markers the frame built on its neighbouring segments
+// (segment_frames.h) decides what the distances cannot; names two runs could exchange at almost
+// no cost are dropped unless that frame confirms them (they cannot be told apart), and so is a
+// name whose distances fit worse than none. A run that breaks its steady distances, or whose name
+// another point of the frame would carry far better, for 5 frames or more is split there (the
+// tracker swapped it; a run left unnamed is checked with the name its frames supported) and the
+// pieces named again the same way. Last, frame by frame, a named point that breaks most of its
+// steady distances (on another subject: the subject's own) loses its name for that frame (a swap
+// inside a run), and so do two points holding one name. A run or point without a name keeps its
+// column's anonymous name, so the output holds one column per name placed (in the set's order)
+// and then the leftovers. Pure.
 #pragma once
 
 #include <cstddef>
