@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 
@@ -63,6 +64,11 @@ void RigidSwapResolver::RepairCluster(const RigidModel& rigid, const std::vector
   int member_of[8];
   std::vector<int> held(size);
   for (int m = 0; m < size; ++m) held[m] = (*point_of_slot)[cluster[m]];
+  // A member lost its point to an earlier cluster's regathering this frame: gather this one again.
+  if (std::find(held.begin(), held.end(), -1) != held.end()) {
+    Regather(rigid, cluster, points, point_of_slot, changed, repaired);
+    return;
+  }
   auto cost_of = [&](const int* permutation) {
     double sum = 0.0;
     for (const Constraint& c : constraints_) {
@@ -89,10 +95,89 @@ void RigidSwapResolver::RepairCluster(const RigidModel& rigid, const std::vector
       std::copy(permutation, permutation + size, member_of);
     }
   }
-  if (!(best < options_.improvement * current)) return;
+  if (!(best < options_.improvement * current)) {
+    // No order of its own points fits: a neighbouring cluster's track holds one of them.
+    if (std::sqrt(best / links) > options_.min_error_mm) Regather(rigid, cluster, points, point_of_slot, changed, repaired);
+    return;
+  }
   for (int m = 0; m < size; ++m) {
     if (member_of[m] == m) continue;
     (*point_of_slot)[cluster[m]] = held[member_of[m]];
+    (*changed)[cluster[m]] = 1;
+  }
+  ++*repaired;
+}
+
+void RigidSwapResolver::Regather(const RigidModel& rigid, const std::vector<int>& cluster,
+                                 const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
+                                 std::vector<char>* changed, int* repaired) {
+  const int size = static_cast<int>(cluster.size());
+  if (size < 3 || !options_.regather) return;  // two markers: one distance cannot say which is which
+  // The cluster's own shape: every pair of members steadily linked (a rigid plate).
+  double mean[8][8];
+  for (int a = 0; a < size; ++a) {
+    for (int b = a + 1; b < size; ++b) {
+      const RigidLink* link = rigid.Link(cluster[a], cluster[b]);
+      if (!Steady(link)) return;
+      mean[a][b] = mean[b][a] = link->mean;
+    }
+  }
+  // Around the points the members still hold.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int held = 0;
+  for (int slot : cluster) {
+    if ((*point_of_slot)[slot] < 0) continue;
+    centre += points[(*point_of_slot)[slot]].point_in_world;
+    ++held;
+  }
+  if (held == 0) return;
+  centre /= held;
+  candidates_.clear();
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    if ((points[i].point_in_world - centre).norm() <= options_.cluster_radius_mm) candidates_.push_back(i);
+  }
+  if (static_cast<int>(candidates_.size()) < size || candidates_.size() > kMaxRegatherCandidates) return;
+  // Depth-first over members, each taking a candidate whose distances to the members placed so
+  // far are all within the tolerance; the smallest sum of squared misses wins.
+  const double tolerance = 2.0 * options_.min_error_mm;
+  int chosen[8], best_choice[8];
+  double best_cost = HUGE_VAL;
+  const std::function<void(int, double)> place = [&](int member, double cost) {
+    if (member == size) {
+      if (cost < best_cost) {
+        best_cost = cost;
+        std::copy(chosen, chosen + size, best_choice);
+      }
+      return;
+    }
+    for (int candidate : candidates_) {
+      if (std::find(chosen, chosen + member, candidate) != chosen + member) continue;
+      double added = 0.0;
+      bool fits = true;
+      for (int other = 0; other < member && fits; ++other) {
+        const double miss =
+            (points[candidate].point_in_world - points[chosen[other]].point_in_world).norm() - mean[member][other];
+        fits = std::abs(miss) <= tolerance;
+        added += miss * miss;
+      }
+      if (!fits || cost + added >= best_cost) continue;
+      chosen[member] = candidate;
+      place(member + 1, cost + added);
+    }
+  };
+  place(0, 0.0);
+  const double pairs = 0.5 * size * (size - 1);
+  if (!(best_cost < HUGE_VAL) || std::sqrt(best_cost / pairs) > options_.min_error_mm) return;
+  for (int m = 0; m < size; ++m) {
+    const int point = best_choice[m];
+    if ((*point_of_slot)[cluster[m]] == point) continue;
+    // A track outside the cluster holding the point loses it for this frame.
+    for (size_t slot = 0; slot < point_of_slot->size(); ++slot) {
+      if ((*point_of_slot)[slot] != point || std::find(cluster.begin(), cluster.end(), static_cast<int>(slot)) != cluster.end()) continue;
+      (*point_of_slot)[slot] = -1;
+      (*changed)[slot] = 0;
+    }
+    (*point_of_slot)[cluster[m]] = point;
     (*changed)[cluster[m]] = 1;
   }
   ++*repaired;

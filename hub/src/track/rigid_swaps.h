@@ -4,8 +4,11 @@
 // What does not change is the cluster's shape: the tracks linked by steady distances (the rigid
 // model's links) are grouped into small clusters, and when another permutation of the points the
 // cluster's tracks hold fits their steady distances far better than the one the predictions chose,
-// the points are permuted. Single-threaded; per-frame cost grows with the tracks holding points
-// times those in clusters; never throws on data.
+// the points are permuted. When no order of its own points fits (clusters that traded markers: a
+// neighbour's track holds one), a cluster of three or more is gathered again from the points
+// around it by its steady distances, and the tracks that held those points lose them.
+// Single-threaded; per-frame cost grows with the tracks holding points times those in clusters
+// (a regathering searches at most 24 nearby points, pruned by distance); never throws on data.
 #pragma once
 
 #include <vector>
@@ -36,7 +39,15 @@ class RigidSwapResolver {
     double mean_mm;
   };
 
+  static constexpr size_t kMaxRegatherCandidates = 24;
+
   bool Steady(const RigidLink* link) const;
+  // The cluster's points gathered again from every point within cluster_radius_mm of the ones its
+  // members hold, by its own steady distances: clusters that traded markers (a neighbour's track
+  // holds one). Tracks outside the cluster that held the points chosen lose them for the frame.
+  void Regather(const RigidModel& rigid, const std::vector<int>& cluster,
+                const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
+                std::vector<char>* changed, int* repaired);
   void RepairCluster(const RigidModel& rigid, const std::vector<int>& cluster,
                      const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
                      std::vector<char>* changed, int* repaired);
@@ -46,6 +57,7 @@ class RigidSwapResolver {
   std::vector<int> parent_;
   std::vector<char> in_cluster_;
   std::vector<Constraint> constraints_;
+  std::vector<int> candidates_;
 };
 
 }  // namespace mocap

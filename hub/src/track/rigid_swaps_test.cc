@@ -23,10 +23,13 @@ class RigidSwaps : public ::testing::Test {
     for (int k = 0; k < 30; ++k) model_.Update({0, 1, 2, 3, 4}, Plate(0.02 * k));
   }
 
-  // Resolves with slot s holding point held[s] of the plate at time 1.0.
-  int Resolve(const std::vector<int>& held, std::vector<int>* point_of_slot, std::vector<char>* changed) {
+  // Resolves with slot s holding point held[s] of the plate at time 1.0 (then the `extra` points).
+  int Resolve(const std::vector<int>& held, std::vector<int>* point_of_slot, std::vector<char>* changed,
+              const std::vector<Eigen::Vector3d>& extra = {}) {
     points_.clear();
-    for (const Eigen::Vector3d& p : Plate(1.0)) {
+    std::vector<Eigen::Vector3d> positions = Plate(1.0);
+    positions.insert(positions.end(), extra.begin(), extra.end());
+    for (const Eigen::Vector3d& p : positions) {
       ReconstructedPoint point;
       point.point_in_world = p;
       points_.push_back(point);
@@ -65,6 +68,27 @@ TEST_F(RigidSwaps, RightAssignmentAndMissingPointsAreLeftAlone) {
   // Only two plate markers hold points: their one mutual distance cannot tell them apart.
   EXPECT_EQ(Resolve({1, 0, -1, -1, 4}, &point_of_slot, &changed), 0);
   EXPECT_EQ(point_of_slot, (std::vector<int>{1, 0, -1, -1, 4}));
+}
+
+// The plate traded a marker with a neighbour: the far marker's track (slot 4) holds plate
+// point 0, and slot 0 holds a stray point 20 mm beside the plate. No order of the plate's own
+// points fits, so the plate is gathered again from the points around it: slot 0 takes its point
+// back, slot 4 loses it, the stray point is left to nobody.
+TEST_F(RigidSwaps, ClusterTradedWithANeighbourIsGatheredAgain) {
+  const Eigen::Vector3d stray = Plate(1.0)[0] + Eigen::Vector3d(0, 0, -20);
+  std::vector<int> point_of_slot;
+  std::vector<char> changed;
+  EXPECT_EQ(Resolve({5, 1, 2, 3, 0}, &point_of_slot, &changed, {stray}), 1);
+  EXPECT_EQ(point_of_slot, (std::vector<int>{0, 1, 2, 3, -1}));
+  EXPECT_EQ(changed, (std::vector<char>{1, 0, 0, 0, 0}));
+  // Off: the plate keeps the stray point.
+  RigidSwapOptions off;
+  off.regather = false;
+  point_of_slot = {5, 1, 2, 3, 0};
+  changed.assign(5, 0);
+  RigidSwapResolver resolver{off};
+  EXPECT_EQ(resolver.Resolve(model_, std::vector<char>(5, 1), points_, &point_of_slot, &changed), 0);
+  EXPECT_EQ(point_of_slot, (std::vector<int>{5, 1, 2, 3, 0}));
 }
 
 TEST(RigidSwapOptions, CheckRejectsBadValues) {

@@ -52,6 +52,9 @@ struct RigidSwapOptions {
   // times the chosen one's.
   double min_error_mm = 3.0;
   double improvement = 0.25;
+  // When no order of its own points fits, a cluster of three or more is gathered again from the
+  // points around it (clusters that traded markers).
+  bool regather = true;
 
   void Check() const;
 };

@@ -135,6 +135,7 @@ class Tracker {
   std::vector<int> free_slots_;
   RigidModel rigid_;
   RigidSwapResolver swaps_;
+  std::vector<int> held_before_;  // RepairRigidClusters' scratch
   std::vector<char> swap_eligible_, swap_changed_;  // per slot, reused every frame
   int next_marker_ = 0;
   uint64_t next_serial_ = 1;
