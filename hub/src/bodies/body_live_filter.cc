@@ -1,0 +1,99 @@
+// Live rigid-body orientations refined from past frames (see body_live_filter.h).
+#include "bodies/body_live_filter.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace mocap {
+namespace {
+
+// Residual degrees of freedom before the noise estimate is trusted: ten frames of a 4-marker
+// body (6 each).
+constexpr double kMinNoiseDof = 60.0;
+
+}  // namespace
+
+void BodyLiveFilterOptions::Check() const {
+  if (past_frames < 0 || past_frames > 100) throw std::invalid_argument("live body filter: past frames must be 0..100");
+  if (degree < 1 || degree > 3) throw std::invalid_argument("live body filter: degree must be 1..3");
+  if (!(test_z > 0.0 && test_z < 10.0)) throw std::invalid_argument("live body filter: test quantile must be in (0, 10)");
+}
+
+BodyLiveFilter::BodyLiveFilter(std::vector<RigidBodyDefinition> bodies, const BodyLiveFilterOptions& options)
+    : bodies_(std::move(bodies)), options_(options), states_(bodies_.size()) {
+  options_.Check();
+}
+
+BodyLiveFilterStats BodyLiveFilter::stats(size_t body) const {
+  BodyLiveFilterStats s = states_.at(body).stats;
+  const State& state = states_[body];
+  s.noise_mm = state.residual_dof > 0.0 ? std::sqrt(state.residual_sq / state.residual_dof) : 0.0;
+  return s;
+}
+
+void BodyLiveFilter::Update(uint64_t frame_number, const std::vector<Eigen::Vector3d>& points,
+                            std::vector<BodyPose>* poses) {
+  if (poses->size() != bodies_.size()) throw std::invalid_argument("live body filter: one pose per body needed");
+  if (started_ && frame_number <= last_frame_)
+    for (State& state : states_) state.past.clear();
+  started_ = true;
+  last_frame_ = frame_number;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    BodyPose& pose = (*poses)[b];
+    markers_.in_body.clear();
+    markers_.in_world.clear();
+    if (pose.tracked) {
+      for (size_t i = 0; i < pose.point_of_marker.size() && i < bodies_[b].markers.size(); ++i) {
+        const int p = pose.point_of_marker[i];
+        if (p < 0 || static_cast<size_t>(p) >= points.size()) continue;
+        markers_.in_body.push_back(bodies_[b].markers[i]);
+        markers_.in_world.push_back(points[static_cast<size_t>(p)]);
+      }
+    }
+    Refine(b, frame_number, markers_, &pose);
+  }
+}
+
+void BodyLiveFilter::Refine(size_t body, uint64_t frame_number, const BodyFrameMarkers& markers, BodyPose* pose) {
+  State& state = states_[body];
+  const uint64_t horizon = static_cast<uint64_t>(options_.past_frames);
+  while (!state.past.empty() && frame_number - state.past.front().frame > horizon) state.past.pop_front();
+  const BodyFrameFit fit = DescribeFrameFit(*pose, markers);
+  if (!fit.usable) return;
+  state.residual_sq += fit.residual_sq;
+  state.residual_dof += fit.residual_dof;
+  const double variance = state.residual_sq / state.residual_dof;
+  bool refined = false;
+  if (options_.past_frames > 0 && state.residual_dof >= kMinNoiseDof && variance > 1e-12 && !state.past.empty()) {
+    // This frame at t = 0, the past at t < 0; smaller windows keep the frames within |t| <= k.
+    samples_.clear();
+    for (const PastFit& p : state.past)
+      samples_.push_back({-static_cast<double>(frame_number - p.frame), &p.fit.rotation, &p.fit.information});
+    samples_.push_back({0.0, &fit.rotation, &fit.information});
+    for (int k = options_.past_frames; k >= 1; --k) {
+      const RotationCurveFit curve = FitRotationCurve(samples_, fit.rotation, k, options_.degree, variance, options_.test_z);
+      if (curve.outcome == RotationCurveFit::kTooFewFrames) break;
+      if (curve.outcome != RotationCurveFit::kAccepted) continue;
+      SetRefinedOrientation(bodies_[body], fit, markers, curve.rotation_at_zero, pose);
+      ++(k == options_.past_frames ? state.stats.refined : state.stats.shrunk);
+      refined = true;
+      break;
+    }
+  }
+  state.stats.unchanged += !refined;
+  // The history holds the frames' own fits: a refined value is not fed back.
+  state.past.push_back({frame_number, fit});
+}
+
+LiveBodyTracker::LiveBodyTracker(std::vector<RigidBodyDefinition> bodies, const BodyTrackerOptions& tracker,
+                                 const BodyLiveFilterOptions& filter)
+    : tracker_(bodies, tracker), filter_(std::move(bodies), filter) {}
+
+const std::vector<BodyPose>& LiveBodyTracker::Update(uint64_t frame_number, const std::vector<Eigen::Vector3d>& points) {
+  poses_ = tracker_.Update(points);
+  filter_.Update(frame_number, points, &poses_);
+  return poses_;
+}
+
+}  // namespace mocap

@@ -1,0 +1,95 @@
+// Live rigid-body poses (serve --bodies; reconstruct --bodies-live measures the same path over a
+// session): the tracker's per-frame fits (body_tracker.h), then each frame's orientation refined
+// from that frame and the past ones only, so that the pose of frame N is published with frame N.
+// One frame's blobs bound its rotation at 0.22-0.30 deg median for bodies of 4-6 markers within
+// 120 mm (README, "Rigid bodies"); the past frames bring that down the way the offline
+// refinement (body_smoothing.h) does from both sides, with the same pieces
+// (body_rotation_window.h):
+// - the orientation at frame N is the value at t = 0 of a polynomial in time fitted to the
+//   per-frame orientations of frames N-k..N (a parabola by default: steady angular acceleration;
+//   a straight line extrapolated to the window's end is biased by the spin axis wandering),
+//   each frame weighted by its fit's information over the point noise;
+// - the window shrinks, down to frame N alone (its own fit, no lag), while its frames disagree
+//   with that model by more than their noise (the same chi-square test): the onset of a fast
+//   turn or a knock is followed at once rather than averaged with the frames before it;
+// - the point noise is estimated from the fit residuals of every frame so far (nothing is
+//   refined until a few frames' worth have been seen);
+// - the position keeps the frame's measured marker centroid; predicted and lost frames are the
+//   tracker's.
+// Single-threaded; memory bounded by the window. Errors: std::invalid_argument for bad options.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "bodies/body_rotation_window.h"
+#include "bodies/body_tracker.h"
+
+namespace mocap {
+
+struct BodyLiveFilterOptions {
+  int past_frames = 30;  // the window: this frame and up to this many before it; 0: each frame alone
+  int degree = 2;        // of the rotation vector's polynomial in time
+  double test_z = 3.09;  // the test's one-sided normal quantile (as the offline refinement's)
+  void Check() const;    // throws std::invalid_argument
+};
+
+struct BodyLiveFilterStats {
+  size_t refined = 0;     // frames refitted over the full window
+  size_t shrunk = 0;      // over a smaller one: the past frames disagreed with the model
+  size_t unchanged = 0;   // fitted frames published as fitted (no window passed, or too little history)
+  double noise_mm = 0.0;  // the point noise per axis estimated so far
+};
+
+class BodyLiveFilter {
+ public:
+  // Throws std::invalid_argument for bad options.
+  BodyLiveFilter(std::vector<RigidBodyDefinition> bodies, const BodyLiveFilterOptions& options = {});
+
+  // One frame: `poses` (one per body, as BodyTracker::Update returned them for `points`) refined
+  // in place. Frame numbers must increase; a frame number that does not restarts the history.
+  void Update(uint64_t frame_number, const std::vector<Eigen::Vector3d>& points, std::vector<BodyPose>* poses);
+
+  BodyLiveFilterStats stats(size_t body) const;
+
+ private:
+  struct PastFit {
+    uint64_t frame = 0;
+    BodyFrameFit fit;
+  };
+  struct State {
+    std::deque<PastFit> past;  // usable fits of the last past_frames frames, oldest first
+    double residual_sq = 0.0, residual_dof = 0.0;
+    BodyLiveFilterStats stats;
+  };
+  void Refine(size_t body, uint64_t frame_number, const BodyFrameMarkers& markers, BodyPose* pose);
+
+  std::vector<RigidBodyDefinition> bodies_;
+  BodyLiveFilterOptions options_;
+  std::vector<State> states_;
+  bool started_ = false;
+  uint64_t last_frame_ = 0;
+  BodyFrameMarkers markers_;            // scratch
+  std::vector<RotationSample> samples_;  // scratch
+};
+
+// The live path as one object: the tracker, then the filter (serve and reconstruct --bodies-live).
+class LiveBodyTracker {
+ public:
+  LiveBodyTracker(std::vector<RigidBodyDefinition> bodies, const BodyTrackerOptions& tracker = {},
+                  const BodyLiveFilterOptions& filter = {});
+  // One frame's points (any order); frame numbers increasing. One pose per body.
+  const std::vector<BodyPose>& Update(uint64_t frame_number, const std::vector<Eigen::Vector3d>& points);
+  const std::vector<RigidBodyDefinition>& bodies() const { return tracker_.bodies(); }
+  const BodyLiveFilter& filter() const { return filter_; }
+
+ private:
+  BodyTracker tracker_;
+  BodyLiveFilter filter_;
+  std::vector<BodyPose> poses_;
+};
+
+}  // namespace mocap
