@@ -1,9 +1,12 @@
 // Live rigid-body orientations refined from past frames (see body_live_filter.h).
 #include "bodies/body_live_filter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
+
+#include <Eigen/Cholesky>
 
 namespace mocap {
 namespace {
@@ -18,11 +21,14 @@ void BodyLiveFilterOptions::Check() const {
   if (past_frames < 0 || past_frames > 100) throw std::invalid_argument("live body filter: past frames must be 0..100");
   if (degree < 1 || degree > 3) throw std::invalid_argument("live body filter: degree must be 1..3");
   if (!(test_z > 0.0 && test_z < 10.0)) throw std::invalid_argument("live body filter: test quantile must be in (0, 10)");
+  if (!(agreement_z > 0.0 && agreement_z < 10.0))
+    throw std::invalid_argument("live body filter: agreement quantile must be in (0, 10)");
 }
 
 BodyLiveFilter::BodyLiveFilter(std::vector<RigidBodyDefinition> bodies, const BodyLiveFilterOptions& options)
     : bodies_(std::move(bodies)), options_(options), states_(bodies_.size()) {
   options_.Check();
+  agreement_limit_ = ChiSquareQuantile(3.0, options_.agreement_z);
 }
 
 BodyLiveFilterStats BodyLiveFilter::stats(size_t body) const {
@@ -71,10 +77,12 @@ void BodyLiveFilter::Refine(size_t body, uint64_t frame_number, const BodyFrameM
     for (const PastFit& p : state.past)
       samples_.push_back({-static_cast<double>(frame_number - p.frame), &p.fit.rotation, &p.fit.information});
     samples_.push_back({0.0, &fit.rotation, &fit.information});
-    for (int k = options_.past_frames; k >= 1; --k) {
+    // Windows from the longest down, each about a sixth shorter than the last.
+    for (int k = options_.past_frames; k >= 1; k = std::min(k - 1, (5 * k) / 6)) {
       const RotationCurveFit curve = FitRotationCurve(samples_, fit.rotation, k, options_.degree, variance, options_.test_z);
-      if (curve.outcome == RotationCurveFit::kTooFewFrames) break;
+      if (curve.outcome == RotationCurveFit::kTooFewFrames) break;  // shorter windows hold fewer frames
       if (curve.outcome != RotationCurveFit::kAccepted) continue;
+      if (!EndAgreesWithHigherDegree(curve, k, variance)) continue;
       SetRefinedOrientation(bodies_[body], fit, markers, curve.rotation_at_zero, pose);
       ++(k == options_.past_frames ? state.stats.refined : state.stats.shrunk);
       refined = true;
@@ -84,6 +92,19 @@ void BodyLiveFilter::Refine(size_t body, uint64_t frame_number, const BodyFrameM
   state.stats.unchanged += !refined;
   // The history holds the frames' own fits: a refined value is not fed back.
   state.past.push_back({frame_number, fit});
+}
+
+bool BodyLiveFilter::EndAgreesWithHigherDegree(const RotationCurveFit& curve, int k, double variance) const {
+  const RotationCurveFit higher =
+      FitRotationCurve(samples_, *samples_.back().rotation, k, options_.degree + 1, variance, options_.test_z);
+  if (higher.outcome == RotationCurveFit::kTooFewFrames || higher.outcome == RotationCurveFit::kSingular) return true;
+  // Both fit the same frames, the lower degree nested in the higher: their difference at t = 0
+  // has the covariance of the higher's minus the lower's.
+  const Eigen::Vector3d d = RotationLog(higher.rotation_at_zero * curve.rotation_at_zero.transpose());
+  const Eigen::Matrix3d spread = higher.covariance_at_zero - curve.covariance_at_zero;
+  const Eigen::LDLT<Eigen::Matrix3d> solver(spread);
+  if (solver.info() != Eigen::Success || !solver.isPositive()) return true;
+  return d.dot(solver.solve(d)) <= agreement_limit_;
 }
 
 LiveBodyTracker::LiveBodyTracker(std::vector<RigidBodyDefinition> bodies, const BodyTrackerOptions& tracker,

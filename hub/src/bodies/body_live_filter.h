@@ -9,9 +9,14 @@
 //   per-frame orientations of frames N-k..N (a parabola by default: steady angular acceleration;
 //   a straight line extrapolated to the window's end is biased by the spin axis wandering),
 //   each frame weighted by its fit's information over the point noise;
-// - the window shrinks, down to frame N alone (its own fit, no lag), while its frames disagree
-//   with that model by more than their noise (the same chi-square test): the onset of a fast
-//   turn or a knock is followed at once rather than averaged with the frames before it;
+// - the window grows from a few frames while its frames agree with that model within their
+//   noise (the same chi-square test as offline: the onset of a fast turn or a knock stops it, so
+//   that it is followed at once rather than averaged with the frames before it) and while its
+//   value at t = 0 agrees with every smaller window's within that one's uncertainty (the
+//   intersection-of-confidence-intervals rule): read at its end, a window's model error is
+//   largest where its residuals do not show it, and a longer window that moves the estimate by
+//   more than the shorter ones' noise is biased by more than it gains; frame N alone when none
+//   passes;
 // - the point noise is estimated from the fit residuals of every frame so far (nothing is
 //   refined until a few frames' worth have been seen);
 // - the position keeps the frame's measured marker centroid; predicted and lost frames are the
@@ -34,12 +39,13 @@ struct BodyLiveFilterOptions {
   int past_frames = 30;  // the window: this frame and up to this many before it; 0: each frame alone
   int degree = 2;        // of the rotation vector's polynomial in time
   double test_z = 3.09;  // the test's one-sided normal quantile (as the offline refinement's)
+  double agreement_z = 2.33;  // windows' agreement at t = 0: one-sided normal quantile of its chi-square
   void Check() const;    // throws std::invalid_argument
 };
 
 struct BodyLiveFilterStats {
   size_t refined = 0;     // frames refitted over the full window
-  size_t shrunk = 0;      // over a smaller one: the past frames disagreed with the model
+  size_t shrunk = 0;      // over a shorter one: the longer ones disagreed with the model or the shorter
   size_t unchanged = 0;   // fitted frames published as fitted (no window passed, or too little history)
   double noise_mm = 0.0;  // the point noise per axis estimated so far
 };
@@ -66,6 +72,9 @@ class BodyLiveFilter {
     BodyLiveFilterStats stats;
   };
   void Refine(size_t body, uint64_t frame_number, const BodyFrameMarkers& markers, BodyPose* pose);
+  // Whether `curve` (the window |t| <= k of samples_) reads the same at t = 0 as a polynomial
+  // one degree higher through the same frames, within their difference's noise.
+  bool EndAgreesWithHigherDegree(const RotationCurveFit& curve, int k, double variance) const;
 
   std::vector<RigidBodyDefinition> bodies_;
   BodyLiveFilterOptions options_;
@@ -74,6 +83,7 @@ class BodyLiveFilter {
   uint64_t last_frame_ = 0;
   BodyFrameMarkers markers_;            // scratch
   std::vector<RotationSample> samples_;  // scratch
+  double agreement_limit_ = 0.0;
 };
 
 // The live path as one object: the tracker, then the filter (serve and reconstruct --bodies-live).

@@ -2,7 +2,8 @@
 // noise; where a spin starts or stops at once (720 deg/s) it follows at once, within the
 // per-frame fits' own spread, where the same window without its test lags by degrees; the pose
 // of a frame does not depend on any later frame; the window's fit follows a spin whose axis turns
-// (the correction for what a polynomial in one tangent space misses); it leaves alone what it
+// (the correction for what a polynomial in one tangent space misses); with little noise it
+// shortens the window rather than carry its bias; it leaves alone what it
 // must and refuses bad options.
 #include <cstdio>
 #include <stdexcept>
@@ -64,7 +65,8 @@ TEST(BodyLiveFilter, CutsTheNoiseOfASteadySpin) {
     after.push_back(ErrorDeg(live[f], s.truth[f]));
   }
   EXPECT_NEAR(stats.noise_mm, 0.35, 0.035);
-  EXPECT_GE(stats.refined, 2900u);
+  // The tests at p = 0.001 and 0.01 and the axis's wandering shorten a few windows.
+  EXPECT_GE(stats.refined, 2700u);
   // A parabola through 31 equally good frames, read at its end, keeps 0.51 of one frame's error
   // (the root of the sum of its squared least-squares weights at t = 0; 0.42 centred through
   // 13, offline); the residual bias of the spin's wandering axis adds little.
@@ -116,6 +118,33 @@ TEST(BodyLiveFilter, FollowsASpinThatStartsAndStopsAtOnce) {
   EXPECT_GT(Percentile(untested, 0.5), 1.0);
 }
 
+// With little noise (0.015 mm per axis: 0.01 px) 30 frames of a parabola read at their end are
+// biased by more than the noise they average away (0.03 deg: the spin's axis does not turn at
+// a steady rate), and the residual test does not see it: the fit absorbs what it misses inside
+// the window. The comparison with a cubic through the same frames does, and shortens the window:
+// the live median then still beats the per-frame fits, where without that test it is worse.
+TEST(BodyLiveFilter, ShortensTheWindowWhereItsBiasOutweighsTheNoise) {
+  const RigidBodyDefinition body = Wand();
+  const std::vector<Eigen::Matrix3d> spin = SimulatorSpin(1000);
+  const Sequence s = Simulate(body, 1000, 0.015, [&](int f) { return spin[static_cast<size_t>(f)]; });
+  BodyLiveFilterOptions untested;
+  untested.agreement_z = 9.99;
+  BodyLiveFilterStats stats;
+  const std::vector<BodyPose> live = RunLive(body, s, {}, &stats), biased = RunLive(body, s, untested);
+  std::vector<double> per_frame, after, without;
+  for (size_t f = 100; f < s.poses.size(); ++f) {
+    per_frame.push_back(ErrorDeg(s.poses[f], s.truth[f]));
+    after.push_back(ErrorDeg(live[f], s.truth[f]));
+    without.push_back(ErrorDeg(biased[f], s.truth[f]));
+  }
+  std::printf("steady spin at 0.015 mm: median %.4f deg per frame, %.4f live (%zu of 1000 over a shorter window), "
+              "%.4f without the comparison\n",
+              Median(per_frame), Median(after), stats.shrunk, Median(without));
+  EXPECT_LT(Median(after), 0.9 * Median(per_frame));
+  EXPECT_GT(Median(without), Median(per_frame));
+  EXPECT_GT(stats.shrunk, 500u);
+}
+
 TEST(BodyLiveFilter, APoseDependsOnNoLaterFrame) {
   const RigidBodyDefinition body = Wand();
   const Sequence s = Simulate(body, 120, 0.35, Spinning);
@@ -131,9 +160,9 @@ TEST(BodyLiveFilter, APoseDependsOnNoLaterFrame) {
   EXPECT_GT(ErrorDeg(all[69], s.truth[69]) + ErrorDeg(all[68], s.truth[68]), 0.0);
 }
 
-// Noiseless frames of a 300 deg/s spin whose axis turns at 0.5 rad/s: 31 past frames (90 deg)
+// Noiseless frames of a 300 deg/s spin whose axis turns at 150 deg/s^2: 26 frames (75 deg)
 // read at their end. A parabola in the current frame's tangent space alone misses the t^3 term
-// of the spin's logarithm and is off by 0.04 deg there (measured with the correction taken
+// of the spin's logarithm and is off by 0.05 deg there (measured with the correction taken
 // out); with it the fit is exact to a few thousandths.
 TEST(BodyLiveFilter, WindowFitFollowsASpinWhoseAxisTurns) {
   // World-frame angular velocity (rad per frame) at frame s: 3 deg per frame about x, turning

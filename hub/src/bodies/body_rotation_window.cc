@@ -17,21 +17,19 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   return s;
 }
 
-// The chi-square quantile for `dof` degrees of freedom at the normal quantile z (Wilson and
-// Hilferty's cube-root approximation, within a few per cent from 3 degrees of freedom up).
-double ChiSquareQuantile(double dof, double z) {
-  const double c = 2.0 / (9.0 * dof);
-  return dof * std::pow(1.0 - c + z * std::sqrt(c), 3.0);
-}
-
 // Farther than this (rad) the logarithm nears its wrap at 180 deg: such frames are left out.
 constexpr double kMaxWindowAngle = 1.57;
 // The fit's passes (degree >= 2): at most this many, fewer once the curve moves less than
 // kSettled rad between passes.
-constexpr int kMaxPasses = 10;
-constexpr double kSettled = 1e-8;
+constexpr int kMaxPasses = 6;
+constexpr double kSettled = 1e-7;
 
 }  // namespace
+
+double ChiSquareQuantile(double dof, double z) {
+  const double c = 2.0 / (9.0 * dof);
+  return dof * std::pow(1.0 - c + z * std::sqrt(c), 3.0);
+}
 
 Eigen::Matrix3d RotationExp(const Eigen::Vector3d& rotation_vector) {
   const double angle = rotation_vector.norm();
@@ -138,6 +136,8 @@ RotationCurveFit FitRotationCurve(const std::vector<RotationSample>& samples, co
       ref = RotationExp(curve.head<3>()) * ref;
       continue;
     }
+    out.covariance_at_zero =
+        variance * solver.solve(Eigen::MatrixXd::Identity(parameters, parameters)).topLeftCorner<3, 3>();
     chi_square = 0.0;
     for (const RotationSample& s : samples) {
       if (std::abs(s.t) > max_abs_t) continue;

@@ -54,6 +54,7 @@ struct RotationCurveFit {
   enum Outcome { kTooFewFrames, kSingular, kRejected, kAccepted };
   Outcome outcome = kTooFewFrames;
   Eigen::Matrix3d rotation_at_zero = Eigen::Matrix3d::Identity();  // the curve at t = 0 (when accepted)
+  Eigen::Matrix3d covariance_at_zero = Eigen::Matrix3d::Zero();    // of its rotation vector, rad^2
   int frames = 0;                                                   // samples used
 };
 
@@ -74,6 +75,11 @@ RotationCurveFit FitRotationCurve(const std::vector<RotationSample>& samples, co
 
 Eigen::Matrix3d RotationExp(const Eigen::Vector3d& rotation_vector);
 Eigen::Vector3d RotationLog(const Eigen::Matrix3d& rotation);
+
+// The chi-square quantile for `dof` degrees of freedom at the one-sided normal quantile z
+// (Wilson and Hilferty's cube-root approximation, within a few per cent from 3 degrees of
+// freedom up).
+double ChiSquareQuantile(double dof, double z);
 
 // Rewrites `pose` with orientation `rotation`: the position keeps the frame's measured marker
 // centroid (x = centroid - R * body centroid), the pivot and the mean marker error follow.
