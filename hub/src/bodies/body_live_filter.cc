@@ -34,7 +34,7 @@ BodyLiveFilter::BodyLiveFilter(std::vector<RigidBodyDefinition> bodies, const Bo
 BodyLiveFilterStats BodyLiveFilter::stats(size_t body) const {
   BodyLiveFilterStats s = states_.at(body).stats;
   const State& state = states_[body];
-  s.noise_mm = state.residual_dof > 0.0 ? std::sqrt(state.residual_sq / state.residual_dof) : 0.0;
+  s.noise_mm = state.change_dof > 0.0 ? std::sqrt(state.change_sq / state.change_dof) : 0.0;
   return s;
 }
 
@@ -57,7 +57,44 @@ void BodyLiveFilter::Update(uint64_t frame_number, const std::vector<Eigen::Vect
         markers_.in_world.push_back(points[static_cast<size_t>(p)]);
       }
     }
+    TrackResidualChanges(b, frame_number, points, pose);
     Refine(b, frame_number, markers_, &pose);
+  }
+}
+
+void BodyLiveFilter::TrackResidualChanges(size_t body, uint64_t frame_number, const std::vector<Eigen::Vector3d>& points,
+                                          const BodyPose& pose) {
+  State& state = states_[body];
+  const size_t n = bodies_[body].markers.size();
+  state.residuals.resize(n);
+  state.has_residual.resize(n, 0);
+  const bool consecutive = state.residual_frame + 1 == frame_number;
+  state.residual_frame = frame_number;
+  if (!pose.tracked) {
+    std::fill(state.has_residual.begin(), state.has_residual.end(), 0);
+    return;
+  }
+  const Eigen::Matrix3d r = pose.orientation.toRotationMatrix();
+  double change = 0.0;
+  int both = 0, fitted = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const int p = i < pose.point_of_marker.size() ? pose.point_of_marker[i] : -1;
+    if (p < 0 || static_cast<size_t>(p) >= points.size()) {
+      state.has_residual[i] = 0;
+      continue;
+    }
+    const Eigen::Vector3d residual =
+        r.transpose() * (points[static_cast<size_t>(p)] - pose.position) - bodies_[body].markers[i];
+    ++fitted;
+    if (consecutive && state.has_residual[i]) change += (residual - state.residuals[i]).squaredNorm(), ++both;
+    state.residuals[i] = residual;
+    state.has_residual[i] = 1;
+  }
+  // Two independent fits of the same N markers: their residuals' difference holds 2 (3N - 6)
+  // noise variances.
+  if (both == fitted && both >= 3) {
+    state.change_sq += change;
+    state.change_dof += 2.0 * (3.0 * both - 6.0);
   }
 }
 
@@ -67,11 +104,9 @@ void BodyLiveFilter::Refine(size_t body, uint64_t frame_number, const BodyFrameM
   while (!state.past.empty() && frame_number - state.past.front().frame > horizon) state.past.pop_front();
   const BodyFrameFit fit = DescribeFrameFit(*pose, markers);
   if (!fit.usable) return;
-  state.residual_sq += fit.residual_sq;
-  state.residual_dof += fit.residual_dof;
-  const double variance = state.residual_sq / state.residual_dof;
+  const double variance = state.change_dof > 0.0 ? state.change_sq / state.change_dof : 0.0;
   bool refined = false;
-  if (options_.past_frames > 0 && state.residual_dof >= kMinNoiseDof && variance > 1e-12 && !state.past.empty()) {
+  if (options_.past_frames > 0 && state.change_dof >= kMinNoiseDof && variance > 1e-12 && !state.past.empty()) {
     // This frame at t = 0, the past at t < 0; smaller windows keep the frames within |t| <= k.
     samples_.clear();
     for (const PastFit& p : state.past)

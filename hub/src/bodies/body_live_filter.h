@@ -17,8 +17,11 @@
 //   largest where its residuals do not show it, and a longer window that moves the estimate by
 //   more than the shorter ones' noise is biased by more than it gains; frame N alone when none
 //   passes;
-// - the point noise is estimated from the fit residuals of every frame so far (nothing is
-//   refined until a few frames' worth have been seen);
+// - the point noise is estimated from how each marker's fit residual changes between
+//   consecutive frames, over every frame so far (nothing is refined until a few frames' worth
+//   have been seen): a marker whose defined place is off by a constant inflates its residuals
+//   (3x for one body rendered by `sim render`), and a noise estimate that large let biased
+//   windows pass the tests;
 // - the position keeps the frame's measured marker centroid; predicted and lost frames are the
 //   tracker's.
 // Single-threaded; memory bounded by the window. Errors: std::invalid_argument for bad options.
@@ -68,10 +71,20 @@ class BodyLiveFilter {
   };
   struct State {
     std::deque<PastFit> past;  // usable fits of the last past_frames frames, oldest first
-    double residual_sq = 0.0, residual_dof = 0.0;
+    // The point noise from the change of each marker's residual (body frame) between consecutive
+    // fitted frames: a marker whose place in the definition is off by a constant (a definition
+    // from another capture, a rendered blob's bias) adds to its residual but not to that change,
+    // and only what changes from frame to frame is noise a window averages.
+    double change_sq = 0.0, change_dof = 0.0;
+    uint64_t residual_frame = 0;                    // the frame of `residuals`
+    std::vector<Eigen::Vector3d> residuals;         // per body marker
+    std::vector<char> has_residual;                 // per body marker
+
     BodyLiveFilterStats stats;
   };
   void Refine(size_t body, uint64_t frame_number, const BodyFrameMarkers& markers, BodyPose* pose);
+  void TrackResidualChanges(size_t body, uint64_t frame_number, const std::vector<Eigen::Vector3d>& points,
+                            const BodyPose& pose);
   // Whether `curve` (the window |t| <= k of samples_) reads the same at t = 0 as a polynomial
   // one degree higher through the same frames, within their difference's noise.
   bool EndAgreesWithHigherDegree(const RotationCurveFit& curve, int k, double variance) const;
