@@ -11,8 +11,8 @@
 namespace mocap {
 namespace {
 
-// Residual degrees of freedom before the noise estimate is trusted: ten frames of a 4-marker
-// body (6 each).
+// Degrees of freedom before the noise estimate is trusted: five frame-to-frame changes of a
+// 4-marker body's residuals (12 each).
 constexpr double kMinNoiseDof = 60.0;
 
 }  // namespace
