@@ -12,7 +12,9 @@
 // - the window shrinks, down to the frame alone, while its frames disagree with that model by
 //   more than their noise (chi-square test): a sudden turn or a knock stays as measured;
 // - the position keeps the frame's measured marker centroid (x = centroid - R' * body centroid).
-// Frames not fitted (predicted or lost) are left alone. Pure: no I/O, single-threaded.
+// Frames not fitted (predicted or lost) are left alone. The window fit and its test are
+// body_rotation_window.h's, shared with the live estimator (body_live_filter.h), which sees
+// past frames only. Pure: no I/O, single-threaded.
 // Errors: std::invalid_argument for bad options.
 #pragma once
 
@@ -22,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "bodies/body_definition.h"
+#include "bodies/body_rotation_window.h"
 #include "bodies/body_tracker.h"
 
 namespace mocap {
@@ -31,12 +34,6 @@ struct BodySmoothingOptions {
   int degree = 2;        // of the rotation vector's polynomial in time (2: steady angular acceleration)
   double test_z = 3.09;  // the test's one-sided normal quantile (3.09: a model this wrong 1 in 1000)
   void Check() const;    // throws std::invalid_argument
-};
-
-// One body at one frame: the markers its fit used (body frame) and their points (world, mm).
-struct BodyFrameMarkers {
-  std::vector<Eigen::Vector3d> in_body;
-  std::vector<Eigen::Vector3d> in_world;
 };
 
 struct BodySmoothingStats {

@@ -19,6 +19,7 @@
 #include "recon/reconstructor.h"
 #include "track/gap_filler.h"
 #include "track/tracker.h"
+#include "bodies/body_live_filter.h"
 #include "bodies/body_trajectories.h"
 #include "io/trajectory_file.h"
 #include "track/trc_spill.h"
@@ -40,6 +41,8 @@ struct ReconstructArgs {
   GapFillOptions gap_fill;
   std::string bodies;  // rigid bodies file; empty: none
   BodySmoothingOptions body_smoothing;
+  bool bodies_live = false;  // the live (causal) body path instead of the offline one
+  BodyLiveFilterOptions body_filter;
   std::string labels;  // marker set; empty: anonymous columns
   std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
 };
@@ -74,6 +77,38 @@ void AddRigidBodies(const ReconstructArgs& args) {
                 s.refined, s.shrunk, s.unchanged, s.noise_mm);
   }
 }
+
+// The live body path over the session (--bodies-live): what `serve --bodies` publishes, fed the
+// same points (each frame's reconstruction, before tracking decides anything), frame by frame.
+class LiveBodiesRun {
+ public:
+  LiveBodiesRun(const ReconstructArgs& args)
+      : bodies_(ReadBodiesFile(args.bodies)), live_(bodies_, {}, args.body_filter) {}
+  void Add(uint64_t frame_number, const std::vector<ReconstructedPoint>& points) {
+    positions_.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) positions_[i] = points[i].point_in_world;
+    rows_.push_back({frame_number, live_.Update(frame_number, positions_)});
+  }
+  void Finish(const ReconstructArgs& args, double rate_hz) const {
+    const std::string poses = args.output.substr(0, args.output.find_last_of('.')) + ".bodies.tsv";
+    WriteBodyPoses(poses, bodies_, rows_, rate_hz);
+    for (size_t b = 0; b < bodies_.size(); ++b) {
+      size_t tracked = 0;
+      for (const BodyPoseRow& row : rows_) tracked += row.poses[b].tracked;
+      const BodyLiveFilterStats s = live_.filter().stats(b);
+      std::printf("%s: body %s fitted in %zu of %zu frames (live); orientation over this and %d past frames in %zu, "
+                  "fewer in %zu, alone in %zu (point noise %.3f mm per axis)\n",
+                  poses.c_str(), bodies_[b].name.c_str(), tracked, rows_.size(), args.body_filter.past_frames,
+                  s.refined, s.shrunk, s.unchanged, s.noise_mm);
+    }
+  }
+
+ private:
+  std::vector<RigidBodyDefinition> bodies_;
+  LiveBodyTracker live_;
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<BodyPoseRow> rows_;
+};
 
 // Every camera of the session must be in the calibration: reconstructing with a camera's blobs
 // silently ignored would give plausible-looking but thinner results.
@@ -158,6 +193,11 @@ void RunReconstruct(ReconstructArgs args) {
     spill.AddRow(frame, row);
   });
 
+  std::unique_ptr<LiveBodiesRun> live_bodies;
+  if (args.bodies_live) {
+    if (args.bodies.empty()) throw UsageError("--bodies-live needs --bodies");
+    live_bodies = std::make_unique<LiveBodiesRun>(args);
+  }
   ProgressBar progress("reconstruct", static_cast<size_t>(info.frame_sets));
   FrameSet frame_set;
   std::vector<ReconstructedPoint> points;
@@ -173,6 +213,7 @@ void RunReconstruct(ReconstructArgs args) {
     samples.clear();
     tracker.Update(frame_set.frame_number, points, &samples);
     filler.Add(frame_set.frame_number, samples);
+    if (live_bodies) live_bodies->Add(frame_set.frame_number, points);
     progress.Update(++done);
   }
   progress.Finish();
@@ -183,7 +224,11 @@ void RunReconstruct(ReconstructArgs args) {
   filler.Finish();
   spill.Finish(tracker.NumMarkers());
   if (!args.labels.empty()) AddLabels(args);
-  if (!args.bodies.empty()) AddRigidBodies(args);
+  if (live_bodies) {
+    live_bodies->Finish(args, info.rate_hz);
+  } else if (!args.bodies.empty()) {
+    AddRigidBodies(args);
+  }
 
   for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
   const ReconstructionStats& rs = reconstructor.stats();
@@ -229,6 +274,18 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_option("--bodies-degree", args->body_smoothing.degree,
                       "Rigid bodies: degree of the orientation's polynomial over that window (1: steady angular "
                       "velocity, 2: steady angular acceleration)")
+      ->check(CLI::Range(1, 3))
+      ->capture_default_str();
+  command->add_flag("--bodies-live", args->bodies_live,
+                    "Rigid bodies: the live path instead (as `serve --bodies` publishes them: each frame's points "
+                    "before tracking, each orientation from that frame and past ones only); no virtual markers");
+  command->add_option("--bodies-live-window", args->body_filter.past_frames,
+                      "Rigid bodies, live path: each orientation refitted over this frame and up to this many "
+                      "before it, fewer where the motion disagrees (0: each frame alone)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+  command->add_option("--bodies-live-degree", args->body_filter.degree,
+                      "Rigid bodies, live path: degree of the orientation's polynomial over that window")
       ->check(CLI::Range(1, 3))
       ->capture_default_str();
   command->add_option("--labels", args->labels,

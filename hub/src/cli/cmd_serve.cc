@@ -202,6 +202,15 @@ void AddServeCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   command->add_option("--bodies", o.bodies_file, "Rigid bodies file (JSON, `mocap-hub body define`)")
       ->check(CLI::ExistingFile);
+  command->add_option("--bodies-window", o.body_filter.past_frames,
+                      "Rigid bodies: each orientation refitted over this frame and up to this many before it, "
+                      "fewer where the motion disagrees with the model (0: each frame alone)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+  command->add_option("--bodies-degree", o.body_filter.degree,
+                      "Rigid bodies: degree of the orientation's polynomial over that window")
+      ->check(CLI::Range(1, 3))
+      ->capture_default_str();
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
   command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
   command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");

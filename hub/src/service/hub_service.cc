@@ -108,6 +108,7 @@ void ServeOptions::Check() const {
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
   if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
+  body_filter.Check();
   auth.Check();
 }
 
@@ -169,7 +170,8 @@ HubService::HubService(ServeOptions options)
 HubService::~HubService() = default;
 
 std::unique_ptr<LiveReconstruction> HubService::MakeLive() const {
-  return std::make_unique<LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_);
+  return std::make_unique<LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
+                                              options_.body_filter);
 }
 
 void HubService::WarnAboutMissingKeys() const {

@@ -53,6 +53,7 @@ struct ServeOptions {
   std::string sessions_dir = "sessions";  // captures go to sessions_dir/NAME
   std::string masks_file;                 // the installation's masks (JSON); empty: none kept
   std::string bodies_file;                // rigid bodies (bodies/body_definition.h); empty: none
+  BodyLiveFilterOptions body_filter;      // their orientations refined from past frames
   std::string labels_file;                // marker set (labels/marker_set.h); empty: unnamed points
   double rate_hz = 240.0;
   uint64_t epoch_ns = 0;                  // time of frame 0; 0 = the service's start

@@ -15,8 +15,9 @@ TrackerOptions TrackerAt(double rate_hz) {
 }  // namespace
 
 LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon,
-                                       std::vector<RigidBodyDefinition> bodies, std::optional<MarkerSet> labels)
-    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies)) {
+                                       std::vector<RigidBodyDefinition> bodies, std::optional<MarkerSet> labels,
+                                       const BodyLiveFilterOptions& body_filter)
+    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies), {}, body_filter) {
   if (labels) {
     frame_.label_names = std::make_shared<const std::vector<std::string>>(labels->names);
     labeller_.emplace(std::move(*labels));
@@ -62,7 +63,7 @@ void LiveReconstruction::Run(const FrameSet& set) {
   if (bodies_.bodies().empty()) return;
   positions_.resize(points_.size());
   for (size_t i = 0; i < points_.size(); ++i) positions_[i] = points_[i].point_in_world;
-  const std::vector<BodyPose> poses = bodies_.Update(positions_);
+  const std::vector<BodyPose>& poses = bodies_.Update(set.frame_number, positions_);
   frame_.bodies.resize(poses.size());
   for (size_t b = 0; b < poses.size(); ++b) {
     LiveBody& out = frame_.bodies[b];

@@ -17,7 +17,7 @@
 
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
-#include "bodies/body_tracker.h"
+#include "bodies/body_live_filter.h"
 #include "labels/marker_labeller.h"
 #include "recon/reconstructor.h"
 #include "track/tracker.h"
@@ -63,7 +63,8 @@ class LiveReconstruction {
  public:
   // The rig must outlive this object. Throws std::invalid_argument on bad options.
   LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon = {},
-                     std::vector<RigidBodyDefinition> bodies = {}, std::optional<MarkerSet> labels = {});
+                     std::vector<RigidBodyDefinition> bodies = {}, std::optional<MarkerSet> labels = {},
+                     const BodyLiveFilterOptions& body_filter = {});
 
   // One assembled frame set; frame numbers must increase. now_ns() is read when the result is
   // complete. The returned frame stays valid until the next call.
@@ -81,7 +82,7 @@ class LiveReconstruction {
 
   Reconstructor reconstructor_;
   Tracker tracker_;
-  BodyTracker bodies_;
+  LiveBodyTracker bodies_;  // per-frame fits refined from past frames (body_live_filter.h)
   std::optional<MarkerLabeller> labeller_;
   std::vector<int64_t> tracks_;
   std::vector<ReconstructedPoint> points_;
