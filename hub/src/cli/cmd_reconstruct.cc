@@ -167,6 +167,7 @@ void RunReconstruct(ReconstructArgs args) {
   args.recon.matcher = MatcherTypeFromString(args.matcher);
   args.recon.use_predictions = !args.no_predictions;
   args.tracker.assignment = AssignmentMethodFromString(args.assignment);
+  CheckOptions(args.recon);  // out-of-range numbers are usage errors, before any file is read
   const Rig rig = LoadRigJson(args.calibration);
   SessionReader reader;
   reader.Open(args.session);

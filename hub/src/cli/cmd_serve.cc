@@ -221,6 +221,10 @@ void AddServeCommand(CLI::App& app) {
   command->add_flag("--insecure-dev-wire", o.auth.insecure_dev,
                     "DEVELOPMENT ONLY: no keys, unauthenticated datagrams (anyone on the network can forge "
                     "frames and steer the nodes)");
+  command->add_option("--busy-poll-us", o.busy_poll_us,
+                      "While a frame set arrives, poll without sleeping for up to this long after each datagram "
+                      "(lower latency for CPU time; 0 sleeps at once)")
+      ->capture_default_str();
   command->add_option("--deadline-ms", o.deadline_ms, "How long a frame set waits for late cameras")
       ->capture_default_str();
   command->add_flag("--free-run", o.free_run, "No trigger wire: group frames by capture time");

@@ -141,6 +141,26 @@ TEST_F(MocapHubTest, RecordRefusesEndlessNumbersAndExistingSessions) {
   EXPECT_EQ(std::filesystem::file_size(log), size);
 }
 
+// serve and reconstruct: out-of-range numbers are usage errors before anything starts.
+TEST_F(MocapHubTest, ServeAndReconstructRefuseOutOfRangeNumbers) {
+  ASSERT_EQ(Hub("sim rig --motion " + dir + "/motion.trc --cameras 4 -o " + dir + "/opt_rig.json").status, 0);
+  const std::string serve = "serve --insecure-dev-wire --listen 127.0.0.1:0 --api 127.0.0.1:0 --web-root off "
+                            "--sessions-dir " + dir + "/opt_sessions --calibration " + dir + "/opt_rig.json";
+  for (const char* bad : {"--busy-poll-us -1", "--busy-poll-us nan", "--busy-poll-us 1e9", "--deadline-ms 0",
+                          "--contested-gate-factor -1", "--contested-gate-factor nan"})
+    EXPECT_EQ(Hub(serve + " " + bad).status, 2) << bad;
+  // reconstruct: a real session, so that only the option is wrong.
+  ASSERT_EQ(Hub("sim project --motion " + dir + "/motion.trc --rig " + dir + "/opt_rig.json -o " + dir +
+                "/opt_session").status, 0);
+  const std::string reconstruct = "reconstruct " + dir + "/opt_session --calibration " + dir + "/opt_rig.json -o " +
+                                  dir + "/opt.trc";
+  for (const char* bad : {"--contested-gate-factor -1", "--contested-gate-factor nan"}) {
+    const HubRun run = Hub(reconstruct + " " + bad);
+    EXPECT_EQ(run.status, 2) << bad;
+    EXPECT_NE(run.err.find("contested_gate_factor"), std::string::npos) << run.err;
+  }
+}
+
 TEST_F(MocapHubTest, SimMotionWritesASyntheticTrc) {
   const HubRun run = Hub("sim motion --markers 7 --frames 30 --rate 240 --up x -o " + dir + "/synthetic.trc");
   ASSERT_EQ(run.status, 0) << run.err;

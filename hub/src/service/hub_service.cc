@@ -101,6 +101,8 @@ void ServeOptions::Check() const {
   if (!announce.empty()) ParseHostPort(announce);
   if (!(rate_hz > 0.0 && rate_hz <= 1000.0)) throw std::invalid_argument("rate must be within (0, 1000] Hz");
   if (!(deadline_ms > 0.0 && deadline_ms <= 1000.0)) throw std::invalid_argument("deadline must be within (0, 1000] ms");
+  if (!(busy_poll_us >= 0.0 && busy_poll_us <= 100000.0))
+    throw std::invalid_argument("busy poll must be within [0, 100000] us");
   if (!(node_lost_after_s >= 0.5 && node_lost_after_s <= 3600.0))
     throw std::invalid_argument("node-lost-after must be within [0.5, 3600] s");
   if (!(request_timeout_s >= 0.05 && request_timeout_s <= 60.0))
@@ -108,6 +110,7 @@ void ServeOptions::Check() const {
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
   if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
+  recon.Check();
   body_filter.Check();
   auth.Check();
 }
@@ -201,9 +204,11 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
   Datagram d;
   while (!stop.load()) {
     RunTasks();
-    // Wait briefly for the first datagram, then drain what is queued (bounded, so that tasks
-    // and ticks are served under a flood too).
-    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? 1 : 0); ++n) HandleDatagram(d);
+    // Wait briefly for the first datagram (not at all while a frame set is arriving and the busy
+    // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
+    // flood too).
+    const int wait_ms = RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
+    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? wait_ms : 0); ++n) HandleDatagram(d);
     const uint64_t now = RealtimeNowNs();
     for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
     Tick(now);
@@ -256,8 +261,13 @@ void HubService::HandleDatagram(const Datagram& d) {
       OnPreview(image);
   } else if (packet.has_marker_frame()) {
     // A frame set completes with its last camera's datagram: publish it now, not at the next
-    // loop turn.
-    for (const FrameSet& set : ingest_.Collect(RealtimeNowNs())) Publish(set);
+    // loop turn. Until then its other cameras' datagrams are awaited without sleeping.
+    if (options_.busy_poll_us > 0.0)
+      busy_poll_until_ns_ = RealtimeNowNs() + static_cast<uint64_t>(options_.busy_poll_us * 1e3);
+    for (const FrameSet& set : ingest_.Collect(RealtimeNowNs())) {
+      Publish(set);
+      busy_poll_until_ns_ = 0;
+    }
   }
 }
 

@@ -59,6 +59,11 @@ struct ServeOptions {
   uint64_t epoch_ns = 0;                  // time of frame 0; 0 = the service's start
   std::string announce;                   // broadcast HOST:PORT for HubAnnounce; empty = none
   double deadline_ms = 20.0;              // a frame set waits this long for late cameras
+  // While a frame set is arriving, the loop polls the socket without sleeping for up to this long
+  // after each datagram (0: it sleeps at once). A sleeping thread, and a virtual CPU gone idle,
+  // take tens to hundreds of microseconds to wake; spinning through the few milliseconds a set's
+  // datagrams take to arrive saves that on its last one, for a core busy meanwhile.
+  double busy_poll_us = 0.0;
   bool free_run = false;
   double node_lost_after_s = 3.0;
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
@@ -204,6 +209,7 @@ class HubService : public ServiceApi {
   std::unique_ptr<MaskJob> mask_job_;
   std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
   uint64_t last_publish_ns_ = 0;
+  uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
 
   // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
   std::unique_ptr<WandCollection> wanding_;
