@@ -138,11 +138,15 @@ void RigidSwapResolver::Regather(const RigidModel& rigid, const std::vector<int>
   }
   if (static_cast<int>(candidates_.size()) < size || candidates_.size() > kMaxRegatherCandidates) return;
   // Depth-first over members, each taking a candidate whose distances to the members placed so
-  // far are all within the tolerance; the smallest sum of squared misses wins.
+  // far are all within the tolerance; the smallest sum of squared misses wins. The search visits
+  // at most kMaxRegatherSteps placements (points crowded at the cluster's own distances could
+  // otherwise make it combinatorial); it then keeps the best found so far.
   const double tolerance = 2.0 * options_.min_error_mm;
   int chosen[8], best_choice[8];
   double best_cost = HUGE_VAL;
+  int steps = 0;
   const std::function<void(int, double)> place = [&](int member, double cost) {
+    if (++steps > kMaxRegatherSteps) return;
     if (member == size) {
       if (cost < best_cost) {
         best_cost = cost;

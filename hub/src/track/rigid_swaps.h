@@ -8,7 +8,8 @@
 // neighbour's track holds one), a cluster of three or more is gathered again from the points
 // around it by its steady distances, and the tracks that held those points lose them.
 // Single-threaded; per-frame cost grows with the tracks holding points times those in clusters
-// (a regathering searches at most 24 nearby points, pruned by distance); never throws on data.
+// (a regathering searches at most 24 nearby points, pruned by distance, in at most 20000 steps);
+// never throws on data.
 #pragma once
 
 #include <vector>
@@ -40,6 +41,7 @@ class RigidSwapResolver {
   };
 
   static constexpr size_t kMaxRegatherCandidates = 24;
+  static constexpr int kMaxRegatherSteps = 20000;
 
   bool Steady(const RigidLink* link) const;
   // The cluster's points gathered again from every point within cluster_radius_mm of the ones its
