@@ -113,7 +113,6 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
                               std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
                               const std::vector<char>* shared, WorkerTeam* team) {
   MarkContested(predictions, options_.contested_gate_factor, options_.contested_gate_cap_mm, &contested_);
-  contested_count_ = std::count(contested_.begin(), contested_.end(), 1);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
   if (speculate) {
     speculative_.resize(predictions.size());

@@ -54,8 +54,6 @@ class PredictionMatcher {
              const std::vector<char>* shared = nullptr, WorkerTeam* team = nullptr);
   // Predictions served again because an earlier one took a blob of their parallel attempt.
   long long served_again() const { return served_again_; }
-  // Predictions of the last Match left to the matcher as contested.
-  long long contested() const { return contested_count_; }
 
  private:
   // One prediction served: its point, and every blob its searches picked (kept or not): the
@@ -78,7 +76,6 @@ class PredictionMatcher {
   std::vector<Attempt> speculative_;
   Attempt attempt_;
   std::vector<char> contested_;
-  long long contested_count_ = 0;
   long long served_again_ = 0;
 };
 

@@ -207,7 +207,7 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     // Wait briefly for the first datagram (not at all while a frame set is arriving and the busy
     // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
     // flood too).
-    const int wait_ms = RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
+    const int wait_ms = busy_poll_until_ns_ != 0 && RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
     for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? wait_ms : 0); ++n) HandleDatagram(d);
     const uint64_t now = RealtimeNowNs();
     for (const FrameSet& set : ingest_.Collect(now)) Publish(set);

@@ -387,7 +387,9 @@ void Tracker::RepairRigidClusters(const std::vector<ReconstructedPoint>& points,
   swap_changed_.assign(num_slots, 0);
   for (size_t slot = 0; slot < num_slots; ++slot) swap_eligible_[slot] = tracks_[slot].state == State::kActive;
   held_before_ = match->point_of_slot;
-  stats_.cluster_repairs += swaps_.Resolve(rigid_, swap_eligible_, points, &match->point_of_slot, &swap_changed_);
+  const int repaired = swaps_.Resolve(rigid_, swap_eligible_, points, &match->point_of_slot, &swap_changed_);
+  stats_.cluster_repairs += repaired;
+  if (repaired == 0) return;
   // A cluster gathered again may leave a point it held to nobody: free for the births. A track
   // whose point a cluster took back was following another marker: it is lost (no rigid-model
   // samples from links it learned on the wrong marker) until it is found again.
@@ -396,11 +398,10 @@ void Tracker::RepairRigidClusters(const std::vector<ReconstructedPoint>& points,
     match->point_taken[held_before_[slot]] = 0;
     if (match->point_of_slot[slot] < 0 && tracks_[slot].state == State::kActive) tracks_[slot].state = State::kLost;
   }
-  for (size_t slot = 0; slot < num_slots; ++slot) {
-    if (match->point_of_slot[slot] >= 0) match->point_taken[match->point_of_slot[slot]] = 1;
-  }
+  // Every changed track holds a point now (freed above if it held another).
   for (size_t slot = 0; slot < num_slots; ++slot) {
     if (!swap_changed_[slot]) continue;
+    match->point_taken[match->point_of_slot[slot]] = 1;
     match->moved[slot] = 1;
     match->found_wide[slot] = 1;
   }
