@@ -22,6 +22,8 @@ HOST_PACKAGES=(
     libtbb-dev
     # the live hub's HTTP + WebSocket API, and three.js for its web console's 3D views
     libcivetweb-dev libjs-three
+    # OSC streaming (liblo)
+    liblo-dev
     # the web console's browser test (tests/web): headless Chromium and its WebDriver
     chromium chromium-driver
     # node hardware backends
