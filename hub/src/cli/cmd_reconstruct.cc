@@ -18,6 +18,7 @@
 #include "recon/known_correspondences.h"
 #include "recon/reconstructor.h"
 #include "track/gap_filler.h"
+#include "track/hindsight_swaps.h"
 #include "track/tracker.h"
 #include "bodies/body_live_filter.h"
 #include "bodies/body_trajectories.h"
@@ -39,6 +40,7 @@ struct ReconstructArgs {
   ReconstructorOptions recon;
   TrackerOptions tracker;
   GapFillOptions gap_fill;
+  HindsightSwapOptions hindsight;
   std::string bodies;  // rigid bodies file; empty: none
   BodySmoothingOptions body_smoothing;
   bool bodies_live = false;  // the live (causal) body path instead of the offline one
@@ -193,6 +195,9 @@ void RunReconstruct(ReconstructArgs args) {
   GapFiller filler(args.gap_fill, [&spill](uint64_t frame, const std::vector<TrackSample>& row) {
     spill.AddRow(frame, row);
   });
+  HindsightSwaps hindsight(args.hindsight, [&filler](uint64_t frame, const std::vector<TrackSample>& row) {
+    filler.Add(frame, row);
+  });
 
   std::unique_ptr<LiveBodiesRun> live_bodies;
   if (args.bodies_live) {
@@ -213,7 +218,7 @@ void RunReconstruct(ReconstructArgs args) {
     reconstructor.Process(frame_set, tracker.Predict(frame_set.frame_number), &points);
     samples.clear();
     tracker.Update(frame_set.frame_number, points, &samples);
-    filler.Add(frame_set.frame_number, samples);
+    hindsight.Add(frame_set.frame_number, samples);
     if (live_bodies) live_bodies->Add(frame_set.frame_number, points);
     progress.Update(++done);
   }
@@ -221,7 +226,8 @@ void RunReconstruct(ReconstructArgs args) {
   if (done == 0) throw std::runtime_error(args.session + ": no frames to reconstruct");
   samples.clear();
   tracker.Finish(&samples);
-  filler.Add(last_frame, samples);
+  hindsight.Add(last_frame, samples);
+  hindsight.Finish();
   filler.Finish();
   spill.Finish(tracker.NumMarkers());
   if (!args.labels.empty()) AddLabels(args);
@@ -236,11 +242,12 @@ void RunReconstruct(ReconstructArgs args) {
   const TrackerStats& ts = tracker.stats();
   std::printf(
       "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
-      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld rigid-model and %lld spline samples (matcher %s)\n",
+      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld swaps undone in hindsight, %lld rigid-model and "
+      "%lld spline samples (matcher %s)\n",
       args.output.c_str(), done, tracker.NumMarkers(),
       static_cast<double>(rs.points) / static_cast<double>(done),
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
-      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, ts.predicted_samples, filler.filled_samples(),
+      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, hindsight.swaps_undone(), ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
   const SessionReadStats& read = reader.stats();
   if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {
@@ -319,6 +326,9 @@ void AddReconstructCommand(CLI::App& app) {
                       "Clustering matcher threshold")->capture_default_str();
   command->add_option("--max-reprojection-px", args->recon.triangulation.max_reprojection_px,
                       "Views with a larger residual are rejected")->capture_default_str();
+  command->add_flag("--no-hindsight-swaps", [args](int64_t) { args->hindsight.enabled = false; },
+                    "Keep identity trades between close markers as tracked (by default a trade that both "
+                    "trajectories' next frames show is undone)");
   command->add_option("--max-spline-gap-s", args->max_spline_gap_s,
                       "Longest gap (seconds) filled by a spline")->capture_default_str();
   command->callback([args]() { RunReconstruct(*args); });

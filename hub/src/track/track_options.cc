@@ -62,6 +62,12 @@ void TrackerOptions::Check() const {
   swaps.Check();
 }
 
+void HindsightSwapOptions::Check() const {
+  Require(pair_radius_mm > 0.0, "hindsight_swaps.pair_radius_mm must be > 0");
+  Require(improvement > 0.0 && improvement < 1.0, "hindsight_swaps.improvement must be in (0, 1)");
+  Require(min_jump_mm >= 0.0, "hindsight_swaps.min_jump_mm must be >= 0");
+}
+
 void GapFillOptions::Check() const {
   Require(max_spline_gap >= 0, "gap_fill.max_spline_gap must be >= 0");
   Require(window_frames >= max_spline_gap + 2, "gap_fill.window_frames must be >= max_spline_gap + 2");

@@ -59,6 +59,20 @@ struct RigidSwapOptions {
   void Check() const;
 };
 
+// Hindsight swap repair of the offline output (track/hindsight_swaps.h).
+struct HindsightSwapOptions {
+  bool enabled = true;
+  // Pairs of markers closer than this (mm, in the frame before the judged boundary) are judged.
+  double pair_radius_mm = 60.0;
+  // A trade is undone when it leaves at most `improvement` times the pair's squared
+  // accelerations (mm per frame squared, summed over the judged frames) and removes at least
+  // min_jump_mm squared: noise never triggers it.
+  double improvement = 0.25;
+  double min_jump_mm = 6.0;
+
+  void Check() const;
+};
+
 struct TrackerOptions {
   double rate_hz = 100.0;
   KalmanOptions kalman;

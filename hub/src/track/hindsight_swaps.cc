@@ -1,0 +1,295 @@
+// Trades between close markers judged by the smoothness of both trajectories around them.
+#include "track/hindsight_swaps.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "util/assignment.h"
+
+namespace mocap {
+
+HindsightSwaps::HindsightSwaps(const HindsightSwapOptions& options, Sink sink)
+    : options_((options.Check(), options)), sink_(std::move(sink)) {}
+
+namespace {
+
+// Sum of squared second differences of the trajectory through window rows [first, kHeld) whose
+// positions come from `a` except where `from_b` says b's.
+template <int N>
+double Roughness(const Eigen::Vector3d (&a)[N], const Eigen::Vector3d (&b)[N], const bool (&from_b)[N], int first) {
+  double sum = 0.0;
+  for (int k = first + 1; k + 1 < N; ++k) {
+    const Eigen::Vector3d& before = from_b[k - 1] ? b[k - 1] : a[k - 1];
+    const Eigen::Vector3d& here = from_b[k] ? b[k] : a[k];
+    const Eigen::Vector3d& after = from_b[k + 1] ? b[k + 1] : a[k + 1];
+    sum += (after - 2.0 * here + before).squaredNorm();
+  }
+  return sum;
+}
+
+}  // namespace
+
+void HindsightSwaps::Relabel(size_t from_row, size_t to_row, const std::vector<int>& label_of_column) {
+  for (size_t r = from_row; r < to_row; ++r) {
+    for (TrackSample& sample : rows_[r].samples) sample.marker = label_of_column[sample.marker];
+  }
+}
+
+void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& label_of_column) {
+  Relabel(from_row, rows_.size(), label_of_column);
+  for (int& column : column_of_marker_) column = label_of_column[column];
+}
+
+// The window holds rows t-kBefore ... t+kAfter (at the start of the data only t-1 on: `before`
+// is 1). Two judgements, each undoing what removes most of the roughness (second differences)
+// of the trajectories involved:
+// 1. short trades: each pair of close markers present in every row, traded back for frames
+//    [t, t+1) or [t, t+2);
+// 2. trades for good: the markers that jump across the boundary and their neighbours, each
+//    one's past (rows before t) joined to the future (rows from t) that continues it most
+//    smoothly, an optimal assignment (chains of three or more markers included).
+void HindsightSwaps::JudgeBoundary(size_t t, int before) {
+  const int first = kBefore - before;  // window index of the first row held
+  int num_columns = 0;
+  for (size_t r = t - before; r <= t + kAfter; ++r) {
+    for (const TrackSample& sample : rows_[r].samples) num_columns = std::max(num_columns, sample.marker + 1);
+  }
+  // present_[column]: one bit per window row holding a sample of the column.
+  present_.assign(num_columns, 0);
+  for (int k = first; k < kHeldRows; ++k) {
+    for (const TrackSample& sample : rows_[t - kBefore + k].samples) present_[sample.marker] |= 1 << k;
+  }
+  // Joinable columns: present from the first row to t+1 (both second differences at the boundary).
+  const int joinable_mask = ((1 << (kBefore + 2)) - 1) & ~((1 << first) - 1);
+  const int full_mask = ((1 << kHeldRows) - 1) & ~((1 << first) - 1);
+  columns_.clear();
+  index_.assign(num_columns, -1);
+  for (int column = 0; column < num_columns; ++column) {
+    if ((present_[column] & joinable_mask) != joinable_mask) continue;
+    index_[column] = static_cast<int>(columns_.size());
+    columns_.emplace_back();
+    columns_.back().label = column;
+    columns_.back().full = (present_[column] & full_mask) == full_mask;
+  }
+  if (columns_.size() < 2) return;
+  for (int k = first; k < kHeldRows; ++k) {
+    for (const TrackSample& sample : rows_[t - kBefore + k].samples) {
+      if (index_[sample.marker] >= 0) columns_[index_[sample.marker]].positions[k] = sample.position;
+    }
+  }
+  // Only a column that jumps here can be part of a trade: its second differences at t-1 and t.
+  const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
+  const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
+  for (Column& column : columns_) {
+    const Eigen::Vector3d* p = column.positions;
+    double jump = (p[kBefore + 1] - 2.0 * p[kBefore] + p[kBefore - 1]).squaredNorm();
+    if (before == 2) jump = std::max(jump, (p[kBefore] - 2.0 * p[kBefore - 1] + p[kBefore - 2]).squaredNorm());
+    column.jumps = jump >= 0.25 * min_jump2;
+  }
+  const auto close = [&](const Column& a, const Column& b) {
+    return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <= radius2;
+  };
+  std::vector<int> label(column_of_marker_.size());
+  const auto identity = [&]() {
+    for (size_t c = 0; c < label.size(); ++c) label[c] = static_cast<int>(c);
+  };
+
+  // 1. Short trades.
+  for (;;) {
+    double best_gain = 0.0;
+    size_t best_i = 0, best_j = 0;
+    int best_frames = 0;
+    for (size_t i = 0; i < columns_.size(); ++i) {
+      const Column& a = columns_[i];
+      if (!a.jumps || !a.full || a.used) continue;
+      for (size_t j = 0; j < columns_.size(); ++j) {
+        const Column& b = columns_[j];
+        if (j == i || !b.full || b.used || (b.jumps && j < i) || !close(a, b)) continue;
+        bool as_is[kHeldRows] = {};
+        const double now = Roughness(a.positions, b.positions, as_is, first) +
+                           Roughness(b.positions, a.positions, as_is, first);
+        for (int frames = 1; frames <= 2; ++frames) {
+          bool traded[kHeldRows] = {};
+          for (int k = kBefore; k < kBefore + frames; ++k) traded[k] = true;
+          const double then = Roughness(a.positions, b.positions, traded, first) +
+                              Roughness(b.positions, a.positions, traded, first);
+          const double gain = now - then;
+          if (then <= options_.improvement * now && gain >= min_jump2 && gain > best_gain) {
+            best_gain = gain;
+            best_i = i;
+            best_j = j;
+            best_frames = frames;
+          }
+        }
+      }
+    }
+    if (best_frames == 0) break;
+    identity();
+    std::swap(label[columns_[best_i].label], label[columns_[best_j].label]);
+    Relabel(t, t + best_frames, label);
+    ++swaps_undone_;
+    columns_[best_i].used = columns_[best_j].used = true;
+    // The rows changed under the other columns' positions only for these two; both are done.
+  }
+
+  // 2. Trades for good: the group is every jumping column and the columns close to one.
+  group_.clear();
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    if (columns_[i].used) continue;
+    bool take = columns_[i].jumps;
+    for (size_t j = 0; j < columns_.size() && !take; ++j) {
+      take = columns_[j].jumps && !columns_[j].used && close(columns_[i], columns_[j]);
+    }
+    if (take) group_.push_back(static_cast<int>(i));
+  }
+  if (group_.size() < 2) return;
+  // join(i, j): roughness where column i's past continues into column j's future.
+  const auto join = [&](const Column& past, const Column& future) {
+    double sum = (future.positions[kBefore + 1] - 2.0 * future.positions[kBefore] + past.positions[kBefore - 1])
+                     .squaredNorm();
+    if (before == 2) {
+      sum += (future.positions[kBefore] - 2.0 * past.positions[kBefore - 1] + past.positions[kBefore - 2])
+                 .squaredNorm();
+    }
+    return sum;
+  };
+  const size_t n = group_.size();
+  Eigen::MatrixXd cost(n, n);
+  for (size_t r = 0; r < n; ++r) {
+    const Column& past = columns_[group_[r]];
+    for (size_t c = 0; c < n; ++c) {
+      const Column& future = columns_[group_[c]];
+      cost(r, c) = r == c || close(past, future) ? join(past, future) : kForbidden;
+    }
+  }
+  item_labels_.clear();
+  for (int i : group_) item_labels_.push_back(columns_[i].label);
+  identity();
+  if (AcceptCycles(cost, &label) > 0) RelabelForGood(t, label);
+}
+
+int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label) {
+  const std::vector<int> chosen = SolveAssignment(cost, 0.5 * kForbidden);
+  const size_t n = chosen.size();
+  const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
+  int accepted = 0;
+  std::vector<char> seen(n, 0);
+  for (size_t r = 0; r < n; ++r) {
+    if (seen[r] || chosen[r] == static_cast<int>(r) || chosen[r] < 0) continue;
+    double as_is = 0.0, then = 0.0;
+    bool closed = true;
+    size_t k = r;
+    do {
+      seen[k] = 1;
+      as_is += cost(k, k);
+      if (chosen[k] < 0) {  // cannot happen while the identity is allowed
+        closed = false;
+        break;
+      }
+      then += cost(k, chosen[k]);
+      k = static_cast<size_t>(chosen[k]);
+    } while (k != r);
+    if (!closed || then > options_.improvement * as_is || as_is - then < min_jump2) continue;
+    k = r;
+    do {
+      (*label)[item_labels_[chosen[k]]] = item_labels_[k];
+      k = static_cast<size_t>(chosen[k]);
+    } while (k != r);
+    ++accepted;
+  }
+  swaps_undone_ += accepted;
+  return accepted;
+}
+
+void HindsightSwaps::Emit(size_t rows) {
+  for (size_t r = 0; r < rows && !rows_.empty(); ++r) {
+    sink_(rows_.front().frame_number, rows_.front().samples);
+    last_sent_ = rows_.front().frame_number;
+    sent_any_ = true;
+    rows_.pop_front();
+  }
+}
+
+void HindsightSwaps::Add(uint64_t frame_number, const std::vector<TrackSample>& samples) {
+  if (!options_.enabled) {
+    sink_(frame_number, samples);
+    return;
+  }
+  // A pause (frames without output) ends the judged stretch: the held rows go out.
+  if (!rows_.empty() && frame_number > rows_.back().frame_number + 1) Finish();
+  if (rows_.empty() || frame_number > rows_.back().frame_number) rows_.push_back({frame_number, {}});
+  late_.clear();
+  for (TrackSample sample : samples) {
+    if (sample.marker >= static_cast<int>(column_of_marker_.size())) {
+      const int first_new = static_cast<int>(column_of_marker_.size());
+      column_of_marker_.resize(sample.marker + 1);
+      for (int m = first_new; m <= sample.marker; ++m) column_of_marker_[m] = m;
+    }
+    sample.marker = column_of_marker_[sample.marker];
+    if (sample.frame_number < rows_.front().frame_number || sample.frame_number > rows_.back().frame_number) {
+      late_.push_back(sample);
+    } else {
+      rows_[sample.frame_number - rows_.front().frame_number].samples.push_back(sample);
+    }
+  }
+  if (!late_.empty()) sink_(sent_any_ ? last_sent_ : frame_number, late_);
+  if (!started_) {
+    if (rows_.size() >= kStartRows) JudgeStart();
+    return;
+  }
+  if (rows_.size() == kHeldRows) JudgeBoundary(kBefore, kBefore);
+  if (rows_.size() >= kHeldRows) Emit(rows_.size() - kHeldRows + 1);
+}
+
+void HindsightSwaps::JudgeStart() {
+  started_ = true;
+  if (rows_.size() < kBefore + kAfter) return;
+  LabelStartBackward();
+  for (size_t t = 1; t + kAfter < rows_.size(); ++t) JudgeBoundary(t, t == 1 ? 1 : kBefore);
+  if (rows_.size() >= kHeldRows) Emit(rows_.size() - kHeldRows + 1);
+}
+
+void HindsightSwaps::Finish() {
+  if (!started_) JudgeStart();
+  Emit(rows_.size());
+  started_ = false;  // what comes next (after a pause) starts again
+}
+
+void HindsightSwaps::LabelStartBackward() {
+  // sample_of_[k][label]: index into rows_[t + k].samples, for the rows t, t+1, t+2.
+  const auto index_row = [&](const Row& row, std::vector<int>* index) {
+    index->assign(column_of_marker_.size(), -1);
+    for (size_t i = 0; i < row.samples.size(); ++i) (*index)[row.samples[i].marker] = static_cast<int>(i);
+  };
+  const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
+  std::vector<int> index[3];
+  std::vector<int> label(column_of_marker_.size());
+  std::vector<Eigen::Vector3d> predicted, measured;
+  for (size_t t = rows_.size() - 2; t-- > 0;) {
+    for (int k = 0; k < 3; ++k) index_row(rows_[t + k], &index[k]);
+    item_labels_.clear();
+    predicted.clear();
+    measured.clear();
+    for (size_t c = 0; c < column_of_marker_.size(); ++c) {
+      if (index[0][c] < 0 || index[1][c] < 0 || index[2][c] < 0) continue;
+      item_labels_.push_back(static_cast<int>(c));
+      predicted.push_back(2.0 * rows_[t + 1].samples[index[1][c]].position -
+                          rows_[t + 2].samples[index[2][c]].position);
+      measured.push_back(rows_[t].samples[index[0][c]].position);
+    }
+    const size_t n = item_labels_.size();
+    if (n < 2) continue;
+    // cost(r, c): column r's marker, predicted back from its later rows, has column c's sample.
+    Eigen::MatrixXd cost(n, n);
+    for (size_t r = 0; r < n; ++r) {
+      for (size_t c = 0; c < n; ++c) {
+        const double d2 = (measured[c] - predicted[r]).squaredNorm();
+        cost(r, c) = r == c || d2 <= radius2 ? d2 : kForbidden;
+      }
+    }
+    for (size_t c = 0; c < label.size(); ++c) label[c] = static_cast<int>(c);
+    if (AcceptCycles(cost, &label) > 0) Relabel(t, t + 1, label);
+  }
+}
+
+}  // namespace mocap

@@ -1,0 +1,90 @@
+// Identity swaps undone with hindsight, a few frames after the fact (offline output only). Two
+// close markers whose tracks traded points show it in both trajectories: each jumps by the
+// distance between the markers where the trade starts (and again where it ends), an acceleration
+// no limb makes between two frames. With the frames after a trade in hand the choice is easy:
+// for each pair of close markers, the trade that makes both trajectories smoothest (none, the
+// pair traded for one or two frames, or for good from here on) is undone when it removes most of
+// their acceleration. Rows are held back `kHeldRows` frames; memory is bounded by them.
+// Single-threaded; never throws on data.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <vector>
+
+#include "track/track_options.h"
+#include "track/tracker.h"
+
+namespace mocap {
+
+class HindsightSwaps {
+ public:
+  // Receives frame numbers in order with their samples, and late samples (a newly confirmed
+  // track's earlier frames) under the last frame number sent, as the tracker gives them.
+  using Sink = std::function<void(uint64_t frame_number, const std::vector<TrackSample>& row)>;
+
+  // Checks the options (std::invalid_argument).
+  HindsightSwaps(const HindsightSwapOptions& options, Sink sink);
+
+  // The tracker's samples after frame `frame_number` was processed (Tracker::Update's output).
+  void Add(uint64_t frame_number, const std::vector<TrackSample>& samples);
+  // Emits every row still held.
+  void Finish();
+
+  long long swaps_undone() const { return swaps_undone_; }
+
+ private:
+  struct Row {
+    uint64_t frame_number = 0;
+    std::vector<TrackSample> samples;
+  };
+  // The boundary between rows [t-1] and [t] is judged with rows t-2 ... t+3.
+  static constexpr int kBefore = 2;
+  static constexpr int kAfter = 3;
+  static constexpr int kHeldRows = kBefore + kAfter + 1;
+  struct Column {
+    int label = 0;
+    bool full = false;   // present in every row of the window
+    bool jumps = false;  // accelerates across the boundary by more than noise does
+    bool used = false;   // already part of a trade undone at this boundary
+    Eigen::Vector3d positions[kHeldRows];  // by window row (row t at index kBefore)
+  };
+
+  // At the start of the data (or after a pause) tracks are born without velocities, and a fast
+  // limb's dense cluster can come out jumbled in its first frames. With kStartRows rows in hand,
+  // each row from the last but two back to the first is labelled again by where each column's
+  // next two rows put its marker (p(t) ~ 2 p(t+1) - p(t+2)), then the boundaries are judged.
+  static constexpr size_t kStartRows = 16;
+  void JudgeStart();
+  void LabelStartBackward();
+  // Judges the boundary before rows_[t] with `before` rows before it (2, or 1 at the start).
+  void JudgeBoundary(size_t t, int before);
+  // The optimal assignment of `cost` (rows: items, each column the item whose data would join it;
+  // the identity always allowed): each of its cycles that removes most of the identity's cost is
+  // accepted, label[item_labels_[column]] = item_labels_[row]. Returns the cycles accepted.
+  int AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label);
+  // Samples of rows [from_row, to_row) take label_of_column[their column].
+  void Relabel(size_t from_row, size_t to_row, const std::vector<int>& label_of_column);
+  // From from_row on, for the rows held and every later sample.
+  void RelabelForGood(size_t from_row, const std::vector<int>& label_of_column);
+  void Emit(size_t rows);
+
+  HindsightSwapOptions options_;
+  Sink sink_;
+  std::deque<Row> rows_;
+  std::vector<int> column_of_marker_;  // the tracker's marker -> output column
+  uint64_t last_sent_ = 0;
+  bool sent_any_ = false;
+  bool started_ = false;  // the first rows after the data's start (or a pause) were judged
+  long long swaps_undone_ = 0;
+  std::vector<TrackSample> late_;
+  // JudgeBoundary's scratch.
+  std::vector<int> present_, index_;  // by column
+  std::vector<Column> columns_;
+  std::vector<int> group_;
+  std::vector<int> item_labels_;  // AcceptCycles' items' labels
+  static constexpr double kForbidden = 1e30;
+};
+
+}  // namespace mocap

@@ -1,0 +1,212 @@
+// Hindsight swap repair: trades of one, two frames and for good are undone; markers that pass
+// close by, noise and late samples are left as they are.
+#include "track/hindsight_swaps.h"
+
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+namespace mocap {
+namespace {
+
+// Two markers 20 mm apart on a curved, accelerating path (a limb's cluster).
+Eigen::Vector3d TrueAt(int marker, int frame) {
+  const double f = frame;
+  return Eigen::Vector3d(3.0 * f + 0.05 * f * f, 100.0 + 10.0 * std::sin(f / 15.0), 20.0 * marker);
+}
+
+using Output = std::map<uint64_t, std::map<int, Eigen::Vector3d>>;
+
+// Feeds `frames` frames of the two markers; traded(frame) says whether the tracker gave each
+// marker's column the other's point in that frame.
+template <typename Traded>
+Output RunTwoMarkers(const HindsightSwapOptions& options, int frames, Traded traded, long long* undone) {
+  Output out;
+  HindsightSwaps repair(options, [&](uint64_t frame, const std::vector<TrackSample>& row) {
+    for (const TrackSample& s : row) {
+      EXPECT_EQ(out[s.frame_number].count(s.marker), 0u) << "frame " << s.frame_number;
+      out[s.frame_number][s.marker] = s.position;
+    }
+    (void)frame;
+  });
+  for (int f = 0; f < frames; ++f) {
+    std::vector<TrackSample> samples;
+    for (int marker = 0; marker < 2; ++marker) {
+      TrackSample s;
+      s.marker = marker;
+      s.frame_number = static_cast<uint64_t>(f);
+      s.position = TrueAt(traded(f) ? 1 - marker : marker, f);
+      samples.push_back(s);
+    }
+    repair.Add(static_cast<uint64_t>(f), samples);
+  }
+  repair.Finish();
+  *undone = repair.swaps_undone();
+  return out;
+}
+
+void ExpectUntraded(const Output& out, int frames) {
+  ASSERT_EQ(out.size(), static_cast<size_t>(frames));
+  for (const auto& [frame, columns] : out) {
+    for (const auto& [marker, position] : columns) {
+      EXPECT_LT((position - TrueAt(marker, static_cast<int>(frame))).norm(), 1e-9)
+          << "frame " << frame << " column " << marker;
+    }
+  }
+}
+
+TEST(HindsightSwaps, OneFrameTradeIsUndone) {
+  long long undone = 0;
+  const Output out = RunTwoMarkers(HindsightSwapOptions(), 40, [](int f) { return f == 17; }, &undone);
+  ExpectUntraded(out, 40);
+  EXPECT_EQ(undone, 1);
+}
+
+TEST(HindsightSwaps, TwoFrameTradeIsUndone) {
+  long long undone = 0;
+  const Output out = RunTwoMarkers(HindsightSwapOptions(), 40, [](int f) { return f == 17 || f == 18; }, &undone);
+  ExpectUntraded(out, 40);
+  EXPECT_EQ(undone, 1);
+}
+
+TEST(HindsightSwaps, TradeForGoodIsUndoneForLaterFramesToo) {
+  long long undone = 0;
+  const Output out = RunTwoMarkers(HindsightSwapOptions(), 60, [](int f) { return f >= 17; }, &undone);
+  ExpectUntraded(out, 60);
+  EXPECT_EQ(undone, 1);
+}
+
+TEST(HindsightSwaps, TradesAreKeptWhenDisabled) {
+  HindsightSwapOptions options;
+  options.enabled = false;
+  long long undone = 0;
+  const Output out = RunTwoMarkers(options, 40, [](int f) { return f == 17; }, &undone);
+  EXPECT_EQ(undone, 0);
+  EXPECT_LT((out.at(17).at(0) - TrueAt(1, 17)).norm(), 1e-9);
+}
+
+TEST(HindsightSwaps, MarkersPassingCloseAndNoiseAreLeftAlone) {
+  // Two markers cross 4 mm apart at speed, with 0.5 mm noise: every row comes out as given.
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.5);
+  Output given, out;
+  HindsightSwaps repair(HindsightSwapOptions(), [&](uint64_t, const std::vector<TrackSample>& row) {
+    for (const TrackSample& s : row) out[s.frame_number][s.marker] = s.position;
+  });
+  for (int f = 0; f < 80; ++f) {
+    std::vector<TrackSample> samples;
+    for (int marker = 0; marker < 2; ++marker) {
+      TrackSample s;
+      s.marker = marker;
+      s.frame_number = static_cast<uint64_t>(f);
+      const double direction = marker == 0 ? 1.0 : -1.0;
+      s.position = Eigen::Vector3d(direction * 4.0 * (f - 40), 4.0 * marker, 0.02 * f * f) +
+                   Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      given[s.frame_number][s.marker] = s.position;
+      samples.push_back(s);
+    }
+    repair.Add(static_cast<uint64_t>(f), samples);
+  }
+  repair.Finish();
+  EXPECT_EQ(repair.swaps_undone(), 0);
+  ASSERT_EQ(out.size(), given.size());
+  for (const auto& [frame, columns] : given) {
+    for (const auto& [marker, position] : columns) EXPECT_EQ(out[frame][marker], position);
+  }
+}
+
+// Three markers of a fast cluster (30 mm apart, 40 mm per frame): `label(f, m)` is the column
+// the tracker gave marker m's point in frame f.
+template <typename Label>
+Output RunCluster(int frames, Label label, const std::vector<std::pair<int, Eigen::Vector3d>>& glitches,
+                  long long* undone) {
+  const auto at = [](int marker, int f) {
+    return Eigen::Vector3d(40.0 * f + 0.3 * f * f, 30.0 * marker, 5.0 * std::sin(f / 7.0) + 10.0 * (marker == 2));
+  };
+  Output out;
+  HindsightSwaps repair(HindsightSwapOptions(), [&](uint64_t, const std::vector<TrackSample>& row) {
+    for (const TrackSample& s : row) out[s.frame_number][s.marker] = s.position;
+  });
+  for (int f = 0; f < frames; ++f) {
+    std::vector<TrackSample> samples;
+    for (int marker = 0; marker < 3; ++marker) {
+      TrackSample s;
+      s.marker = label(f, marker);
+      s.frame_number = static_cast<uint64_t>(f);
+      s.position = at(marker, f);
+      for (const auto& [frame, offset] : glitches) {
+        if (frame == f && marker == 0) s.position += offset;
+      }
+      samples.push_back(s);
+    }
+    repair.Add(static_cast<uint64_t>(f), samples);
+  }
+  repair.Finish();
+  *undone = repair.swaps_undone();
+  for (auto& [frame, columns] : out) {
+    for (auto& [marker, position] : columns) position -= at(marker, static_cast<int>(frame));
+  }
+  return out;  // what each column misses its own marker by
+}
+
+TEST(HindsightSwaps, JumbledStartIsLabelledBackFromLaterFrames) {
+  // The first two frames' labels are passed round among the three markers (births without
+  // velocities), then the tracks settle.
+  long long undone = 0;
+  const Output miss = RunCluster(
+      40, [](int f, int m) { return f < 2 ? (m + 1 + f) % 3 : m; }, {}, &undone);
+  ASSERT_EQ(miss.size(), 40u);
+  for (const auto& [frame, columns] : miss) {
+    for (const auto& [marker, offset] : columns) EXPECT_LT(offset.norm(), 1e-9) << frame << " " << marker;
+  }
+  EXPECT_EQ(undone, 2);
+}
+
+TEST(HindsightSwaps, AMarkerThatJumpsAloneKeepsItsSamples) {
+  // Marker 0 is 15 mm off in frame 20 and 12 mm in frame 31 (bad triangulations, no trade).
+  long long undone = 0;
+  const Output miss = RunCluster(
+      50, [](int, int m) { return m; },
+      {{20, Eigen::Vector3d(0.0, 15.0, 0.0)}, {31, Eigen::Vector3d(8.0, 0.0, 9.0)}}, &undone);
+  EXPECT_EQ(undone, 0);
+  ASSERT_EQ(miss.size(), 50u);
+  for (const auto& [frame, columns] : miss) {
+    for (const auto& [marker, offset] : columns) {
+      const bool glitch = marker == 0 && (frame == 20 || frame == 31);
+      EXPECT_EQ(offset.norm() > 1.0, glitch) << frame << " " << marker;
+    }
+  }
+}
+
+TEST(HindsightSwaps, LateSamplesAndPausesPassThrough) {
+  std::map<uint64_t, int> samples_of_frame;
+  uint64_t last_sent = 0;
+  HindsightSwaps repair(HindsightSwapOptions(), [&](uint64_t frame, const std::vector<TrackSample>& row) {
+    EXPECT_GE(frame, last_sent);
+    last_sent = frame;
+    for (const TrackSample& s : row) ++samples_of_frame[s.frame_number];
+  });
+  for (uint64_t f = 0; f < 30; ++f) {
+    const uint64_t frame = f < 25 ? f : f + 100;  // a pause of 100 frames after frame 24
+    std::vector<TrackSample> samples(1);
+    samples[0].frame_number = frame;
+    if (f == 20) {
+      // A track confirmed now: its first frames come late, under a new marker.
+      for (uint64_t back = 2; back <= 12; ++back) {
+        TrackSample s;
+        s.marker = 1;
+        s.frame_number = f - back;
+        samples.push_back(s);
+      }
+    }
+    repair.Add(frame, samples);
+  }
+  repair.Finish();
+  EXPECT_EQ(samples_of_frame.size(), 30u);
+  for (uint64_t f = 8; f <= 18; ++f) EXPECT_EQ(samples_of_frame[f], 2) << f;
+  EXPECT_THROW(HindsightSwaps(HindsightSwapOptions{true, 0.0, 0.25, 6.0}, nullptr), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mocap
