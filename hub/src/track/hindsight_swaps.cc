@@ -267,24 +267,44 @@ void HindsightSwaps::LabelStartBackward() {
   std::vector<Eigen::Vector3d> predicted, measured;
   for (size_t t = rows_.size() - 2; t-- > 0;) {
     for (int k = 0; k < 3; ++k) index_row(rows_[t + k], &index[k]);
+    // Items: columns with a sample in row t or a prediction (samples in rows t+1 and t+2).
     item_labels_.clear();
     predicted.clear();
     measured.clear();
+    has_prediction_.clear();
+    has_sample_.clear();
     for (size_t c = 0; c < column_of_marker_.size(); ++c) {
-      if (index[0][c] < 0 || index[1][c] < 0 || index[2][c] < 0) continue;
+      const bool prediction = index[1][c] >= 0 && index[2][c] >= 0;
+      const bool sample = index[0][c] >= 0;
+      if (!prediction && !sample) continue;
       item_labels_.push_back(static_cast<int>(c));
-      predicted.push_back(2.0 * rows_[t + 1].samples[index[1][c]].position -
-                          rows_[t + 2].samples[index[2][c]].position);
-      measured.push_back(rows_[t].samples[index[0][c]].position);
+      has_prediction_.push_back(prediction);
+      has_sample_.push_back(sample);
+      predicted.push_back(prediction ? Eigen::Vector3d(2.0 * rows_[t + 1].samples[index[1][c]].position -
+                                                       rows_[t + 2].samples[index[2][c]].position)
+                                     : Eigen::Vector3d::Zero());
+      measured.push_back(sample ? rows_[t].samples[index[0][c]].position : Eigen::Vector3d::Zero());
     }
     const size_t n = item_labels_.size();
     if (n < 2) continue;
-    // cost(r, c): column r's marker, predicted back from its later rows, has column c's sample.
+    // cost(r, c): item r receives item c's row-t sample (or nothing). A column predicted back
+    // pays the squared distance from its prediction to the sample (forbidden beyond the pair
+    // radius, but for its own) and nothing for receiving nothing; a column not predicted pays
+    // `unexplained` for holding a sample, nothing for holding none. As many items receive
+    // nothing whatever the assignment: a sample is only left to a column not predicted where no
+    // predicted column is near it. The identity is the rows as tracked.
+    const double unexplained = radius2;
     Eigen::MatrixXd cost(n, n);
     for (size_t r = 0; r < n; ++r) {
       for (size_t c = 0; c < n; ++c) {
-        const double d2 = (measured[c] - predicted[r]).squaredNorm();
-        cost(r, c) = r == c || d2 <= radius2 ? d2 : kForbidden;
+        if (!has_prediction_[r]) {
+          cost(r, c) = has_sample_[c] ? unexplained : 0.0;
+        } else if (!has_sample_[c]) {
+          cost(r, c) = 0.0;
+        } else {
+          const double d2 = (measured[c] - predicted[r]).squaredNorm();
+          cost(r, c) = r == c || d2 <= radius2 ? d2 : kForbidden;
+        }
       }
     }
     for (size_t c = 0; c < label.size(); ++c) label[c] = static_cast<int>(c);
