@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "eval/truth_exchanges.h"
 #include "util/assignment.h"
 
 namespace mocap {
@@ -80,6 +81,8 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
 
   std::vector<char> truth_ever(truth_markers, 0), result_ever(result_markers, 0);
   std::vector<long> last_match(result_markers, -1);
+  const TruthExchanges exchanges = FindTruthExchanges(truth);
+  report.truth_exchanges = exchanges.count;
   std::vector<double> errors;
   std::vector<size_t> present_truth, present_result;
   report.frames = truth.NumFrames();
@@ -126,7 +129,12 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
       errors.push_back(cost(i, match[i]));
       const long marker = static_cast<long>(present_truth[match[i]]);
       // A swap: this output trajectory now follows a different truth marker than it last did.
-      if (last_match[column] >= 0 && last_match[column] != marker) ++report.swaps;
+      if (last_match[column] >= 0 && last_match[column] != marker) {
+        ++report.swaps;
+        if (exchanges.Involves(t, marker) || exchanges.Involves(t, static_cast<size_t>(last_match[column]))) {
+          ++report.swaps_at_truth_exchanges;
+        }
+      }
       last_match[column] = marker;
     }
 
@@ -204,6 +212,8 @@ nlohmann::json MarkerEvalReport::ToJson() const {
           {"trajectories", trajectories},
           {"fragmentation", fragmentation},
           {"swaps", swaps},
+          {"truth_exchanges", truth_exchanges},
+          {"swaps_at_truth_exchanges", swaps_at_truth_exchanges},
           {"visibility_used", visibility_used},
           {"gate_mm", gate_mm},
           {"labels_compared", labels_compared},
@@ -228,7 +238,12 @@ std::string MarkerEvalReport::ToText() const {
                      expected_points, visibility_used ? ", seen by >= 2 cameras" : ", all present truth counted");
   out << fmt::format("trajectories      {}   for {} truth markers (fragmentation {:.3f})\n", trajectories,
                      truth_markers, fragmentation);
-  out << fmt::format("swaps             {}\n", swaps);
+  out << fmt::format("swaps             {}", swaps);
+  if (truth_exchanges > 0) {
+    out << fmt::format("   ({} where the truth's own markers exchange places: {} such exchanges)", swaps_at_truth_exchanges,
+                       truth_exchanges);
+  }
+  out << "\n";
   if (labels_compared) {
     out << fmt::format("labels            {:.3f}% of output points correctly named, {:.3f}% wrongly ({} named of {}; "
                        "worst frame {:.1f}% correct)\n",

@@ -42,6 +42,10 @@ struct MarkerEvalReport {
   size_t trajectories = 0;
   double fragmentation = 0.0;        // trajectories per truth marker
   size_t swaps = 0;
+  // Two truth markers that exchange places (eval/truth_exchanges.h), and the swaps counted where
+  // the output column's old or new marker is one of an exchanging pair (included in swaps).
+  size_t truth_exchanges = 0;
+  size_t swaps_at_truth_exchanges = 0;
   bool visibility_used = false;
   double gate_mm = 0.0;
   // Labelling, when the result names some of its columns with the truth's names: an output point

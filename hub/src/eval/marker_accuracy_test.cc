@@ -110,6 +110,48 @@ TEST(MarkerAccuracyTest, SwapsAndFragmentation) {
   EXPECT_EQ(report.ghosts, 0u);
 }
 
+// Two markers 30 mm apart on a fast curve; `truth_traded` / `result_traded` say from which frame
+// on the truth's labels / the result's columns have the two exchanged (-1: never).
+MarkerEvalReport EvaluateExchange(long truth_traded, long result_traded) {
+  const auto at = [](size_t marker, size_t f) {
+    const double t = static_cast<double>(f);
+    return Eigen::Vector3d(30.0 * t + 0.5 * t * t, 30.0 * marker + 20.0 * std::sin(t / 5.0), 1000.0);
+  };
+  MarkerTrajectories truth, result;
+  truth.rate_hz = result.rate_hz = 100.0;
+  truth.names = {"m0", "m1"};
+  result.names = {"a", "b"};
+  for (size_t f = 0; f < 30; ++f) {
+    truth.AddFrame(f);
+    result.AddFrame(f);
+    for (size_t m = 0; m < 2; ++m) {
+      const bool truth_swapped = truth_traded >= 0 && static_cast<long>(f) >= truth_traded;
+      const bool result_swapped = result_traded >= 0 && static_cast<long>(f) >= result_traded;
+      truth.At(f, m) = at(truth_swapped ? 1 - m : m, f);
+      result.At(f, m) = at(result_swapped ? 1 - m : m, f);
+    }
+  }
+  return EvaluateMarkers(truth, result, nullptr);
+}
+
+TEST(MarkerAccuracyTest, SwapsWhereTheTruthExchangesMarkersAreReportedApart) {
+  // The truth's labels trade at frame 12; the result follows the markers themselves.
+  MarkerEvalReport report = EvaluateExchange(12, -1);
+  EXPECT_EQ(report.swaps, 2u);
+  EXPECT_EQ(report.truth_exchanges, 1u);
+  EXPECT_EQ(report.swaps_at_truth_exchanges, 2u);
+  EXPECT_NE(report.ToText().find("exchange places"), std::string::npos);
+  // The truth is right and the result trades: real swaps.
+  report = EvaluateExchange(-1, 12);
+  EXPECT_EQ(report.swaps, 2u);
+  EXPECT_EQ(report.truth_exchanges, 0u);
+  EXPECT_EQ(report.swaps_at_truth_exchanges, 0u);
+  // Both trade at the same frame: no swap.
+  report = EvaluateExchange(12, 12);
+  EXPECT_EQ(report.swaps, 0u);
+  EXPECT_EQ(report.truth_exchanges, 1u);
+}
+
 TEST(MarkerAccuracyTest, VisibilityDecidesWhatIsMissing) {
   const MarkerTrajectories truth = Truth(2, 4);
   MarkerTrajectories result = truth;

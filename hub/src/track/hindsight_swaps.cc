@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "util/assignment.h"
+#include "util/join_roughness.h"
 
 namespace mocap {
 
@@ -145,13 +146,10 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   if (group_.size() < 2) return;
   // join(i, j): roughness where column i's past continues into column j's future.
   const auto join = [&](const Column& past, const Column& future) {
-    double sum = (future.positions[kBefore + 1] - 2.0 * future.positions[kBefore] + past.positions[kBefore - 1])
-                     .squaredNorm();
-    if (before == 2) {
-      sum += (future.positions[kBefore] - 2.0 * past.positions[kBefore - 1] + past.positions[kBefore - 2])
-                 .squaredNorm();
-    }
-    return sum;
+    const Eigen::Vector3d* p = past.positions;
+    const Eigen::Vector3d* f = future.positions;
+    if (before == 1) return (f[kBefore + 1] - 2.0 * f[kBefore] + p[kBefore - 1]).squaredNorm();
+    return JoinRoughness(p[kBefore - 2], p[kBefore - 1], f[kBefore], f[kBefore + 1]);
   };
   const size_t n = group_.size();
   Eigen::MatrixXd cost(n, n);
