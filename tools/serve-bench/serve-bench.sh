@@ -6,16 +6,18 @@
 # received (kernel time) -> its 3D result published (complete sets), p50 / p99 / max, and the
 # reconstruction + tracking time alone, beside the frame sets assembled (incomplete: a camera
 # missed the deadline) and the live result's accuracy. Milliseconds.
-# The hub runs on CPU 0 (at nice -5 when root, as deploy/mocap-hub.service runs it) and the nodes
+# The hub runs on CPU 0 (at nice -5 and its frame loop at real-time priority 10 when root, as
+# deploy/mocap-hub.service and hub.conf.example run it; --realtime-priority 0 turns that off) and the nodes
 # on the others (taskset), so the figure is the hub's, not the scheduler's: on a small machine
 # the nodes' detection would otherwise starve it. Images are 1280x800 by default (--width/--height).
 # usage: tools/serve-bench/serve-bench.sh [--cameras "8 16 32"] [--markers 60] [--rate 240]
 #                                         [--seconds 4] [--width 1280 --height 800]
-#                                         [--serve-args "EXTRA SERVE OPTIONS"]
+#                                         [--serve-args "EXTRA SERVE OPTIONS"] [--realtime-priority N]
 #                                         [--bin build/bin] [--out serve-bench]
 set -euo pipefail
 cameras="8 16 32" markers=60 rate=240 seconds=4 bin=build/bin out=serve-bench width=1280 height=800
 serve_args=""
+realtime=$([ "$(id -u)" = 0 ] && echo 10 || echo 0)
 while [ $# -gt 0 ]; do
     case "$1" in
         --cameras) cameras=${2:?}; shift 2 ;;
@@ -25,6 +27,7 @@ while [ $# -gt 0 ]; do
         --width) width=${2:?}; shift 2 ;;
         --height) height=${2:?}; shift 2 ;;
         --serve-args) serve_args=${2?}; shift 2 ;;
+        --realtime-priority) realtime=${2:?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
         -h|--help) sed -n 2,15p "$0"; exit 0 ;;
@@ -51,7 +54,7 @@ for n in $cameras; do
     "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/c$n/rig.json" -o "$out/c$n/frames" \
         --occlusion 0.02 --noise 1.5 > /dev/null
     "$here/deploy/sim-session.sh" --frames-dir "$out/c$n/frames" --out "$out/c$n" --bin "$bin" \
-        --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 $serve_args" --json \
+        --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 --realtime-priority $realtime $serve_args" --json \
         > "$out/c$n.json" 2> "$out/c$n.log"
     python3 - "$out/c$n.json" "$n" "$markers" "$rate" <<'PY'
 import json, sys

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Latency per protocol, trigger edge -> received by a client: a synthetic subject of MARKERS
 # markers at RATE Hz, rendered for CAMERAS cameras and replayed through real mocap-node
-# processes (deploy/sim-session.sh: nodes in network namespaces when root, hub pinned to CPU 0 at nice -5 when root,
-# nodes to the others) into `mocap-hub serve`, with probe clients on loopback:
+# processes (deploy/sim-session.sh: nodes in network namespaces when root, hub pinned to CPU 0 at nice -5 and its
+# frame loop at real-time priority 10 when root, as deploy/mocap-hub.service runs it; --realtime-priority 0 turns
+# that off; nodes to the others) into `mocap-hub serve`, with probe clients on loopback (the C stream client at
+# the same real-time priority, as a control loop that consumes it would run):
 #   stream  the C client's example (clients/c), which also prints publish -> received: what the
 #           stream adds to the hub's own latency
 #   osc     python-osc from .venv (tests/requirements.txt), an independent OSC implementation
@@ -11,9 +13,10 @@
 # on the hub (published -> its last datagram handed to the kernel). Milliseconds, p50 p99 max.
 # usage: tools/stream-bench/stream-bench.sh [--cameras 16] [--markers 60] [--rate 240]
 #                                           [--seconds 4] [--width 640 --height 400]
-#                                           [--bin build/bin] [--out stream-bench]
+#                                           [--realtime-priority N] [--bin build/bin] [--out stream-bench]
 set -euo pipefail
 cameras=16 markers=60 rate=240 seconds=4 bin=build/bin out=stream-bench width=640 height=400
+realtime=$([ "$(id -u)" = 0 ] && echo 10 || echo 0)
 while [ $# -gt 0 ]; do
     case "$1" in
         --cameras) cameras=${2:?}; shift 2 ;;
@@ -22,9 +25,10 @@ while [ $# -gt 0 ]; do
         --seconds) seconds=${2:?}; shift 2 ;;
         --width) width=${2:?}; shift 2 ;;
         --height) height=${2:?}; shift 2 ;;
+        --realtime-priority) realtime=${2:?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
-        -h|--help) sed -n 2,15p "$0"; exit 0 ;;
+        -h|--help) sed -n 2,18p "$0"; exit 0 ;;
         *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
     esac
 done
@@ -45,7 +49,9 @@ rm -rf "$out/frames"
 stream_port=17802 osc_port=17810 qtm_port=17822
 pids=()
 trap 'kill "${pids[@]}" 2> /dev/null || true' EXIT
-"$bin/mocap_stream_print" 127.0.0.1 "$stream_port" "$probe_frames" 30 > "$out/stream.txt" 2> "$out/stream.err" &
+probe_rt=()
+[ "$realtime" = 0 ] || probe_rt=(chrt -f "$realtime")
+"${probe_rt[@]}" "$bin/mocap_stream_print" 127.0.0.1 "$stream_port" "$probe_frames" 30 > "$out/stream.txt" 2> "$out/stream.err" &
 pids+=($!)
 "$python" "$here/tools/stream-bench/osc_probe.py" "$osc_port" "$probe_frames" 30 > "$out/osc.txt" 2> "$out/osc.err" &
 pids+=($!)
@@ -58,7 +64,7 @@ hub_nice=()
 node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 "$here/deploy/sim-session.sh" --frames-dir "$out/frames" --out "$out/session" --bin "$bin" \
     --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --json \
-    --serve-args "--max-ray-distance-mm 3 --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
+    --serve-args "--max-ray-distance-mm 3 --realtime-priority $realtime --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
     > "$out/session.json" 2> "$out/session.log"
 for p in "${pids[@]}"; do wait "$p" || true; done
 trap - EXIT

@@ -225,6 +225,10 @@ void AddServeCommand(CLI::App& app) {
                       "While a frame set arrives, poll without sleeping for up to this long after each datagram "
                       "(lower latency for CPU time; 0 sleeps at once)")
       ->capture_default_str();
+  command->add_option("--realtime-priority", o.realtime_priority,
+                      "Run the frame loop under SCHED_FIFO at this priority (1-99; 0: off): nothing ordinary on its "
+                      "core delays a frame set. Needs root, CAP_SYS_NICE or LimitRTPRIO= (deploy/mocap-hub.service)")
+      ->capture_default_str();
   command->add_option("--deadline-ms", o.deadline_ms, "How long a frame set waits for late cameras")
       ->capture_default_str();
   command->add_flag("--free-run", o.free_run, "No trigger wire: group frames by capture time");

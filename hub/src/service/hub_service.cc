@@ -11,6 +11,7 @@
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
+#include "util/thread_priority.h"
 #include "wire/packet.h"
 
 namespace mocap::service {
@@ -103,6 +104,8 @@ void ServeOptions::Check() const {
   if (!(deadline_ms > 0.0 && deadline_ms <= 1000.0)) throw std::invalid_argument("deadline must be within (0, 1000] ms");
   if (!(busy_poll_us >= 0.0 && busy_poll_us <= 100000.0))
     throw std::invalid_argument("busy poll must be within [0, 100000] us");
+  if (realtime_priority < 0 || realtime_priority > 99)
+    throw std::invalid_argument("realtime priority must be within [0, 99] (0: off)");
   if (!(node_lost_after_s >= 0.5 && node_lost_after_s <= 3600.0))
     throw std::invalid_argument("node-lost-after must be within [0.5, 3600] s");
   if (!(request_timeout_s >= 0.05 && request_timeout_s <= 60.0))
@@ -197,6 +200,15 @@ void HubService::Bind() {
 // ---- the loop ----
 
 void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uint64_t)>& on_turn) {
+  if (options_.realtime_priority > 0) {
+    if (SetThisThreadRealtime(options_.realtime_priority)) {
+      log::Info("frame loop under SCHED_FIFO at priority {}", options_.realtime_priority);
+    } else {
+      log::Warn("frame loop: SCHED_FIFO at priority {} refused (needs root, CAP_SYS_NICE or LimitRTPRIO={} in the "
+                "unit); running under the ordinary policy",
+                options_.realtime_priority, options_.realtime_priority);
+    }
+  }
   {
     std::lock_guard<std::mutex> lock(tasks_mutex_);
     running_ = true;

@@ -64,6 +64,10 @@ struct ServeOptions {
   // take tens to hundreds of microseconds to wake; spinning through the few milliseconds a set's
   // datagrams take to arrive saves that on its last one, for a core busy meanwhile.
   double busy_poll_us = 0.0;
+  // The frame loop under SCHED_FIFO at this priority (1-99; 0: the ordinary policy): no ordinary
+  // thread of any process on its core delays a frame set. Needs root, CAP_SYS_NICE or an
+  // RLIMIT_RTPRIO (the systemd unit's LimitRTPRIO=); refused, serve warns and runs on.
+  int realtime_priority = 0;
   bool free_run = false;
   double node_lost_after_s = 3.0;
   double request_timeout_s = 2.0;         // a node that does not answer a control this long

@@ -36,5 +36,31 @@ TEST(ThreadPriority, NeverRaisesAThreadAlreadyNicer) {
   EXPECT_EQ(after, 19);
 }
 
+TEST(ThreadPriority, RealtimeWhereGrantedAndItsChildrenLowerThemselves) {
+  std::thread([] {
+    EXPECT_FALSE(SetThisThreadRealtime(0));  // out of range: refused, nothing changed
+    EXPECT_FALSE(SetThisThreadRealtime(100));
+    EXPECT_EQ(ThisThreadRealtimePriority(), 0);
+    if (!SetThisThreadRealtime(5)) {
+      // Not granted here (no root, CAP_SYS_NICE or RLIMIT_RTPRIO): the thread stays ordinary.
+      EXPECT_EQ(ThisThreadRealtimePriority(), 0);
+      return;
+    }
+    EXPECT_EQ(ThisThreadRealtimePriority(), 5);
+    int child_inherited = -1, child_after = -1, child_nice = 0;
+    std::thread([&] {
+      child_inherited = ThisThreadRealtimePriority();
+      EXPECT_TRUE(SetThisThreadPriority(ThreadPriority::kBackground));
+      child_after = ThisThreadRealtimePriority();
+      child_nice = ThisThreadNice();
+    }).join();
+    EXPECT_EQ(child_inherited, 5);
+    EXPECT_EQ(child_after, 0);
+    EXPECT_EQ(child_nice, 19);
+    EXPECT_EQ(ThisThreadRealtimePriority(), 5);  // the parent keeps its policy
+  }).join();
+  EXPECT_EQ(ThisThreadRealtimePriority(), 0);  // and the test's own thread never had it
+}
+
 }  // namespace
 }  // namespace mocap
