@@ -14,7 +14,7 @@ HindsightSwaps::HindsightSwaps(const HindsightSwapOptions& options, Sink sink)
 
 namespace {
 
-// Sum of squared second differences of the trajectory through window rows [first, kHeld) whose
+// Sum of squared second differences of the trajectory through window rows [first, N) whose
 // positions come from `a` except where `from_b` says b's.
 template <int N>
 double Roughness(const Eigen::Vector3d (&a)[N], const Eigen::Vector3d (&b)[N], const bool (&from_b)[N], int first) {
