@@ -15,9 +15,13 @@ namespace mocap {
 
 class BlobIndex {
  public:
-  // Cell edge in pixels: gates and residual limits are a few pixels, so a query reads a few
-  // cells whatever the number of blobs (a subject's blobs crowd one part of an image).
+  // Smallest cell edge in pixels: gates and residual limits are a few pixels, so a query reads
+  // a few cells whatever the number of blobs (a subject's blobs crowd one part of an image).
   static constexpr double kCellPx = 12.0;
+  // Cells per blob at most (cells grow when few blobs spread over a large image): fine enough
+  // that a crowded subject's blobs mostly sit one to a cell, so a query compares few of them.
+  // A build clears the cell counts and otherwise works per blob, so empty cells cost little.
+  static constexpr double kCellsPerBlob = 32.0;
 
   void Build(const RigModel& rig, const FrameViews& views);
   // Builds camera c's grid only: cameras are independent, so several threads may build
@@ -39,14 +43,18 @@ class BlobIndex {
     Eigen::Vector2d normalized;
     int observation;
   };
-  // One camera's observations bucketed into square cells (row-major), entries of cell k are
-  // [cell_begin[k], cell_begin[k + 1]).
+  // One camera's observations bucketed into square cells (row-major cell numbers). Cell k holds
+  // entries [cell_begin[k], cell_begin[k] + cell_count[k]); cell_begin is only meaningful where
+  // the count is not zero, so a build clears the counts and touches nothing else per cell.
   struct Grid {
     double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
     int cols = 0, rows = 0;
+    std::vector<int> cell_count;
     std::vector<int> cell_begin;
     std::vector<Entry> entries;
-    std::vector<int> fill;  // scratch of Build, per camera so cameras build in parallel
+    // Scratch of Build, per camera so cameras build in parallel.
+    std::vector<int> cell_of_entry;
+    std::vector<int> fill;
   };
   // Calls visit(entry) for the entries of the cells the square around `at` touches.
   template <typename Visit>
@@ -68,8 +76,12 @@ void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, do
   const int c0 = std::max(0, static_cast<int>(x0)), c1 = std::min(grid.cols - 1, static_cast<int>(x1));
   const int r0 = std::max(0, static_cast<int>(y0)), r1 = std::min(grid.rows - 1, static_cast<int>(y1));
   for (int r = r0; r <= r1; ++r) {
-    const int row = r * grid.cols;
-    for (int k = grid.cell_begin[row + c0]; k < grid.cell_begin[row + c1 + 1]; ++k) visit(grid.entries[k]);
+    for (int k = r * grid.cols + c0, last = r * grid.cols + c1; k <= last; ++k) {
+      const int count = grid.cell_count[k];
+      if (count == 0) continue;
+      const Entry* entry = grid.entries.data() + grid.cell_begin[k];
+      for (const Entry* end = entry + count; entry != end; ++entry) visit(*entry);
+    }
   }
 }
 
