@@ -107,12 +107,6 @@ bool RigidModel::Predict(int slot, const Eigen::Vector3d& prior, const std::vect
   return true;
 }
 
-const RigidLink* RigidModel::Link(int a, int b) const {
-  if (a >= capacity_ || b >= capacity_ || a == b) return nullptr;
-  const RigidLink& link = links_[Index(a, b)];
-  return link.samples > 0 || link.broken ? &link : nullptr;
-}
-
 int RigidModel::NumActiveLinks() const {
   int count = 0;
   for (int a = 0; a < capacity_; ++a) {
