@@ -21,7 +21,7 @@ class BlobIndex {
   // Cells per blob at most (cells grow when few blobs spread over a large image): fine enough
   // that a crowded subject's blobs mostly sit one to a cell, so a query compares few of them.
   // A build clears the cell counts and otherwise works per blob, so empty cells cost little.
-  static constexpr double kCellsPerBlob = 32.0;
+  static constexpr double kCellsPerBlob = 16.0;
 
   void Build(const RigModel& rig, const FrameViews& views);
   // Builds camera c's grid only: cameras are independent, so several threads may build
