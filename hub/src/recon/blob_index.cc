@@ -34,14 +34,13 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   grid.cols = static_cast<int>((high.x() - low.x()) * grid.inverse_cell) + 1;
   grid.rows = static_cast<int>((high.y() - low.y()) * grid.inverse_cell) + 1;
   const size_t cells = static_cast<size_t>(grid.cols) * grid.rows;
-  // Counting sort into cells; within a cell, observations keep their order. Only the counts are
-  // cleared per cell: an occupied cell gets its start (and fill cursor) when its first blob is
-  // met, its count negated meanwhile to mark it started.
-  grid.cell_count.assign(cells, 0);
-  if (grid.cell_begin.size() < cells) {
-    grid.cell_begin.resize(cells);
-    grid.fill.resize(cells);
+  // Counting sort into cells; within a cell, observations keep their order. A new stamp makes
+  // every cell of earlier builds empty; a stamp that wraps around clears them for real.
+  if (++grid.stamp == 0) {
+    for (Cell& stale : grid.cells) stale.stamp = 0;
+    grid.stamp = 1;
   }
+  if (grid.cells.size() < cells) grid.cells.resize(cells);
   grid.cell_of_entry.resize(count);
   for (int o = begin; o < end; ++o) {
     const Eigen::Vector2d& p = views.observations[o].normalized;
@@ -49,21 +48,19 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
     const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
     const int k = row * grid.cols + col;
     grid.cell_of_entry[o - begin] = k;
-    ++grid.cell_count[k];
+    Cell& cell = grid.cells[k];
+    if (cell.stamp != grid.stamp) cell = {grid.stamp, -1, 0, 0};
+    ++cell.count;
   }
+  // Ranges in the order cells are first met, each blob placed at its cell's cursor.
   int next = 0;
   for (int i = 0; i < count; ++i) {
-    const int k = grid.cell_of_entry[i];
-    if (grid.cell_count[k] > 0) {
-      grid.cell_begin[k] = grid.fill[k] = next;
-      next += grid.cell_count[k];
-      grid.cell_count[k] = -grid.cell_count[k];
+    Cell& cell = grid.cells[grid.cell_of_entry[i]];
+    if (cell.begin < 0) {
+      cell.begin = cell.fill = next;
+      next += cell.count;
     }
-    grid.entries[grid.fill[k]++] = {views.observations[begin + i].normalized, begin + i};
-  }
-  for (int i = 0; i < count; ++i) {
-    int& cell_count = grid.cell_count[grid.cell_of_entry[i]];
-    if (cell_count < 0) cell_count = -cell_count;
+    grid.entries[cell.fill++] = {views.observations[begin + i].normalized, begin + i};
   }
 }
 

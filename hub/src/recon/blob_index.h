@@ -20,7 +20,7 @@ class BlobIndex {
   static constexpr double kCellPx = 12.0;
   // Cells per blob at most (cells grow when few blobs spread over a large image): fine enough
   // that a crowded subject's blobs mostly sit one to a cell, so a query compares few of them.
-  // A build clears the cell counts and otherwise works per blob, so empty cells cost little.
+  // A build touches only the cells that hold blobs, so empty cells cost nothing to build.
   static constexpr double kCellsPerBlob = 16.0;
 
   void Build(const RigModel& rig, const FrameViews& views);
@@ -43,18 +43,24 @@ class BlobIndex {
     Eigen::Vector2d normalized;
     int observation;
   };
-  // One camera's observations bucketed into square cells (row-major cell numbers). Cell k holds
-  // entries [cell_begin[k], cell_begin[k] + cell_count[k]); cell_begin is only meaningful where
-  // the count is not zero, so a build clears the counts and touches nothing else per cell.
+  // A cell of the current build holds entries [begin, begin + count); a cell whose stamp is not
+  // the grid's holds none (it was filled by an earlier build, or never), so a build writes only
+  // the cells its blobs fall in and never clears the others (at 64 cameras clearing every cell
+  // cost more than the blobs).
+  struct Cell {
+    unsigned stamp = 0;
+    int begin = 0;
+    int count = 0;
+    int fill = 0;  // Build's cursor
+  };
+  // One camera's observations bucketed into square cells (row-major cell numbers).
   struct Grid {
     double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
     int cols = 0, rows = 0;
-    std::vector<int> cell_count;
-    std::vector<int> cell_begin;
+    unsigned stamp = 0;  // of the current build
+    std::vector<Cell> cells;
     std::vector<Entry> entries;
-    // Scratch of Build, per camera so cameras build in parallel.
-    std::vector<int> cell_of_entry;
-    std::vector<int> fill;
+    std::vector<int> cell_of_entry;  // scratch of Build, per camera so cameras build in parallel
   };
   // Calls visit(entry) for the entries of the cells the square around `at` touches.
   template <typename Visit>
@@ -77,10 +83,10 @@ void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, do
   const int r0 = std::max(0, static_cast<int>(y0)), r1 = std::min(grid.rows - 1, static_cast<int>(y1));
   for (int r = r0; r <= r1; ++r) {
     for (int k = r * grid.cols + c0, last = r * grid.cols + c1; k <= last; ++k) {
-      const int count = grid.cell_count[k];
-      if (count == 0) continue;
-      const Entry* entry = grid.entries.data() + grid.cell_begin[k];
-      for (const Entry* end = entry + count; entry != end; ++entry) visit(*entry);
+      const Cell& cell = grid.cells[k];
+      if (cell.stamp != grid.stamp) continue;
+      const Entry* entry = grid.entries.data() + cell.begin;
+      for (const Entry* end = entry + cell.count; entry != end; ++entry) visit(*entry);
     }
   }
 }
