@@ -12,8 +12,9 @@ void BlobIndex::Resize(const RigModel& rig) { grids_.resize(rig.NumCameras()); }
 void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int camera) {
   Grid& grid = grids_[camera];
   const int begin = views.camera_begin[camera], end = views.camera_begin[camera + 1];
-  grid.entries.resize(end - begin);
-  if (begin == end) return;
+  const int count = end - begin;
+  grid.entries.resize(count);
+  if (count == 0) return;
   Eigen::Vector2d low = views.observations[begin].normalized, high = low;
   for (int o = begin + 1; o < end; ++o) {
     low = low.cwiseMin(views.observations[o].normalized);
@@ -25,28 +26,41 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   const Eigen::Vector2d span = high - low;
   double cell = kCellPx / rig.camera(camera).focal_px;
   cell = std::max(cell, span.maxCoeff() / (kMaxCellsPerSide - 1));
-  // No more cells than about two per blob: clearing and scanning empty cells would cost more
-  // than the blobs themselves when a few blobs (spurious ones) spread over the whole image.
-  cell = std::max(cell, std::sqrt(span.x() * span.y() / (2.0 * (end - begin))));
+  cell = std::max(cell, std::sqrt(span.x() * span.y() / (kCellsPerBlob * count)));
   if (!(cell > 0.0)) cell = 1.0;  // one blob, or all at one spot
   grid.min_x = low.x();
   grid.min_y = low.y();
   grid.inverse_cell = 1.0 / cell;
   grid.cols = static_cast<int>((high.x() - low.x()) * grid.inverse_cell) + 1;
   grid.rows = static_cast<int>((high.y() - low.y()) * grid.inverse_cell) + 1;
-  const auto cell_of = [&](const Eigen::Vector2d& p) {
-    const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
-    const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
-    return row * grid.cols + col;
-  };
-  // Counting sort into cells; within a cell, observations keep their order.
-  grid.cell_begin.assign(static_cast<size_t>(grid.cols) * grid.rows + 1, 0);
-  for (int o = begin; o < end; ++o) ++grid.cell_begin[cell_of(views.observations[o].normalized) + 1];
-  for (size_t k = 1; k < grid.cell_begin.size(); ++k) grid.cell_begin[k] += grid.cell_begin[k - 1];
-  grid.fill.assign(grid.cell_begin.begin(), grid.cell_begin.end() - 1);
+  const size_t cells = static_cast<size_t>(grid.cols) * grid.rows;
+  // Counting sort into cells; within a cell, observations keep their order. A new stamp makes
+  // every cell of earlier builds empty; a stamp that wraps around clears them for real.
+  if (++grid.stamp == 0) {
+    for (Cell& stale : grid.cells) stale.stamp = 0;
+    grid.stamp = 1;
+  }
+  if (grid.cells.size() < cells) grid.cells.resize(cells);
+  grid.cell_of_entry.resize(count);
   for (int o = begin; o < end; ++o) {
     const Eigen::Vector2d& p = views.observations[o].normalized;
-    grid.entries[grid.fill[cell_of(p)]++] = {p, o};
+    const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
+    const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
+    const int k = row * grid.cols + col;
+    grid.cell_of_entry[o - begin] = k;
+    Cell& cell = grid.cells[k];
+    if (cell.stamp != grid.stamp) cell = {grid.stamp, -1, 0, 0};
+    ++cell.count;
+  }
+  // Ranges in the order cells are first met, each blob placed at its cell's cursor.
+  int next = 0;
+  for (int i = 0; i < count; ++i) {
+    Cell& cell = grid.cells[grid.cell_of_entry[i]];
+    if (cell.begin < 0) {
+      cell.begin = cell.fill = next;
+      next += cell.count;
+    }
+    grid.entries[cell.fill++] = {views.observations[begin + i].normalized, begin + i};
   }
 }
 

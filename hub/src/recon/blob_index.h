@@ -15,9 +15,13 @@ namespace mocap {
 
 class BlobIndex {
  public:
-  // Cell edge in pixels: gates and residual limits are a few pixels, so a query reads a few
-  // cells whatever the number of blobs (a subject's blobs crowd one part of an image).
+  // Smallest cell edge in pixels: gates and residual limits are a few pixels, so a query reads
+  // a few cells whatever the number of blobs (a subject's blobs crowd one part of an image).
   static constexpr double kCellPx = 12.0;
+  // Cells per blob at most (cells grow when few blobs spread over a large image): fine enough
+  // that a crowded subject's blobs mostly sit one to a cell, so a query compares few of them.
+  // A build touches only the cells that hold blobs, so empty cells cost nothing to build.
+  static constexpr double kCellsPerBlob = 16.0;
 
   void Build(const RigModel& rig, const FrameViews& views);
   // Builds camera c's grid only: cameras are independent, so several threads may build
@@ -39,14 +43,24 @@ class BlobIndex {
     Eigen::Vector2d normalized;
     int observation;
   };
-  // One camera's observations bucketed into square cells (row-major), entries of cell k are
-  // [cell_begin[k], cell_begin[k + 1]).
+  // A cell of the current build holds entries [begin, begin + count); a cell whose stamp is not
+  // the grid's holds none (it was filled by an earlier build, or never), so a build writes only
+  // the cells its blobs fall in and never clears the others (at 64 cameras clearing every cell
+  // cost more than the blobs).
+  struct Cell {
+    unsigned stamp = 0;
+    int begin = 0;
+    int count = 0;
+    int fill = 0;  // Build's cursor
+  };
+  // One camera's observations bucketed into square cells (row-major cell numbers).
   struct Grid {
     double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
     int cols = 0, rows = 0;
-    std::vector<int> cell_begin;
+    unsigned stamp = 0;  // of the current build
+    std::vector<Cell> cells;
     std::vector<Entry> entries;
-    std::vector<int> fill;  // scratch of Build, per camera so cameras build in parallel
+    std::vector<int> cell_of_entry;  // scratch of Build, per camera so cameras build in parallel
   };
   // Calls visit(entry) for the entries of the cells the square around `at` touches.
   template <typename Visit>
@@ -68,8 +82,12 @@ void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, do
   const int c0 = std::max(0, static_cast<int>(x0)), c1 = std::min(grid.cols - 1, static_cast<int>(x1));
   const int r0 = std::max(0, static_cast<int>(y0)), r1 = std::min(grid.rows - 1, static_cast<int>(y1));
   for (int r = r0; r <= r1; ++r) {
-    const int row = r * grid.cols;
-    for (int k = grid.cell_begin[row + c0]; k < grid.cell_begin[row + c1 + 1]; ++k) visit(grid.entries[k]);
+    for (int k = r * grid.cols + c0, last = r * grid.cols + c1; k <= last; ++k) {
+      const Cell& cell = grid.cells[k];
+      if (cell.stamp != grid.stamp) continue;
+      const Entry* entry = grid.entries.data() + cell.begin;
+      for (const Entry* end = entry + cell.count; entry != end; ++entry) visit(*entry);
+    }
   }
 }
 

@@ -68,7 +68,11 @@ void BuildFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews*
 // -1), then each camera on its own (different cameras write disjoint ranges).
 void LayoutFrameViews(const RigModel& rig, const FrameSet& frame_set, FrameViews* views,
                       std::vector<int>* frame_of_camera);
+// with_rays false leaves ray_in_world to ComputeRay: only the matchers read rays, and after the
+// prediction pass they see a few dozen of a frame's ~1000 blobs.
 void UndistortCamera(const RigModel& rig, const FrameSet& frame_set, const std::vector<int>& frame_of_camera,
-                     int camera, FrameViews* views);
+                     int camera, FrameViews* views, bool with_rays = true);
+// Sets the observation's ray_in_world from its camera and undistorted coordinates.
+void ComputeRay(const RigModel& rig, Observation* observation);
 
 }  // namespace mocap

@@ -29,41 +29,63 @@ void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, co
   }
 }
 
+void GhostFilter::OrderByViews(const std::vector<TriangulatedPoint>& points) {
+  // Counting sort on the number of views, most first: stable (equal counts keep their order, the
+  // predictions of the oldest tracks first) without the merge buffer of std::stable_sort.
+  size_t most = 0;
+  for (const TriangulatedPoint& point : points) most = std::max(most, point.observations.size());
+  by_views_begin_.assign(most + 2, 0);
+  for (const TriangulatedPoint& point : points) ++by_views_begin_[most - point.observations.size() + 1];
+  for (size_t k = 1; k < by_views_begin_.size(); ++k) by_views_begin_[k] += by_views_begin_[k - 1];
+  order_.resize(points.size());
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    order_[by_views_begin_[most - points[i].observations.size()]++] = i;
+  }
+}
+
 int GhostFilter::Apply(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                        const std::vector<TriangulatedPoint>& points, size_t tracked, UseCounts* used,
                        std::vector<char>* keep) {
   const int count = static_cast<int>(points.size());
   keep->assign(count, 1);
   if (!options_.enabled) return 0;
-  order_.resize(count);
-  std::iota(order_.begin(), order_.end(), 0);
-  std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) {
-    return points[a].observations.size() > points[b].observations.size();
-  });
-  explained_.assign(views.NumObservations(), 0);
-  kept_.clear();
+  OrderByViews(points);
+  // Only untracked points take the evidence test: after the last of them in the order, what the
+  // kept points explain is read by no one and is not marked (in steady state every point is
+  // tracked, and the marking would cost a blob search per camera a point has no view in).
+  size_t mark_until = 0;
+  for (size_t position = 0; position < order_.size(); ++position) {
+    if (static_cast<size_t>(order_[position]) >= tracked) mark_until = position;
+  }
+  if (static_cast<size_t>(count) > tracked) explained_.assign(views.NumObservations(), 0);
+  kept_positions_.clear();
   const double min_separation2 = options_.min_separation_mm * options_.min_separation_mm;
   int dropped = 0;
-  for (int i : order_) {
+  for (size_t position = 0; position < order_.size(); ++position) {
+    const int i = order_[position];
     const TriangulatedPoint& point = points[i];
     bool duplicate = false;
-    for (int k : kept_) {
-      if ((points[k].point_in_world - point.point_in_world).squaredNorm() < min_separation2) {
+    for (const Eigen::Vector3d& kept : kept_positions_) {
+      if ((kept - point.point_in_world).squaredNorm() < min_separation2) {
         duplicate = true;
         break;
       }
     }
-    int evidence = 0;
-    for (int o : point.observations) evidence += explained_[o] ? 0 : 1;
-    const bool ghost = static_cast<size_t>(i) >= tracked && evidence < triangulation_.min_views;
+    const bool untracked = static_cast<size_t>(i) >= tracked;
+    bool ghost = false;
+    if (untracked) {
+      int evidence = 0;
+      for (int o : point.observations) evidence += explained_[o] ? 0 : 1;
+      ghost = evidence < triangulation_.min_views;
+    }
     if (duplicate || ghost) {
       (*keep)[i] = 0;
       for (int o : point.observations) --(*used)[o];
       ++dropped;
       continue;
     }
-    kept_.push_back(i);
-    MarkExplained(rig, views, index, point);
+    kept_positions_.push_back(point.point_in_world);
+    if (position < mark_until) MarkExplained(rig, views, index, point);
   }
   return dropped;
 }

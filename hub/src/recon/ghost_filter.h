@@ -28,6 +28,8 @@ class GhostFilter {
             std::vector<char>* keep);
 
  private:
+  // Fills order_ with the points' indices, most views first, ties in index order.
+  void OrderByViews(const std::vector<TriangulatedPoint>& points);
   void MarkExplained(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                      const TriangulatedPoint& point);
 
@@ -35,7 +37,8 @@ class GhostFilter {
   TriangulationOptions triangulation_;
   std::vector<int> order_;
   std::vector<char> explained_;  // per observation: near a kept point's reprojection
-  std::vector<int> kept_;
+  std::vector<size_t> by_views_begin_;  // OrderByViews' buckets
+  std::vector<Eigen::Vector3d> kept_positions_;  // contiguous: every point is compared with them all
   std::vector<char> has_view_;  // per camera, of the point being marked
 };
 

@@ -66,6 +66,17 @@ int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobInde
   return found;
 }
 
+namespace {
+
+// A prediction reprojected into one camera: the centre and radius (normalized units) of its gate.
+struct GatedReprojection {
+  bool in_front = false;
+  Eigen::Vector2d normalized;
+  double radius = 0.0;
+};
+
+}  // namespace
+
 void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
                               const std::vector<char>* shared, Attempt* attempt) const {
@@ -74,14 +85,26 @@ void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, cons
   std::vector<int>& picked = attempt->picked;
   picked.clear();
   attempt->served = false;
+  // Where the prediction falls in every camera first, then the searches: the divisions of all
+  // cameras then overlap instead of each waiting behind the previous search's branches.
+  thread_local std::vector<GatedReprojection> gates;
+  gates.resize(num_cameras);
   for (int c = 0; c < num_cameras; ++c) {
     const CameraModel& cam = rig.camera(c);
     const Eigen::Vector3d p =
         cam.cam_from_world_rotation * prediction.point_in_world + cam.cam_from_world_translation;
-    if (!(p.z() > triangulation_options_.min_depth_mm)) continue;
+    GatedReprojection& gate = gates[c];
+    gate.in_front = p.z() > triangulation_options_.min_depth_mm;
+    if (!gate.in_front) continue;
     const double gate_px = std::clamp(cam.focal_px * prediction.gate_mm / p.z(),
                                       options_.min_gate_px, options_.max_gate_px);
-    const int best = index.Nearest(views, c, p.head<2>() / p.z(), gate_px / cam.focal_px, [&](int o) {
+    gate.normalized = p.head<2>() / p.z();
+    gate.radius = gate_px / cam.focal_px;
+  }
+  for (int c = 0; c < num_cameras; ++c) {
+    const GatedReprojection& gate = gates[c];
+    if (!gate.in_front) continue;
+    const int best = index.Nearest(views, c, gate.normalized, gate.radius, [&](int o) {
       return IsAvailable(views.observations[o], used[o]);
     });
     if (best >= 0) picked.push_back(best);

@@ -45,6 +45,17 @@ void Reconstructor::CompleteFrom(size_t first) {
   }
 }
 
+int Reconstructor::ComputeLeftoverRays() {
+  // Every blob a matcher may use this frame is available now: matching only takes blobs (the
+  // seed cameras' pass sets the others aside and gives them back).
+  int unused = 0;
+  for (int i = 0; i < views_.NumObservations(); ++i) {
+    unused += used_[i] == 0;
+    if (IsAvailable(views_.observations[i], used_[i])) ComputeRay(rig_, &views_.observations[i]);
+  }
+  return unused;
+}
+
 void Reconstructor::MatchLeftovers(int leftover) {
   const int num_cameras = rig_.NumCameras();
   if (!seed_mask_.empty() && leftover > options_.seed_from_blobs_per_camera * num_cameras) {
@@ -72,7 +83,9 @@ void Reconstructor::Process(const FrameSet& frame_set,
                             std::vector<ReconstructedPoint>* points) {
   Clock::time_point lap = Clock::now();
   LayoutFrameViews(rig_, frame_set, &views_, &frame_of_camera_);
-  team_.Run(rig_.NumCameras(), [&](int c) { UndistortCamera(rig_, frame_set, frame_of_camera_, c, &views_); });
+  // Rays are left for the blobs the predictions leave (ComputeLeftoverRays): only matchers read them.
+  team_.Run(rig_.NumCameras(),
+            [&](int c) { UndistortCamera(rig_, frame_set, frame_of_camera_, c, &views_, /*with_rays=*/false); });
   used_.assign(views_.NumObservations(), 0);
   triangulated_.clear();
   track_ids_.clear();
@@ -95,8 +108,7 @@ void Reconstructor::Process(const FrameSet& frame_set,
   Lap(&lap, &stage_times_.predictions_us);
   size_t from_predictions = triangulated_.size();
   stats_.observations += views_.NumObservations();
-  int leftover = 0;
-  for (int i = 0; i < views_.NumObservations(); ++i) leftover += used_[i] == 0;
+  const int leftover = ComputeLeftoverRays();
   stats_.leftover_observations += leftover;
   MatchLeftovers(leftover);
   Lap(&lap, &stage_times_.matcher_us);

@@ -56,6 +56,7 @@ class Reconstructor {
   void Process(const FrameSet& frame_set, const std::vector<PointPrediction>& predictions,
                std::vector<ReconstructedPoint>* points);
 
+  // The last frame's observations; ray_in_world is set only on those the predictions left.
   const FrameViews& views() const { return views_; }
   const RigModel& rig_model() const { return rig_; }
   const ReconstructionStats& stats() const { return stats_; }
@@ -64,6 +65,8 @@ class Reconstructor {
   const std::vector<TriangulatedPoint>& triangulated() const { return triangulated_; }
 
  private:
+  // Sets the rays of the observations still available to a matcher; returns how many are unused.
+  int ComputeLeftoverRays();
   // Runs the matcher on the available observations (first on the seed cameras when many are
   // left) and completes the views of the points it makes.
   void MatchLeftovers(int leftover);

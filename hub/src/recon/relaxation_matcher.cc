@@ -7,66 +7,114 @@
 
 namespace mocap {
 
+namespace {
+
+// One label of one node: member `slot` of clique `clique`.
+struct NodeLabel {
+  int node = 0;
+  int clique = 0;
+  int slot = 0;
+};
+
+// The labels of every node that has any, grouped by node in increasing node order and, within a
+// node, by clique: the order of the normalising sums. A frame's cliques touch a few dozen of its
+// ~1000 observations, so the iterations follow these lists rather than every node of the graph.
+void GroupLabelsByNode(const std::vector<std::vector<int>>& cliques, std::vector<NodeLabel>* labels,
+                       std::vector<int>* node_begin) {
+  labels->clear();
+  for (int k = 0; k < static_cast<int>(cliques.size()); ++k) {
+    for (int m = 0; m < static_cast<int>(cliques[k].size()); ++m) labels->push_back({cliques[k][m], k, m});
+  }
+  std::sort(labels->begin(), labels->end(), [](const NodeLabel& a, const NodeLabel& b) {
+    return a.node != b.node ? a.node < b.node : a.clique < b.clique;
+  });
+  node_begin->clear();
+  for (size_t i = 0; i < labels->size(); ++i) {
+    if (i == 0 || (*labels)[i].node != (*labels)[i - 1].node) node_begin->push_back(static_cast<int>(i));
+  }
+  node_begin->push_back(static_cast<int>(labels->size()));
+}
+
+}  // namespace
+
 RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::vector<int>>& cliques,
                              double threshold_mm, const RelaxationOptions& options) {
   RelaxationResult result;
   const int num_cliques = static_cast<int>(cliques.size());
-  // Labels of each node as (clique, slot) pairs.
-  std::vector<std::vector<std::pair<int, int>>> labels_of_node(graph.NumNodes());
-  for (int k = 0; k < num_cliques; ++k) {
-    for (int m = 0; m < static_cast<int>(cliques[k].size()); ++m) {
-      labels_of_node[cliques[k][m]].emplace_back(k, m);
-    }
-  }
+  // Per-thread scratch: the matcher runs every frame.
+  thread_local std::vector<NodeLabel> labels;
+  thread_local std::vector<int> node_begin;
+  GroupLabelsByNode(cliques, &labels, &node_begin);
+  const size_t num_labelled = node_begin.size() - 1;
   // Edge strengths inside each clique, c_ij = 1 - d_ij / threshold (eq. 4); a tiny floor keeps
-  // an edge right at the threshold from zeroing a whole clique's support.
-  std::vector<std::vector<double>> strength(num_cliques);
+  // an edge right at the threshold from zeroing a whole clique's support. Clique k's size x size
+  // block starts at strength_begin[k]; its members' supports at member_begin[k].
+  thread_local std::vector<double> strength;
+  thread_local std::vector<size_t> strength_begin, member_begin;
+  strength.clear();
+  strength_begin.clear();
+  member_begin.clear();
+  size_t members = 0;
   for (int k = 0; k < num_cliques; ++k) {
     const std::vector<int>& clique = cliques[k];
     const size_t size = clique.size();
-    strength[k].assign(size * size, 0.0);
+    strength_begin.push_back(strength.size());
+    member_begin.push_back(members);
+    members += size;
+    strength.resize(strength.size() + size * size, 0.0);
+    double* block = strength.data() + strength_begin.back();
     for (size_t a = 0; a < size; ++a) {
       for (size_t b = a + 1; b < size; ++b) {
         const double d = graph.EdgeDistance(clique[a], clique[b]);
         const double c = std::max(1e-3, 1.0 - d / threshold_mm);
-        strength[k][a * size + b] = c;
-        strength[k][b * size + a] = c;
+        block[a * size + b] = c;
+        block[b * size + a] = c;
       }
     }
   }
   // Initial weights 1/R_i (eq. 1).
   result.probability.resize(num_cliques);
-  for (int k = 0; k < num_cliques; ++k) {
-    result.probability[k].resize(cliques[k].size());
-    for (size_t m = 0; m < cliques[k].size(); ++m) {
-      result.probability[k][m] = 1.0 / labels_of_node[cliques[k][m]].size();
+  for (int k = 0; k < num_cliques; ++k) result.probability[k].resize(cliques[k].size());
+  for (size_t n = 0; n < num_labelled; ++n) {
+    const double count = static_cast<double>(node_begin[n + 1] - node_begin[n]);
+    for (int i = node_begin[n]; i < node_begin[n + 1]; ++i) {
+      result.probability[labels[i].clique][labels[i].slot] = 1.0 / count;
     }
   }
-  std::vector<std::vector<double>> support(num_cliques);
+  thread_local std::vector<double> support;
+  support.resize(members);
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     // Q(i, k) = sum_j c_ij P(j, k) over the other members j of clique k (eqs. 2-3).
     for (int k = 0; k < num_cliques; ++k) {
       const size_t size = cliques[k].size();
-      support[k].assign(size, 0.0);
+      const double* block = strength.data() + strength_begin[k];
+      const std::vector<double>& probability = result.probability[k];
+      double* clique_support = support.data() + member_begin[k];
       for (size_t a = 0; a < size; ++a) {
         double q = 0.0;
         for (size_t b = 0; b < size; ++b) {
-          if (b != a) q += strength[k][a * size + b] * result.probability[k][b];
+          if (b != a) q += block[a * size + b] * probability[b];
         }
-        support[k][a] = q;
+        clique_support[a] = q;
       }
     }
     // P <- P Q / sum over the node's labels of P Q (eqs. 5-6).
     double max_change = 0.0;
-    for (const auto& labels : labels_of_node) {
-      if (labels.size() < 2) continue;  // a single label keeps probability 1
+    for (size_t n = 0; n < num_labelled; ++n) {
+      const int begin = node_begin[n], end = node_begin[n + 1];
+      if (end - begin < 2) continue;  // a single label keeps probability 1
       double normaliser = 0.0;
-      for (const auto& [k, m] : labels) normaliser += result.probability[k][m] * support[k][m];
+      for (int i = begin; i < end; ++i) {
+        const NodeLabel& label = labels[i];
+        normaliser += result.probability[label.clique][label.slot] * support[member_begin[label.clique] + label.slot];
+      }
       if (normaliser <= 0.0) continue;
-      for (const auto& [k, m] : labels) {
-        const double updated = result.probability[k][m] * support[k][m] / normaliser;
-        max_change = std::max(max_change, std::abs(updated - result.probability[k][m]));
-        result.probability[k][m] = updated;
+      for (int i = begin; i < end; ++i) {
+        const NodeLabel& label = labels[i];
+        double& probability = result.probability[label.clique][label.slot];
+        const double updated = probability * support[member_begin[label.clique] + label.slot] / normaliser;
+        max_change = std::max(max_change, std::abs(updated - probability));
+        probability = updated;
       }
     }
     result.iterations = iteration + 1;
@@ -77,11 +125,11 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
 
 void RelaxationMatcher::Match(const RigModel& rig, const FrameViews& views, UseCounts* used,
                               std::vector<TriangulatedPoint>* points) {
-  std::vector<char> active(views.NumObservations());
+  active_.resize(views.NumObservations());
   for (int i = 0; i < views.NumObservations(); ++i) {
-    active[i] = IsAvailable(views.observations[i], (*used)[i]) ? 1 : 0;
+    active_[i] = IsAvailable(views.observations[i], (*used)[i]) ? 1 : 0;
   }
-  graph_.Build(rig, views, graph_options_, active);
+  graph_.Build(rig, views, graph_options_, active_);
   const std::vector<std::vector<int>> cliques = graph_.CandidateCliques(rig, views);
   if (cliques.empty()) return;
   const RelaxationResult relaxed =

@@ -39,6 +39,7 @@ class RelaxationMatcher : public Matcher {
   RelaxationOptions relaxation_options_;
   TriangulationOptions triangulation_options_;
   EpipolarGraph graph_;
+  std::vector<char> active_;  // per observation, available to this match: kept between frames
 };
 
 }  // namespace mocap

@@ -97,12 +97,13 @@ bool StandsOut(const RigModel& rig, const FrameViews& views, const std::vector<i
   constexpr size_t kGateViews = 10;
   const double precise_px = options.precise_fraction * options.max_reprojection_px;
   if (observations.size() >= kGateViews) {
-    errors.clear();
-    for (size_t i = 0; i < errors_px.size(); ++i) {
-      if (i != worst) errors.push_back(errors_px[i]);
-    }
-    std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2), errors.end());
-    if (!(errors[errors.size() / 2] < PreciseGatePx(options))) return false;
+    // The others' median (element others / 2 in sorted order) is under the gate exactly when
+    // more than others / 2 of them are: a count instead of a selection, the same answer.
+    const size_t others = errors_px.size() - 1;
+    const double gate_px = PreciseGatePx(options);
+    size_t under = 0;
+    for (size_t i = 0; i < errors_px.size(); ++i) under += i != worst && errors_px[i] < gate_px;
+    if (!(under > others / 2)) return false;
   }
   thread_local std::vector<int> others;
   others.clear();

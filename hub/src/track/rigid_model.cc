@@ -33,11 +33,17 @@ void RigidModel::ResetSlot(int slot) {
 void RigidModel::Update(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& positions) {
   for (int slot : slots) EnsureCapacity(slot);
   const double max_variance = options_.max_std_mm * options_.max_std_mm;
+  // Pairs never linked whose squared distance is over this are certainly beyond
+  // max_link_distance_mm (a margin of 1e-9 over rounding): most pairs of a subject, and they
+  // skip the square root.
+  const double far_squared = options_.max_link_distance_mm * options_.max_link_distance_mm * (1.0 + 1e-9);
   for (size_t i = 0; i < slots.size(); ++i) {
     for (size_t j = i + 1; j < slots.size(); ++j) {
       RigidLink& link = At(slots[i], slots[j]);
       if (link.broken) continue;
-      const double distance = (positions[i] - positions[j]).norm();
+      const Eigen::Vector3d offset = positions[i] - positions[j];
+      if (link.samples == 0 && offset.squaredNorm() > far_squared) continue;
+      const double distance = offset.norm();
       if (link.samples == 0) {
         if (distance > options_.max_link_distance_mm) continue;
       } else if (std::abs(distance - link.mean) > options_.max_deviation_mm) {
@@ -105,12 +111,6 @@ bool RigidModel::Predict(int slot, const Eigen::Vector3d& prior, const std::vect
   if (std::sqrt(sum_squares / candidates.size()) > options_.max_deviation_mm) return false;
   *predicted = p;
   return true;
-}
-
-const RigidLink* RigidModel::Link(int a, int b) const {
-  if (a >= capacity_ || b >= capacity_ || a == b) return nullptr;
-  const RigidLink& link = links_[Index(a, b)];
-  return link.samples > 0 || link.broken ? &link : nullptr;
 }
 
 int RigidModel::NumActiveLinks() const {

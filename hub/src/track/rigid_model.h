@@ -36,8 +36,13 @@ class RigidModel {
   bool Predict(int slot, const Eigen::Vector3d& prior, const std::vector<char>& measured,
                const std::vector<Eigen::Vector3d>& position_of_slot, Eigen::Vector3d* predicted) const;
 
-  // nullptr when a and b never were linked.
-  const RigidLink* Link(int a, int b) const;
+  // nullptr when a and b never were linked. Inline: the swap repair asks it for every pair of
+  // measured tracks every frame.
+  const RigidLink* Link(int a, int b) const {
+    if (a >= capacity_ || b >= capacity_ || a == b) return nullptr;
+    const RigidLink& link = links_[Index(a, b)];
+    return link.samples > 0 || link.broken ? &link : nullptr;
+  }
   int NumActiveLinks() const;
 
  private:

@@ -31,7 +31,8 @@ int RigidSwapResolver::Resolve(const RigidModel& rigid, const std::vector<char>&
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       const RigidLink* link = rigid.Link(measured_[i], measured_[j]);
-      if (!Steady(link) || link->mean > options_.cluster_radius_mm) continue;
+      // The distance first: it is cheaper than Steady's variance and rules out most pairs.
+      if (link == nullptr || link->mean > options_.cluster_radius_mm || !Steady(link)) continue;
       parent_[FindRoot(parent_, j)] = FindRoot(parent_, i);
       any = true;
     }

@@ -249,7 +249,8 @@ void Tracker::Update(uint64_t frame_number, const std::vector<ReconstructedPoint
                      std::vector<TrackSample>* samples) {
   if (!predicted_ || predicted_frame_ != frame_number) Predict(frame_number);
   predicted_ = false;
-  FrameMatch match(tracks_.size(), points.size());
+  match_.Reset(tracks_.size(), points.size());
+  FrameMatch& match = match_;
   TakeHintedPoints(points, &match);
   MatchPredictions(points, &match);
   PredictFromRigidModel(points, &match);
@@ -280,15 +281,16 @@ void Tracker::Identify(const Track& track, PointIdentity* identity) const {
   }
 }
 
-Tracker::FrameMatch::FrameMatch(size_t num_slots, size_t num_points)
-    : point_of_slot(num_slots, -1),
-      point_taken(num_points, 0),
-      moved(num_slots, 0),
-      measured(num_slots, 0),
-      position_of_slot(num_slots, Eigen::Vector3d::Zero()),
-      has_rigid(num_slots, 0),
-      rigid_position(num_slots),
-      found_wide(num_slots, 0) {}
+void Tracker::FrameMatch::Reset(size_t num_slots, size_t num_points) {
+  point_of_slot.assign(num_slots, -1);
+  point_taken.assign(num_points, 0);
+  moved.assign(num_slots, 0);
+  measured.assign(num_slots, 0);
+  position_of_slot.assign(num_slots, Eigen::Vector3d::Zero());
+  has_rigid.assign(num_slots, 0);
+  rigid_position.resize(num_slots);  // read only where has_rigid is set
+  found_wide.assign(num_slots, 0);
+}
 
 // 1. Points found through a track's own prediction.
 void Tracker::TakeHintedPoints(const std::vector<ReconstructedPoint>& points, FrameMatch* match) const {
@@ -412,8 +414,10 @@ void Tracker::ApplyMeasurements(uint64_t frame_number, const std::vector<Reconst
                                 const FrameMatch& match, std::vector<TrackSample>* samples) {
   const int num_slots = static_cast<int>(tracks_.size());
   const double noise = options_.kalman.measurement_noise_mm;
-  std::vector<int> rigid_slots;
-  std::vector<Eigen::Vector3d> rigid_positions;
+  std::vector<int>& rigid_slots = rigid_slots_;
+  std::vector<Eigen::Vector3d>& rigid_positions = rigid_positions_;
+  rigid_slots.clear();
+  rigid_positions.clear();
   for (int slot = 0; slot < num_slots; ++slot) {
     Track& track = tracks_[slot];
     const int p = match.point_of_slot[slot];

@@ -87,8 +87,9 @@ class Tracker {
   };
 
   // What one Update has found so far, per track slot (and per point for point_taken).
+  // Kept between frames (Reset refills it) so that a frame allocates nothing once warmed up.
   struct FrameMatch {
-    FrameMatch(size_t num_slots, size_t num_points);
+    void Reset(size_t num_slots, size_t num_points);
     std::vector<int> point_of_slot;  // point index or -1
     std::vector<char> point_taken;
     std::vector<char> moved;  // re-assigned around a miss
@@ -137,6 +138,9 @@ class Tracker {
   RigidSwapResolver swaps_;
   std::vector<int> held_before_;  // RepairRigidClusters' scratch
   std::vector<char> swap_eligible_, swap_changed_;  // per slot, reused every frame
+  FrameMatch match_;  // Update's, reused every frame
+  std::vector<int> rigid_slots_;  // ApplyMeasurements' scratch: the rigid model's input
+  std::vector<Eigen::Vector3d> rigid_positions_;
   int next_marker_ = 0;
   uint64_t next_serial_ = 1;
   std::vector<PointIdentity> point_identities_;
