@@ -28,7 +28,7 @@ while [ $# -gt 0 ]; do
         --realtime-priority) realtime=${2:?}; shift 2 ;;
         --bin) bin=${2:?}; shift 2 ;;
         --out) out=${2:?}; shift 2 ;;
-        -h|--help) sed -n 2,18p "$0"; exit 0 ;;
+        -h|--help) sed -n 2,16p "$0"; exit 0 ;;
         *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
     esac
 done

@@ -2,6 +2,7 @@
 #include "track/hindsight_swaps.h"
 
 #include <algorithm>
+#include <numeric>
 #include <utility>
 
 #include "util/assignment.h"
@@ -23,7 +24,7 @@ double Roughness(const Eigen::Vector3d (&a)[N], const Eigen::Vector3d (&b)[N], c
     const Eigen::Vector3d& before = from_b[k - 1] ? b[k - 1] : a[k - 1];
     const Eigen::Vector3d& here = from_b[k] ? b[k] : a[k];
     const Eigen::Vector3d& after = from_b[k + 1] ? b[k + 1] : a[k + 1];
-    sum += (after - 2.0 * here + before).squaredNorm();
+    sum += SquaredSecondDifference(before, here, after);
   }
   return sum;
 }
@@ -51,10 +52,8 @@ void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& lab
 //    smoothly, an optimal assignment (chains of three or more markers included).
 void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const int first = kBefore - before;  // window index of the first row held
-  int num_columns = 0;
-  for (size_t r = t - before; r <= t + kAfter; ++r) {
-    for (const TrackSample& sample : rows_[r].samples) num_columns = std::max(num_columns, sample.marker + 1);
-  }
+  // Every sample's column is one of the columns issued so far.
+  const int num_columns = static_cast<int>(column_of_marker_.size());
   // present_[column]: one bit per window row holding a sample of the column.
   present_.assign(num_columns, 0);
   for (int k = first; k < kHeldRows; ++k) {
@@ -83,17 +82,15 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
   for (Column& column : columns_) {
     const Eigen::Vector3d* p = column.positions;
-    double jump = (p[kBefore + 1] - 2.0 * p[kBefore] + p[kBefore - 1]).squaredNorm();
-    if (before == 2) jump = std::max(jump, (p[kBefore] - 2.0 * p[kBefore - 1] + p[kBefore - 2]).squaredNorm());
+    double jump = SquaredSecondDifference(p[kBefore - 1], p[kBefore], p[kBefore + 1]);
+    if (before == 2) jump = std::max(jump, SquaredSecondDifference(p[kBefore - 2], p[kBefore - 1], p[kBefore]));
     column.jumps = jump >= 0.25 * min_jump2;
   }
   const auto close = [&](const Column& a, const Column& b) {
     return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <= radius2;
   };
   std::vector<int> label(column_of_marker_.size());
-  const auto identity = [&]() {
-    for (size_t c = 0; c < label.size(); ++c) label[c] = static_cast<int>(c);
-  };
+  const auto identity = [&]() { std::iota(label.begin(), label.end(), 0); };
 
   // 1. Short trades.
   for (;;) {
@@ -148,7 +145,7 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const auto join = [&](const Column& past, const Column& future) {
     const Eigen::Vector3d* p = past.positions;
     const Eigen::Vector3d* f = future.positions;
-    if (before == 1) return (f[kBefore + 1] - 2.0 * f[kBefore] + p[kBefore - 1]).squaredNorm();
+    if (before == 1) return SquaredSecondDifference(p[kBefore - 1], f[kBefore], f[kBefore + 1]);
     return JoinRoughness(p[kBefore - 2], p[kBefore - 1], f[kBefore], f[kBefore + 1]);
   };
   const size_t n = group_.size();
@@ -168,26 +165,23 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
 
 int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label) {
   const std::vector<int> chosen = SolveAssignment(cost, 0.5 * kForbidden);
+  // Every item is assigned: the identity is always allowed and the solver takes the most pairs.
+  if (std::find(chosen.begin(), chosen.end(), -1) != chosen.end()) return 0;
   const size_t n = chosen.size();
   const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
   int accepted = 0;
   std::vector<char> seen(n, 0);
   for (size_t r = 0; r < n; ++r) {
-    if (seen[r] || chosen[r] == static_cast<int>(r) || chosen[r] < 0) continue;
+    if (seen[r] || chosen[r] == static_cast<int>(r)) continue;
     double as_is = 0.0, then = 0.0;
-    bool closed = true;
     size_t k = r;
     do {
       seen[k] = 1;
       as_is += cost(k, k);
-      if (chosen[k] < 0) {  // cannot happen while the identity is allowed
-        closed = false;
-        break;
-      }
       then += cost(k, chosen[k]);
       k = static_cast<size_t>(chosen[k]);
     } while (k != r);
-    if (!closed || then > options_.improvement * as_is || as_is - then < min_jump2) continue;
+    if (then > options_.improvement * as_is || as_is - then < min_jump2) continue;
     k = r;
     do {
       (*label)[item_labels_[chosen[k]]] = item_labels_[k];
@@ -219,9 +213,10 @@ void HindsightSwaps::Add(uint64_t frame_number, const std::vector<TrackSample>& 
   late_.clear();
   for (TrackSample sample : samples) {
     if (sample.marker >= static_cast<int>(column_of_marker_.size())) {
+      // New markers take their own number as their column (no column beyond them was issued).
       const int first_new = static_cast<int>(column_of_marker_.size());
       column_of_marker_.resize(sample.marker + 1);
-      for (int m = first_new; m <= sample.marker; ++m) column_of_marker_[m] = m;
+      std::iota(column_of_marker_.begin() + first_new, column_of_marker_.end(), first_new);
     }
     sample.marker = column_of_marker_[sample.marker];
     if (sample.frame_number < rows_.front().frame_number || sample.frame_number > rows_.back().frame_number) {
@@ -254,7 +249,7 @@ void HindsightSwaps::Finish() {
 }
 
 void HindsightSwaps::LabelStartBackward() {
-  // sample_of_[k][label]: index into rows_[t + k].samples, for the rows t, t+1, t+2.
+  // index[k][column]: the column's sample in rows_[t + k].samples (-1: none), rows t, t+1, t+2.
   const auto index_row = [&](const Row& row, std::vector<int>* index) {
     index->assign(column_of_marker_.size(), -1);
     for (size_t i = 0; i < row.samples.size(); ++i) (*index)[row.samples[i].marker] = static_cast<int>(i);
@@ -263,21 +258,22 @@ void HindsightSwaps::LabelStartBackward() {
   std::vector<int> index[3];
   std::vector<int> label(column_of_marker_.size());
   std::vector<Eigen::Vector3d> predicted, measured;
+  std::vector<char> has_prediction, has_sample;
   for (size_t t = rows_.size() - 2; t-- > 0;) {
     for (int k = 0; k < 3; ++k) index_row(rows_[t + k], &index[k]);
     // Items: columns with a sample in row t or a prediction (samples in rows t+1 and t+2).
     item_labels_.clear();
     predicted.clear();
     measured.clear();
-    has_prediction_.clear();
-    has_sample_.clear();
+    has_prediction.clear();
+    has_sample.clear();
     for (size_t c = 0; c < column_of_marker_.size(); ++c) {
       const bool prediction = index[1][c] >= 0 && index[2][c] >= 0;
       const bool sample = index[0][c] >= 0;
       if (!prediction && !sample) continue;
       item_labels_.push_back(static_cast<int>(c));
-      has_prediction_.push_back(prediction);
-      has_sample_.push_back(sample);
+      has_prediction.push_back(prediction);
+      has_sample.push_back(sample);
       predicted.push_back(prediction ? Eigen::Vector3d(2.0 * rows_[t + 1].samples[index[1][c]].position -
                                                        rows_[t + 2].samples[index[2][c]].position)
                                      : Eigen::Vector3d::Zero());
@@ -295,9 +291,9 @@ void HindsightSwaps::LabelStartBackward() {
     Eigen::MatrixXd cost(n, n);
     for (size_t r = 0; r < n; ++r) {
       for (size_t c = 0; c < n; ++c) {
-        if (!has_prediction_[r]) {
-          cost(r, c) = has_sample_[c] ? unexplained : 0.0;
-        } else if (!has_sample_[c]) {
+        if (!has_prediction[r]) {
+          cost(r, c) = has_sample[c] ? unexplained : 0.0;
+        } else if (!has_sample[c]) {
           cost(r, c) = 0.0;
         } else {
           const double d2 = (measured[c] - predicted[r]).squaredNorm();
@@ -305,7 +301,7 @@ void HindsightSwaps::LabelStartBackward() {
         }
       }
     }
-    for (size_t c = 0; c < label.size(); ++c) label[c] = static_cast<int>(c);
+    std::iota(label.begin(), label.end(), 0);
     if (AcceptCycles(cost, &label) > 0) Relabel(t, t + 1, label);
   }
 }

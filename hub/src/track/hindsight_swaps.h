@@ -84,7 +84,6 @@ class HindsightSwaps {
   std::vector<Column> columns_;
   std::vector<int> group_;
   std::vector<int> item_labels_;  // AcceptCycles' items' labels
-  std::vector<char> has_prediction_, has_sample_;  // LabelStartBackward's, by item
   static constexpr double kForbidden = 1e30;
 };
 

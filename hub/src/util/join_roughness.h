@@ -7,11 +7,17 @@
 
 namespace mocap {
 
+// The squared second difference at `here` of three positions one frame apart.
+inline double SquaredSecondDifference(const Eigen::Vector3d& before, const Eigen::Vector3d& here,
+                                      const Eigen::Vector3d& after) {
+  return (after - 2.0 * here + before).squaredNorm();
+}
+
 // past_2, past_1: the last two positions before the join (oldest first); next_0, next_1: the
 // first two after it.
 inline double JoinRoughness(const Eigen::Vector3d& past_2, const Eigen::Vector3d& past_1,
                             const Eigen::Vector3d& next_0, const Eigen::Vector3d& next_1) {
-  return (next_0 - 2.0 * past_1 + past_2).squaredNorm() + (next_1 - 2.0 * next_0 + past_1).squaredNorm();
+  return SquaredSecondDifference(past_2, past_1, next_0) + SquaredSecondDifference(past_1, next_0, next_1);
 }
 
 }  // namespace mocap
