@@ -136,7 +136,8 @@ void AddBody(std::vector<RigidBodyDefinition>& bodies, RigidBodyDefinition body,
 std::vector<RigidBodyDefinition> ReadBodiesFile(const std::string& path) {
   const nlohmann::json doc = ReadJsonFile(path);
   auto fail = [&](const std::string& why) { throw std::runtime_error(path + ": " + why); };
-  if (!doc.is_object() || doc.value("version", 0) != 1 || !doc.contains("bodies") || !doc["bodies"].is_array())
+  if (!doc.is_object() || !doc.contains("version") || doc["version"] != 1 || !doc.contains("bodies") ||
+      !doc["bodies"].is_array())
     fail("not a bodies file (expected {\"version\": 1, \"bodies\": [...]})");
   std::vector<RigidBodyDefinition> bodies;
   for (size_t i = 0; i < doc["bodies"].size(); ++i) {

@@ -82,6 +82,7 @@ TEST(BodyDefinition, FileRoundTripAndBadFiles) {
     return std::string("no error");
   };
   EXPECT_NE(write("{\"version\": 2, \"bodies\": []}").find("not a bodies file"), std::string::npos);
+  EXPECT_NE(write("{\"version\": \"1\", \"bodies\": []}").find("not a bodies file"), std::string::npos);
   EXPECT_NE(write("{\"version\": 1, \"bodies\": [{\"name\": \"a\"}]}").find("needs"), std::string::npos);
   EXPECT_NE(write("{\"version\": 1, \"bodies\": [{\"name\": \"a\", \"markers\": [[0,0,0],[1,2]]}]}").find("[x, y, z]"),
             std::string::npos);

@@ -31,9 +31,10 @@ nlohmann::json SessionInfo::ToJson() const {
 }
 
 SessionInfo SessionInfo::FromJson(const nlohmann::json& j) {
-  if (!j.is_object() || j.value("format", "") != "mocap-session")
+  // Compared as JSON values: a field of another type is a wrong value, not a type error.
+  if (!j.is_object() || !j.contains("format") || j["format"] != "mocap-session")
     throw std::runtime_error("not a mocap session description");
-  if (j.value("version", 0) != 1)
+  if (!j.contains("version") || j["version"] != 1)
     throw std::runtime_error("unsupported session version " + j.value("version", nlohmann::json()).dump());
   SessionInfo info;
   try {

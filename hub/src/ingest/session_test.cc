@@ -306,6 +306,11 @@ TEST(Session, BadSessionJsonIsRefusedWithReason) {
   }
   std::ofstream(dir / "session.json") << "not json";
   EXPECT_THROW(reader.Open(dir.string()), std::runtime_error);
+  // Fields of another type than expected are refused the same way, not thrown as type errors.
+  std::ofstream(dir / "session.json") << "{\"format\": 1, \"version\": 1, \"rate_hz\": 100, \"cameras\": [1]}";
+  EXPECT_THROW(reader.Open(dir.string()), std::runtime_error);
+  std::ofstream(dir / "session.json") << "{\"format\": \"mocap-session\", \"version\": \"1\", \"rate_hz\": 100, \"cameras\": [1]}";
+  EXPECT_THROW(reader.Open(dir.string()), std::runtime_error);
   EXPECT_THROW(reader.Open((dir / "missing").string()), std::runtime_error);
 }
 

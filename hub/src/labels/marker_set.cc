@@ -76,7 +76,7 @@ double Number(const nlohmann::json& j, const char* key, const std::string& where
 MarkerSet MarkerSetFromJson(const nlohmann::json& doc, const std::string& source) {
   auto fail = [&](const std::string& why) { throw std::runtime_error(source + ": " + why); };
   if (!doc.is_object() || !doc.contains("version") || !doc["version"].is_number_integer() || doc["version"] != 1 ||
-      doc.value("type", std::string()) != "marker-set")
+      !doc.contains("type") || doc["type"] != "marker-set")
     fail("not a marker set (expected {\"version\": 1, \"type\": \"marker-set\", ...})");
   if (!doc.contains("markers") || !doc["markers"].is_array() || doc["markers"].empty())
     fail("\"markers\" must be a non-empty list");

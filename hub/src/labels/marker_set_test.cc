@@ -84,6 +84,7 @@ TEST(MarkerSetJson, RefusesBadFilesWithAReason) {
   };
   const std::string head = R"({"version": 1, "type": "marker-set", )";
   EXPECT_NE(reason(R"({"version": 2, "type": "marker-set", "markers": [{"name": "a"}]})").find("not a marker set"), std::string::npos);
+  EXPECT_NE(reason(R"({"version": 1, "type": ["marker-set"], "markers": [{"name": "a"}]})").find("not a marker set"), std::string::npos);
   EXPECT_NE(reason(head + R"("markers": []})").find("non-empty"), std::string::npos);
   EXPECT_NE(reason(head + R"("markers": [{"name": "a"}, {"name": "a"}]})").find("twice"), std::string::npos);
   EXPECT_NE(reason(head + R"("markers": [{"name": "a", "mean": [1, 2]}]})").find("mean"), std::string::npos);
