@@ -8,7 +8,7 @@ cluster markers 18-30 mm beside each) through the CLI as a user runs it: `sim ri
 Asserted (issue 15's limits): with the defaults (predictions; contested ones left to the matcher)
 and matching every frame from scratch (--no-predictions): rmse within 1.3x the floor, ghosts <=
 0.02 and missing <= 0.01 per frame, trajectories <= 1.05x markers; and --threads 2 writes the very
-same file as one thread. (Issue 15's 10 swaps is not met: 278.)
+same file as one thread. (Issue 15's 10 swaps is not asserted: it is not met.)
 usage: dense_e2e.py BIN_DIR WORK_DIR DENSE_TRC
 """
 import json

@@ -11,7 +11,9 @@
 namespace mocap {
 
 HindsightSwaps::HindsightSwaps(const HindsightSwapOptions& options, Sink sink)
-    : options_((options.Check(), options)), sink_(std::move(sink)) {}
+    : options_((options.Check(), options)),
+      sink_(std::move(sink)),
+      distances_(options.pair_radius_mm, options.rigid_max_sd_mm, options.rigid_tolerance_mm) {}
 
 namespace {
 
@@ -30,6 +32,27 @@ double Roughness(const Eigen::Vector3d (&a)[N], const Eigen::Vector3d (&b)[N], c
 }
 
 }  // namespace
+
+template <class PositionAt>
+double HindsightSwaps::RigidExcess(size_t i, int from, int to, int skip, PositionAt position_at,
+                                   const std::vector<int>* takes) const {
+  const int num_columns = static_cast<int>(present_.size());
+  double sum = 0.0;
+  for (const SteadyDistances::Neighbour& neighbour : neighbours_[i]) {
+    if (neighbour.column == skip || neighbour.column >= num_columns) continue;
+    // The neighbour's own rows, or those of the column it takes.
+    const int taken = takes != nullptr ? (*takes)[neighbour.column] : -1;
+    const int source = taken >= 0 ? columns_[taken].label : neighbour.column;
+    for (int k = from; k < to; ++k) {
+      const Eigen::Vector3d* position = position_at(k);
+      if (position == nullptr || !(present_[source] >> k & 1)) continue;
+      const Eigen::Vector3d& other =
+          taken >= 0 ? columns_[taken].positions[k] : window_[static_cast<size_t>(k) * num_columns + source];
+      sum += SteadyDistances::Excess(neighbour, (*position - other).norm());
+    }
+  }
+  return options_.rigid_weight * sum;
+}
 
 void HindsightSwaps::Relabel(size_t from_row, size_t to_row, const std::vector<int>& label_of_column) {
   for (size_t r = from_row; r < to_row; ++r) {
@@ -56,8 +79,12 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const int num_columns = static_cast<int>(column_of_marker_.size());
   // present_[column]: one bit per window row holding a sample of the column.
   present_.assign(num_columns, 0);
+  if (window_.size() < static_cast<size_t>(kHeldRows) * num_columns) window_.resize(static_cast<size_t>(kHeldRows) * num_columns);
   for (int k = first; k < kHeldRows; ++k) {
-    for (const TrackSample& sample : rows_[t - kBefore + k].samples) present_[sample.marker] |= 1 << k;
+    for (const TrackSample& sample : rows_[t - kBefore + k].samples) {
+      present_[sample.marker] |= 1 << k;
+      window_[static_cast<size_t>(k) * num_columns + sample.marker] = sample.position;
+    }
   }
   // Joinable columns: present from the first row to t+1 (both second differences at the boundary).
   const int joinable_mask = ((1 << (kBefore + 2)) - 1) & ~((1 << first) - 1);
@@ -80,11 +107,25 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   // Only a column that jumps here can be part of a trade: its second differences at t-1 and t.
   const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
   const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
-  for (Column& column : columns_) {
+  // A column's own rows (nullptr where it has none), and the other's in rows `from_b` says.
+  const auto own = [&](const Column& column) {
+    return [&column, this](int k) -> const Eigen::Vector3d* {
+      return present_[column.label] >> k & 1 ? &column.positions[k] : nullptr;
+    };
+  };
+  neighbours_.resize(columns_.size());
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    Column& column = columns_[i];
     const Eigen::Vector3d* p = column.positions;
     double jump = SquaredSecondDifference(p[kBefore - 1], p[kBefore], p[kBefore + 1]);
     if (before == 2) jump = std::max(jump, SquaredSecondDifference(p[kBefore - 2], p[kBefore - 1], p[kBefore]));
     column.jumps = jump >= 0.25 * min_jump2;
+    distances_.SteadyNeighbours(column.label, &neighbours_[i]);
+    if (neighbours_[i].empty()) continue;
+    const double after = RigidExcess(i, kBefore, kHeldRows, -1, own(column));
+    // Bent: by 2 mm beyond the tolerance over the four rows from the boundary (or 4 mm in one).
+    column.bends = after > 0.0 && after >= options_.rigid_weight * kBentExcess &&
+                   RigidExcess(i, first, kBefore, -1, own(column)) <= 0.25 * after;
   }
   const auto close = [&](const Column& a, const Column& b) {
     return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <= radius2;
@@ -99,18 +140,26 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
     int best_frames = 0;
     for (size_t i = 0; i < columns_.size(); ++i) {
       const Column& a = columns_[i];
-      if (!a.jumps || !a.full || a.used) continue;
+      if (!(a.jumps || a.bends) || !a.full || a.used) continue;
       for (size_t j = 0; j < columns_.size(); ++j) {
         const Column& b = columns_[j];
-        if (j == i || !b.full || b.used || (b.jumps && j < i) || !close(a, b)) continue;
+        if (j == i || !b.full || b.used || ((b.jumps || b.bends) && j < i) || !close(a, b)) continue;
         bool as_is[kHeldRows] = {};
-        const double now = Roughness(a.positions, b.positions, as_is, first) +
-                           Roughness(b.positions, a.positions, as_is, first);
+        const double roughness_now = Roughness(a.positions, b.positions, as_is, first) +
+                                     Roughness(b.positions, a.positions, as_is, first);
         for (int frames = 1; frames <= 2; ++frames) {
           bool traded[kHeldRows] = {};
           for (int k = kBefore; k < kBefore + frames; ++k) traded[k] = true;
+          // Both columns' distances from the boundary on, as they are and traded: a trade back
+          // that leaves the later rows bent is no repair (a trade for good may be).
+          const auto traded_a = [&](int k) { return k < kBefore + frames ? own(b)(k) : own(a)(k); };
+          const auto traded_b = [&](int k) { return k < kBefore + frames ? own(a)(k) : own(b)(k); };
+          const double now = roughness_now + RigidExcess(i, kBefore, kHeldRows, b.label, own(a)) +
+                             RigidExcess(j, kBefore, kHeldRows, a.label, own(b));
           const double then = Roughness(a.positions, b.positions, traded, first) +
-                              Roughness(b.positions, a.positions, traded, first);
+                              Roughness(b.positions, a.positions, traded, first) +
+                              RigidExcess(i, kBefore, kHeldRows, b.label, traded_a) +
+                              RigidExcess(j, kBefore, kHeldRows, a.label, traded_b);
           const double gain = now - then;
           if (then <= options_.improvement * now && gain >= min_jump2 && gain > best_gain) {
             best_gain = gain;
@@ -134,36 +183,62 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   group_.clear();
   for (size_t i = 0; i < columns_.size(); ++i) {
     if (columns_[i].used) continue;
-    bool take = columns_[i].jumps;
+    bool take = columns_[i].jumps || columns_[i].bends;
     for (size_t j = 0; j < columns_.size() && !take; ++j) {
-      take = columns_[j].jumps && !columns_[j].used && close(columns_[i], columns_[j]);
+      take = (columns_[j].jumps || columns_[j].bends) && !columns_[j].used && close(columns_[i], columns_[j]);
     }
     if (take) group_.push_back(static_cast<int>(i));
   }
   if (group_.size() < 2) return;
-  // join(i, j): roughness where column i's past continues into column j's future.
+  // join(i, j): roughness where column i's past continues into column j's future, and how far
+  // that future bends i's steady distances.
   const auto join = [&](const Column& past, const Column& future) {
     const Eigen::Vector3d* p = past.positions;
     const Eigen::Vector3d* f = future.positions;
     if (before == 1) return SquaredSecondDifference(p[kBefore - 1], f[kBefore], f[kBefore + 1]);
     return JoinRoughness(p[kBefore - 2], p[kBefore - 1], f[kBefore], f[kBefore + 1]);
   };
+  // Each entry's distances are judged as if the two traded (exact for pairs; a cycle of three or
+  // more is judged whole below).
   const size_t n = group_.size();
   Eigen::MatrixXd cost(n, n);
+  takes_.assign(num_columns, -1);
   for (size_t r = 0; r < n; ++r) {
     const Column& past = columns_[group_[r]];
     for (size_t c = 0; c < n; ++c) {
       const Column& future = columns_[group_[c]];
-      cost(r, c) = r == c || close(past, future) ? join(past, future) : kForbidden;
+      if (r != c && !close(past, future)) {
+        cost(r, c) = kForbidden;
+        continue;
+      }
+      if (r != c) takes_[future.label] = group_[r];
+      cost(r, c) = join(past, future) + RigidExcess(group_[r], kBefore, kHeldRows, -1, own(future), &takes_);
+      takes_[future.label] = -1;
     }
   }
   item_labels_.clear();
   for (int i : group_) item_labels_.push_back(columns_[i].label);
+  // The solver saw each future's distances to its neighbours as they are; a cycle is judged by
+  // the distances with all its members traded (clusters of three trading all round).
+  const auto judge = [&](const std::vector<size_t>& cycle, const std::vector<int>& chosen, double* as_is,
+                         double* then) {
+    *as_is = *then = 0.0;
+    for (size_t k : cycle) {
+      *as_is += cost(k, k);  // exact: every neighbour in its own rows
+      takes_[columns_[group_[k]].label] = group_[chosen[k]];
+    }
+    for (size_t k : cycle) {
+      const Column& future = columns_[group_[chosen[k]]];
+      *then += join(columns_[group_[k]], future) +
+               RigidExcess(group_[k], kBefore, kHeldRows, -1, own(future), &takes_);
+    }
+    for (size_t k : cycle) takes_[columns_[group_[k]].label] = -1;
+  };
   identity();
-  if (AcceptCycles(cost, &label) > 0) RelabelForGood(t, label);
+  if (AcceptCycles(cost, &label, judge) > 0) RelabelForGood(t, label);
 }
 
-int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label) {
+int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label, const CycleJudge& judge) {
   const std::vector<int> chosen = SolveAssignment(cost, 0.5 * kForbidden);
   // Every item is assigned: the identity is always allowed and the solver takes the most pairs.
   if (std::find(chosen.begin(), chosen.end(), -1) != chosen.end()) return 0;
@@ -174,13 +249,16 @@ int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* 
   for (size_t r = 0; r < n; ++r) {
     if (seen[r] || chosen[r] == static_cast<int>(r)) continue;
     double as_is = 0.0, then = 0.0;
+    cycle_.clear();
     size_t k = r;
     do {
       seen[k] = 1;
+      cycle_.push_back(k);
       as_is += cost(k, k);
       then += cost(k, chosen[k]);
       k = static_cast<size_t>(chosen[k]);
     } while (k != r);
+    if (judge) judge(cycle_, chosen, &as_is, &then);
     if (then > options_.improvement * as_is || as_is - then < min_jump2) continue;
     k = r;
     do {
@@ -195,6 +273,7 @@ int HindsightSwaps::AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* 
 
 void HindsightSwaps::Emit(size_t rows) {
   for (size_t r = 0; r < rows && !rows_.empty(); ++r) {
+    if (options_.enabled) distances_.Learn(rows_.front().frame_number, rows_.front().samples);
     sink_(rows_.front().frame_number, rows_.front().samples);
     last_sent_ = rows_.front().frame_number;
     sent_any_ = true;

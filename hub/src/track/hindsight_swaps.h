@@ -4,7 +4,11 @@
 // no limb makes between two frames. With the frames after a trade in hand the choice is easy:
 // for each pair of close markers, the trade that makes both trajectories smoothest (none, the
 // pair traded for one or two frames, or for good from here on) is undone when it removes most of
-// their acceleration. Rows are held back `kHeldRows` frames; memory is bounded by them.
+// their acceleration. Rigid clusters weigh more than smoothness: the distances each column kept
+// to its close neighbours (track/steady_distances.h, learned from the rows emitted) must hold in
+// the judged rows, so a labelling that bends a cluster is traded even where it is smooth, and one
+// that keeps it is kept even where a marker seems to jump. Rows are held back `kHeldRows` frames;
+// memory is bounded by them and by the pairs of columns that came close.
 // Single-threaded; never throws on data.
 #pragma once
 
@@ -13,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "track/steady_distances.h"
 #include "track/track_options.h"
 #include "track/tracker.h"
 
@@ -47,6 +52,7 @@ class HindsightSwaps {
     int label = 0;
     bool full = false;   // present in every row of the window
     bool jumps = false;  // accelerates across the boundary by more than noise does
+    bool bends = false;  // keeps its steady distances before the boundary and not after it
     bool used = false;   // already part of a trade undone at this boundary
     Eigen::Vector3d positions[kHeldRows];  // by window row (row t at index kBefore)
   };
@@ -63,12 +69,22 @@ class HindsightSwaps {
   // The optimal assignment of `cost` (rows: items, each column the item whose data would join it;
   // the identity always allowed): each of its cycles that removes most of the identity's cost is
   // accepted, label[item_labels_[column]] = item_labels_[row]. Returns the cycles accepted.
-  int AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label);
+  // `judge`, when given, costs each cycle instead (items as they are, and taking what chosen says).
+  using CycleJudge = std::function<void(const std::vector<size_t>& cycle, const std::vector<int>& chosen,
+                                        double* as_is, double* then)>;
+  int AcceptCycles(const Eigen::MatrixXd& cost, std::vector<int>* label, const CycleJudge& judge = nullptr);
   // Samples of rows [from_row, to_row) take label_of_column[their column].
   void Relabel(size_t from_row, size_t to_row, const std::vector<int>& label_of_column);
   // From from_row on, for the rows held and every later sample.
   void RelabelForGood(size_t from_row, const std::vector<int>& label_of_column);
   void Emit(size_t rows);
+  // Squared excess over the steady distances of columns_[i]'s neighbours (but `skip`) in window
+  // rows [from, to) where its marker would be at position_at(k) (nullptr: absent), weighted
+  // by options_.rigid_weight. takes[column] (when given, by column): the columns_ index whose
+  // rows a neighbour takes (-1: its own).
+  template <class PositionAt>
+  double RigidExcess(size_t i, int from, int to, int skip, PositionAt position_at,
+                     const std::vector<int>* takes = nullptr) const;
 
   HindsightSwapOptions options_;
   Sink sink_;
@@ -79,12 +95,18 @@ class HindsightSwaps {
   bool started_ = false;  // the first rows after the data's start (or a pause) were judged
   long long swaps_undone_ = 0;
   std::vector<TrackSample> late_;
+  SteadyDistances distances_;
   // JudgeBoundary's scratch.
   std::vector<int> present_, index_;  // by column
+  std::vector<Eigen::Vector3d> window_;  // [k * columns + column]: valid where present_ says
   std::vector<Column> columns_;
+  std::vector<std::vector<SteadyDistances::Neighbour>> neighbours_;  // by columns_ index
   std::vector<int> group_;
   std::vector<int> item_labels_;  // AcceptCycles' items' labels
+  std::vector<size_t> cycle_;     // AcceptCycles' scratch
+  std::vector<int> takes_;        // by column, the judge's
   static constexpr double kForbidden = 1e30;
+  static constexpr double kBentExcess = 16.0;  // mm^2, unweighted
 };
 
 }  // namespace mocap

@@ -1,5 +1,5 @@
 // Hindsight swap repair: trades of one, two frames and for good are undone; markers that pass
-// close by, noise and late samples are left as they are.
+// close by, noise and late samples are left as they are; rigid clusters keep their shape.
 #include "track/hindsight_swaps.h"
 
 #include <map>
@@ -177,6 +177,80 @@ TEST(HindsightSwaps, AMarkerThatJumpsAloneKeepsItsSamples) {
       EXPECT_EQ(offset.norm() > 1.0, glitch) << frame << " " << marker;
     }
   }
+}
+
+// A rigid cluster: a base marker and two 18.6 and 27.8 mm from it, 90 degrees apart, on a
+// curving path. From frame `flip` on the cluster is turned over in one frame (the two outer markers'
+// directions exchange): each marker keeps its distances, and its nearest point in the next frame
+// is the other outer marker's (a trade, to smoothness alone). `traded(f)` gives the tracker's
+// columns 1 and 2 each other's points. Returns what each column misses its own marker by.
+template <typename Traded>
+Output RunFlippingCluster(const HindsightSwapOptions& options, int frames, int flip, Traded traded,
+                          long long* undone) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  const auto at = [&](int marker, int f) {
+    const Eigen::Vector3d base(5.0 * f + 0.02 * f * f, 100.0 + 20.0 * std::sin(f / 20.0), 0.0);
+    const double phi = 0.02 * f;
+    const Eigen::Vector3d u1(std::cos(phi), std::sin(phi), 0.0), u2(-std::sin(phi), std::cos(phi), 0.0);
+    const bool flipped = f >= flip;
+    if (marker == 0) return base;
+    if (marker == 1) return Eigen::Vector3d(base + 18.6 * (flipped ? u2 : u1));
+    return Eigen::Vector3d(base + 27.8 * (flipped ? u1 : u2));
+  };
+  Output out;
+  HindsightSwaps repair(options, [&](uint64_t, const std::vector<TrackSample>& row) {
+    for (const TrackSample& s : row) out[s.frame_number][s.marker] = s.position;
+  });
+  for (int f = 0; f < frames; ++f) {
+    std::vector<TrackSample> samples;
+    for (int marker = 0; marker < 3; ++marker) {
+      TrackSample s;
+      s.marker = marker == 0 || !traded(f) ? marker : 3 - marker;
+      s.frame_number = static_cast<uint64_t>(f);
+      s.position = at(marker, f) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      samples.push_back(s);
+    }
+    repair.Add(static_cast<uint64_t>(f), samples);
+  }
+  repair.Finish();
+  *undone = repair.swaps_undone();
+  for (auto& [frame, columns] : out) {
+    for (auto& [marker, position] : columns) position -= at(marker, static_cast<int>(frame));
+  }
+  return out;
+}
+
+void ExpectOwnMarkers(const Output& miss, int frames) {
+  ASSERT_EQ(miss.size(), static_cast<size_t>(frames));
+  for (const auto& [frame, columns] : miss) {
+    for (const auto& [marker, offset] : columns) EXPECT_LT(offset.norm(), 2.0) << frame << " " << marker;
+  }
+}
+
+TEST(HindsightSwaps, RigidClusterKeepsItsLabelsWhereItsMarkersJump) {
+  long long undone = 0;
+  const auto as_tracked = [](int) { return false; };
+  ExpectOwnMarkers(RunFlippingCluster(HindsightSwapOptions(), 140, 90, as_tracked, &undone), 140);
+  EXPECT_EQ(undone, 0);
+  // Smoothness alone trades them: the scene tells the two apart.
+  HindsightSwapOptions smooth_only;
+  smooth_only.rigid_weight = 0.0;
+  const Output miss = RunFlippingCluster(smooth_only, 140, 90, as_tracked, &undone);
+  EXPECT_EQ(undone, 1);
+  EXPECT_GT(miss.at(100).at(1).norm(), 5.0);
+}
+
+TEST(HindsightSwaps, SmoothTradeThatBendsARigidClusterIsUndone) {
+  long long undone = 0;
+  const auto smooth = [](int f) { return f >= 90; };  // the tracker followed the nearest points
+  ExpectOwnMarkers(RunFlippingCluster(HindsightSwapOptions(), 140, 90, smooth, &undone), 140);
+  EXPECT_EQ(undone, 1);
+  HindsightSwapOptions smooth_only;
+  smooth_only.rigid_weight = 0.0;
+  const Output miss = RunFlippingCluster(smooth_only, 140, 90, smooth, &undone);
+  EXPECT_EQ(undone, 0);
+  EXPECT_GT(miss.at(100).at(1).norm(), 5.0);
 }
 
 TEST(HindsightSwaps, LateSamplesAndPausesPassThrough) {

@@ -66,6 +66,9 @@ void HindsightSwapOptions::Check() const {
   Require(pair_radius_mm > 0.0, "hindsight_swaps.pair_radius_mm must be > 0");
   Require(improvement > 0.0 && improvement < 1.0, "hindsight_swaps.improvement must be in (0, 1)");
   Require(min_jump_mm >= 0.0, "hindsight_swaps.min_jump_mm must be >= 0");
+  Require(rigid_max_sd_mm > 0.0, "hindsight_swaps.rigid_max_sd_mm must be > 0");
+  Require(rigid_tolerance_mm > 0.0, "hindsight_swaps.rigid_tolerance_mm must be > 0");
+  Require(rigid_weight >= 0.0, "hindsight_swaps.rigid_weight must be >= 0");
 }
 
 void GapFillOptions::Check() const {
