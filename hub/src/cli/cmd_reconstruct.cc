@@ -229,7 +229,9 @@ void RunReconstruct(ReconstructArgs args) {
   hindsight.Add(last_frame, samples);
   hindsight.Finish();
   filler.Finish();
-  spill.Finish(tracker.NumMarkers());
+  // Hindsight issues the output columns (a new track continuing a lost marker takes its column).
+  const int columns = args.hindsight.enabled ? hindsight.num_columns() : tracker.NumMarkers();
+  spill.Finish(columns);
   if (!args.labels.empty()) AddLabels(args);
   if (live_bodies) {
     live_bodies->Finish(args, info.rate_hz);
@@ -242,12 +244,13 @@ void RunReconstruct(ReconstructArgs args) {
   const TrackerStats& ts = tracker.stats();
   std::printf(
       "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
-      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld swaps undone in hindsight, %lld rigid-model and "
-      "%lld spline samples (matcher %s)\n",
-      args.output.c_str(), done, tracker.NumMarkers(),
+      "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld swaps undone in hindsight, %lld tracks joined to the marker they "
+      "continue, %lld rigid-model and %lld spline samples (matcher %s)\n",
+      args.output.c_str(), done, columns,
       static_cast<double>(rs.points) / static_cast<double>(done),
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
-      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, hindsight.swaps_undone(), ts.predicted_samples, filler.filled_samples(),
+      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, hindsight.swaps_undone(),
+      hindsight.columns_joined(), ts.predicted_samples, filler.filled_samples(),
       args.matcher.c_str());
   const SessionReadStats& read = reader.stats();
   if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {

@@ -62,7 +62,15 @@ void HindsightSwaps::Relabel(size_t from_row, size_t to_row, const std::vector<i
 
 void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& label_of_column) {
   Relabel(from_row, rows_.size(), label_of_column);
-  for (int& column : column_of_marker_) column = label_of_column[column];
+  for (int& column : column_of_marker_) {
+    if (column >= 0) column = label_of_column[column];
+  }
+  const std::vector<uint64_t> last_frame = last_frame_of_column_;
+  const std::vector<Eigen::Vector3d> last_position = last_position_of_column_;
+  for (size_t column = 0; column < label_of_column.size(); ++column) {
+    last_frame_of_column_[label_of_column[column]] = last_frame[column];
+    last_position_of_column_[label_of_column[column]] = last_position[column];
+  }
 }
 
 // The window holds rows t-kBefore ... t+kAfter (at the start of the data only t-1 on: `before`
@@ -76,7 +84,7 @@ void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& lab
 void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const int first = kBefore - before;  // window index of the first row held
   // Every sample's column is one of the columns issued so far.
-  const int num_columns = static_cast<int>(column_of_marker_.size());
+  const int num_columns = static_cast<int>(last_frame_of_column_.size());
   // present_[column]: one bit per window row holding a sample of the column.
   present_.assign(num_columns, 0);
   if (window_.size() < static_cast<size_t>(kHeldRows) * num_columns) window_.resize(static_cast<size_t>(kHeldRows) * num_columns);
@@ -130,7 +138,7 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const auto close = [&](const Column& a, const Column& b) {
     return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <= radius2;
   };
-  std::vector<int> label(column_of_marker_.size());
+  std::vector<int> label(last_frame_of_column_.size());
   const auto identity = [&]() { std::iota(label.begin(), label.end(), 0); };
 
   // 1. Short trades.
@@ -281,6 +289,85 @@ void HindsightSwaps::Emit(size_t rows) {
   }
 }
 
+int HindsightSwaps::IssueColumn() {
+  last_frame_of_column_.push_back(kNever);
+  last_position_of_column_.emplace_back(Eigen::Vector3d::Zero());
+  return static_cast<int>(last_frame_of_column_.size()) - 1;
+}
+
+void HindsightSwaps::Place(int column, TrackSample sample) {
+  if (last_frame_of_column_[column] == kNever || sample.frame_number > last_frame_of_column_[column]) {
+    last_frame_of_column_[column] = sample.frame_number;
+    last_position_of_column_[column] = sample.position;
+  }
+  sample.marker = column;
+  if (sample.frame_number < rows_.front().frame_number || sample.frame_number > rows_.back().frame_number) {
+    late_.push_back(sample);
+  } else {
+    rows_[sample.frame_number - rows_.front().frame_number].samples.push_back(sample);
+  }
+}
+
+// A new marker continues a column lost at most kJoinFrames before its first sample, within
+// pair_radius_mm of where it was last, when its samples in the held rows keep that column's
+// steady distances to at least two neighbours (all within tolerance): a cluster's marker found
+// again, as a new track of the tracker after a jump it could not follow. The column that fits
+// best is taken; otherwise a new one is issued.
+int HindsightSwaps::ColumnForNewMarker(int marker, const std::vector<TrackSample>& samples) {
+  if (options_.rigid_weight <= 0.0 || rows_.empty()) return IssueColumn();
+  uint64_t first_frame = 0;
+  const TrackSample* first = nullptr;
+  for (const TrackSample& sample : samples) {
+    if (sample.marker == marker && (first == nullptr || sample.frame_number < first_frame)) {
+      first = &sample;
+      first_frame = sample.frame_number;
+    }
+  }
+  const auto row_of = [&](uint64_t frame) -> const Row* {
+    if (frame < rows_.front().frame_number || frame > rows_.back().frame_number) return nullptr;
+    return &rows_[frame - rows_.front().frame_number];
+  };
+  int best = -1;
+  double best_deviation = 0.0;
+  std::vector<SteadyDistances::Neighbour> neighbours;
+  for (int column = 0; column < static_cast<int>(last_frame_of_column_.size()); ++column) {
+    const uint64_t last = last_frame_of_column_[column];
+    if (last == kNever || last >= first_frame || first_frame - last > kJoinFrames) continue;
+    if ((first->position - last_position_of_column_[column]).norm() > options_.pair_radius_mm) continue;
+    distances_.SteadyNeighbours(column, &neighbours);
+    std::vector<char> neighbour_seen(neighbours.size(), 0);
+    double deviation = 0.0;
+    int checks = 0;
+    bool fits = true;
+    for (const TrackSample& sample : samples) {
+      if (sample.marker != marker || !fits) continue;
+      const Row* row = row_of(sample.frame_number);
+      if (row == nullptr) continue;
+      for (size_t k = 0; k < neighbours.size() && fits; ++k) {
+        for (const TrackSample& other : row->samples) {
+          if (other.marker != neighbours[k].column) continue;
+          const double distance = (sample.position - other.position).norm();
+          fits = SteadyDistances::Excess(neighbours[k], distance) == 0.0;
+          deviation += std::abs(distance - neighbours[k].mean_mm);
+          ++checks;
+          neighbour_seen[k] = 1;
+          break;
+        }
+      }
+    }
+    const int distinct = static_cast<int>(std::count(neighbour_seen.begin(), neighbour_seen.end(), 1));
+    if (!fits || distinct < 2) continue;
+    deviation /= checks;
+    if (best < 0 || deviation < best_deviation) {
+      best = column;
+      best_deviation = deviation;
+    }
+  }
+  if (best < 0) return IssueColumn();
+  ++columns_joined_;
+  return best;
+}
+
 void HindsightSwaps::Add(uint64_t frame_number, const std::vector<TrackSample>& samples) {
   if (!options_.enabled) {
     sink_(frame_number, samples);
@@ -290,18 +377,29 @@ void HindsightSwaps::Add(uint64_t frame_number, const std::vector<TrackSample>& 
   if (!rows_.empty() && frame_number > rows_.back().frame_number + 1) Finish();
   if (rows_.empty() || frame_number > rows_.back().frame_number) rows_.push_back({frame_number, {}});
   late_.clear();
-  for (TrackSample sample : samples) {
-    if (sample.marker >= static_cast<int>(column_of_marker_.size())) {
-      // New markers take their own number as their column (no column beyond them was issued).
-      const int first_new = static_cast<int>(column_of_marker_.size());
-      column_of_marker_.resize(sample.marker + 1);
-      std::iota(column_of_marker_.begin() + first_new, column_of_marker_.end(), first_new);
+  // Samples of markers with a column first, then new markers: a column of their own or that of a
+  // marker lost just before whose cluster they fit (ColumnForNewMarker, which looks at the rows).
+  for (const TrackSample& sample : samples) {
+    if (sample.marker >= static_cast<int>(column_of_marker_.size())) column_of_marker_.resize(sample.marker + 1, -1);
+  }
+  new_markers_.clear();
+  for (const TrackSample& sample : samples) {
+    const int column = column_of_marker_[sample.marker];
+    if (column < 0) {
+      new_markers_.push_back(sample.marker);
+      continue;
     }
-    sample.marker = column_of_marker_[sample.marker];
-    if (sample.frame_number < rows_.front().frame_number || sample.frame_number > rows_.back().frame_number) {
-      late_.push_back(sample);
-    } else {
-      rows_[sample.frame_number - rows_.front().frame_number].samples.push_back(sample);
+    // A marker lost and continued by another comes back: it takes a column of its own.
+    if (last_frame_of_column_[column] == sample.frame_number) column_of_marker_[sample.marker] = IssueColumn();
+    Place(column_of_marker_[sample.marker], sample);
+  }
+  // In the tracker's order: without joins every marker's column is its own number.
+  std::sort(new_markers_.begin(), new_markers_.end());
+  new_markers_.erase(std::unique(new_markers_.begin(), new_markers_.end()), new_markers_.end());
+  for (int marker : new_markers_) column_of_marker_[marker] = ColumnForNewMarker(marker, samples);
+  for (const TrackSample& sample : samples) {
+    if (std::binary_search(new_markers_.begin(), new_markers_.end(), sample.marker)) {
+      Place(column_of_marker_[sample.marker], sample);
     }
   }
   if (!late_.empty()) sink_(sent_any_ ? last_sent_ : frame_number, late_);
@@ -330,12 +428,12 @@ void HindsightSwaps::Finish() {
 void HindsightSwaps::LabelStartBackward() {
   // index[k][column]: the column's sample in rows_[t + k].samples (-1: none), rows t, t+1, t+2.
   const auto index_row = [&](const Row& row, std::vector<int>* index) {
-    index->assign(column_of_marker_.size(), -1);
+    index->assign(last_frame_of_column_.size(), -1);
     for (size_t i = 0; i < row.samples.size(); ++i) (*index)[row.samples[i].marker] = static_cast<int>(i);
   };
   const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
   std::vector<int> index[3];
-  std::vector<int> label(column_of_marker_.size());
+  std::vector<int> label(last_frame_of_column_.size());
   std::vector<Eigen::Vector3d> predicted, measured;
   std::vector<char> has_prediction, has_sample;
   for (size_t t = rows_.size() - 2; t-- > 0;) {
@@ -346,7 +444,7 @@ void HindsightSwaps::LabelStartBackward() {
     measured.clear();
     has_prediction.clear();
     has_sample.clear();
-    for (size_t c = 0; c < column_of_marker_.size(); ++c) {
+    for (size_t c = 0; c < last_frame_of_column_.size(); ++c) {
       const bool prediction = index[1][c] >= 0 && index[2][c] >= 0;
       const bool sample = index[0][c] >= 0;
       if (!prediction && !sample) continue;

@@ -38,6 +38,10 @@ class HindsightSwaps {
   void Finish();
 
   long long swaps_undone() const { return swaps_undone_; }
+  // New markers of the tracker that continue a lost column (its cluster's distances fit).
+  long long columns_joined() const { return columns_joined_; }
+  // Output columns issued (when enabled; otherwise the tracker's markers pass through).
+  int num_columns() const { return static_cast<int>(last_frame_of_column_.size()); }
 
  private:
   struct Row {
@@ -78,6 +82,9 @@ class HindsightSwaps {
   // From from_row on, for the rows held and every later sample.
   void RelabelForGood(size_t from_row, const std::vector<int>& label_of_column);
   void Emit(size_t rows);
+  int IssueColumn();
+  void Place(int column, TrackSample sample);
+  int ColumnForNewMarker(int marker, const std::vector<TrackSample>& samples);
   // Squared excess over the steady distances of columns_[i]'s neighbours (but `skip`) in window
   // rows [from, to) where its marker would be at position_at(k) (nullptr: absent), weighted
   // by options_.rigid_weight. takes[column] (when given, by column): the columns_ index whose
@@ -89,7 +96,14 @@ class HindsightSwaps {
   HindsightSwapOptions options_;
   Sink sink_;
   std::deque<Row> rows_;
-  std::vector<int> column_of_marker_;  // the tracker's marker -> output column
+  std::vector<int> column_of_marker_;  // the tracker's marker -> output column (-1: none yet)
+  // By column (their count is the columns issued): the last frame placed and its position.
+  static constexpr uint64_t kNever = ~uint64_t{0};
+  static constexpr uint64_t kJoinFrames = 12;
+  std::vector<uint64_t> last_frame_of_column_;
+  std::vector<Eigen::Vector3d> last_position_of_column_;
+  std::vector<int> new_markers_;  // Add's scratch
+  long long columns_joined_ = 0;
   uint64_t last_sent_ = 0;
   bool sent_any_ = false;
   bool started_ = false;  // the first rows after the data's start (or a pause) were judged

@@ -253,6 +253,86 @@ TEST(HindsightSwaps, SmoothTradeThatBendsARigidClusterIsUndone) {
   EXPECT_GT(miss.at(100).at(1).norm(), 5.0);
 }
 
+// A rigid cluster of three markers (0 the base, 1 and 2 at 18.6 and 27.8 mm) whose marker 1's
+// track is lost after frame 59; the tracker's new marker 3 takes it up from frame 62, confirmed
+// at 64 with its first frames back-filled. `offset` is added to marker 3's points; `comeback`:
+// the lost track is found again at frame 80 while marker 3 goes on.
+struct JoinRun {
+  std::map<uint64_t, std::map<int, Eigen::Vector3d>> out;  // frame -> column -> miss
+  long long joined = 0;
+};
+
+JoinRun RunLostMarker(const Eigen::Vector3d& offset, bool comeback) {
+  const auto at = [](int marker, int f) {
+    const Eigen::Vector3d base(4.0 * f, 100.0 + 15.0 * std::sin(f / 25.0), 0.0);
+    const double phi = 0.01 * f;
+    if (marker == 0) return base;
+    if (marker == 1) return Eigen::Vector3d(base + 18.6 * Eigen::Vector3d(std::cos(phi), std::sin(phi), 0.0));
+    return Eigen::Vector3d(base + 27.8 * Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0));
+  };
+  JoinRun run;
+  // Which true marker each of the tracker's markers follows.
+  std::map<int, int> true_of_column;
+  HindsightSwaps repair(HindsightSwapOptions(), [&](uint64_t, const std::vector<TrackSample>& row) {
+    for (const TrackSample& s : row) {
+      EXPECT_EQ(run.out[s.frame_number].count(s.marker), 0u) << "frame " << s.frame_number;
+      run.out[s.frame_number][s.marker] = s.position;
+    }
+  });
+  const auto sample = [&](int tracker_marker, int true_marker, int f) {
+    TrackSample s;
+    s.marker = tracker_marker;
+    s.frame_number = static_cast<uint64_t>(f);
+    s.position = at(true_marker, f) + (tracker_marker == 3 ? offset : Eigen::Vector3d::Zero());
+    return s;
+  };
+  for (int f = 0; f < 120; ++f) {
+    std::vector<TrackSample> samples{sample(0, 0, f), sample(2, 2, f)};
+    if (f < 60 || (comeback && f >= 80)) samples.push_back(sample(1, 1, f));
+    if (f == 64) {
+      for (int back = 62; back <= 64; ++back) samples.push_back(sample(3, 1, back));
+    } else if (f > 64) {
+      samples.push_back(sample(3, 1, f));
+    }
+    repair.Add(static_cast<uint64_t>(f), samples);
+  }
+  repair.Finish();
+  run.joined = repair.columns_joined();
+  for (auto& [frame, columns] : run.out) {
+    for (auto& [column, position] : columns) {
+      // Columns 0-2 are the markers'; a new column follows marker 1.
+      position -= at(column <= 2 ? column : 1, static_cast<int>(frame));
+    }
+  }
+  return run;
+}
+
+TEST(HindsightSwaps, NewTrackThatFitsALostMarkersClusterContinuesItsColumn) {
+  const JoinRun run = RunLostMarker(Eigen::Vector3d::Zero(), false);
+  EXPECT_EQ(run.joined, 1);
+  for (const auto& [frame, columns] : run.out) {
+    EXPECT_EQ(columns.size(), frame >= 60 && frame < 62 ? 2u : 3u) << frame;
+    for (const auto& [column, miss] : columns) {
+      EXPECT_LE(column, 2) << frame;
+      EXPECT_LT(miss.norm(), 1e-9) << frame << " " << column;
+    }
+  }
+}
+
+TEST(HindsightSwaps, NewTrackThatBendsTheClusterGetsItsOwnColumn) {
+  const JoinRun run = RunLostMarker(Eigen::Vector3d(0.0, 0.0, 25.0), false);
+  EXPECT_EQ(run.joined, 0);
+  EXPECT_EQ(run.out.at(70).count(1), 0u);
+  EXPECT_EQ(run.out.at(70).count(3), 1u);
+}
+
+TEST(HindsightSwaps, LostTrackFoundAgainAfterAJoinTakesAColumnOfItsOwn) {
+  const JoinRun run = RunLostMarker(Eigen::Vector3d::Zero(), true);  // the sink checks duplicates
+  EXPECT_EQ(run.joined, 1);
+  EXPECT_EQ(run.out.at(90).size(), 4u);
+  EXPECT_EQ(run.out.at(90).count(3), 1u);
+}
+
 TEST(HindsightSwaps, LateSamplesAndPausesPassThrough) {
   std::map<uint64_t, int> samples_of_frame;
   uint64_t last_sent = 0;

@@ -47,7 +47,7 @@ class SteadyDistances {
 
   size_t num_pairs() const { return pairs_.size(); }
 
-  static constexpr int kMinSamples = 30;
+  static constexpr int kMinSamples = 10;
   static constexpr int kMaxStrays = 30;
   static constexpr int kMaxDrift = 3;
   static constexpr uint64_t kForgetFrames = 1000;

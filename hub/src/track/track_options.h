@@ -69,7 +69,7 @@ struct HindsightSwapOptions {
   // min_jump_mm squared: noise never triggers it.
   double improvement = 0.25;
   double min_jump_mm = 6.0;
-  // Steady distances (standard deviation at most rigid_max_sd_mm over 30 frames, deviations
+  // Steady distances (standard deviation at most rigid_max_sd_mm over 10 frames, deviations
   // within max(rigid_tolerance_mm, 4 sd) are noise) are judged with squared excesses weighted by
   // rigid_weight against the squared accelerations: a few mm of bending outweighs any jump.
   double rigid_max_sd_mm = 1.5;
