@@ -63,7 +63,7 @@ void HindsightSwaps::Relabel(size_t from_row, size_t to_row, const std::vector<i
 void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& label_of_column) {
   Relabel(from_row, rows_.size(), label_of_column);
   for (int& column : column_of_marker_) {
-    if (column >= 0) column = label_of_column[column];
+    if (column >= 0) column = label_of_column[column];  // not kNoColumn, kColumnGivenAway
   }
   const std::vector<uint64_t> last_frame = last_frame_of_column_;
   const std::vector<Eigen::Vector3d> last_position = last_position_of_column_;
@@ -115,7 +115,7 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   // Only a column that jumps here can be part of a trade: its second differences at t-1 and t.
   const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
   const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
-  // A column's own rows (nullptr where it has none), and the other's in rows `from_b` says.
+  // A column's position in window row k (nullptr where it has none).
   const auto own = [&](const Column& column) {
     return [&column, this](int k) -> const Eigen::Vector3d* {
       return present_[column.label] >> k & 1 ? &column.positions[k] : nullptr;
@@ -198,8 +198,7 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
     if (take) group_.push_back(static_cast<int>(i));
   }
   if (group_.size() < 2) return;
-  // join(i, j): roughness where column i's past continues into column j's future, and how far
-  // that future bends i's steady distances.
+  // join(i, j): roughness where column i's past continues into column j's future.
   const auto join = [&](const Column& past, const Column& future) {
     const Eigen::Vector3d* p = past.positions;
     const Eigen::Vector3d* f = future.positions;
@@ -365,6 +364,10 @@ int HindsightSwaps::ColumnForNewMarker(int marker, const std::vector<TrackSample
   }
   if (best < 0) return IssueColumn();
   ++columns_joined_;
+  // The marker that held the column, if the tracker finds it again, takes a column of its own.
+  for (int& column : column_of_marker_) {
+    if (column == best) column = kColumnGivenAway;
+  }
   return best;
 }
 
@@ -380,18 +383,19 @@ void HindsightSwaps::Add(uint64_t frame_number, const std::vector<TrackSample>& 
   // Samples of markers with a column first, then new markers: a column of their own or that of a
   // marker lost just before whose cluster they fit (ColumnForNewMarker, which looks at the rows).
   for (const TrackSample& sample : samples) {
-    if (sample.marker >= static_cast<int>(column_of_marker_.size())) column_of_marker_.resize(sample.marker + 1, -1);
+    if (sample.marker >= static_cast<int>(column_of_marker_.size())) {
+      column_of_marker_.resize(sample.marker + 1, kNoColumn);
+    }
   }
   new_markers_.clear();
   for (const TrackSample& sample : samples) {
-    const int column = column_of_marker_[sample.marker];
-    if (column < 0) {
+    int& column = column_of_marker_[sample.marker];
+    if (column == kNoColumn) {
       new_markers_.push_back(sample.marker);
       continue;
     }
-    // A marker lost and continued by another comes back: it takes a column of its own.
-    if (last_frame_of_column_[column] == sample.frame_number) column_of_marker_[sample.marker] = IssueColumn();
-    Place(column_of_marker_[sample.marker], sample);
+    if (column == kColumnGivenAway) column = IssueColumn();  // found again after its column went on
+    Place(column, sample);
   }
   // In the tracker's order: without joins every marker's column is its own number.
   std::sort(new_markers_.begin(), new_markers_.end());

@@ -96,7 +96,10 @@ class HindsightSwaps {
   HindsightSwapOptions options_;
   Sink sink_;
   std::deque<Row> rows_;
-  std::vector<int> column_of_marker_;  // the tracker's marker -> output column (-1: none yet)
+  // The tracker's marker -> output column, or one of:
+  static constexpr int kNoColumn = -1;         // not seen yet
+  static constexpr int kColumnGivenAway = -2;  // lost, and its column continued by a new marker
+  std::vector<int> column_of_marker_;
   // By column (their count is the columns issued): the last frame placed and its position.
   static constexpr uint64_t kNever = ~uint64_t{0};
   static constexpr uint64_t kJoinFrames = 12;
