@@ -13,7 +13,8 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   Grid& grid = grids_[camera];
   const int begin = views.camera_begin[camera], end = views.camera_begin[camera + 1];
   const int count = end - begin;
-  grid.entries.resize(count);
+  grid.entries.resize(count + 1);
+  grid.entries[count].cell = -1;
   if (count == 0) return;
   Eigen::Vector2d low = views.observations[begin].normalized, high = low;
   for (int o = begin + 1; o < end; ++o) {
@@ -41,26 +42,28 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
     grid.stamp = 1;
   }
   if (grid.cells.size() < cells) grid.cells.resize(cells);
-  grid.cell_of_entry.resize(count);
+  grid.cell_and_rank.resize(count);
   for (int o = begin; o < end; ++o) {
     const Eigen::Vector2d& p = views.observations[o].normalized;
     const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
     const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
     const int k = row * grid.cols + col;
-    grid.cell_of_entry[o - begin] = k;
     Cell& cell = grid.cells[k];
-    if (cell.stamp != grid.stamp) cell = {grid.stamp, -1, 0, 0};
-    ++cell.count;
+    if (cell.stamp != grid.stamp) cell = {grid.stamp, 0};
+    grid.cell_and_rank[o - begin] = {k, cell.begin++};
   }
-  // Ranges in the order cells are first met, each blob placed at its cell's cursor.
+  // Ranges in the order cells are first met (at their blob of rank 0, which holds the count
+  // until then), each blob placed at its rank in its cell's range.
   int next = 0;
   for (int i = 0; i < count; ++i) {
-    Cell& cell = grid.cells[grid.cell_of_entry[i]];
-    if (cell.begin < 0) {
-      cell.begin = cell.fill = next;
-      next += cell.count;
+    const auto [k, rank] = grid.cell_and_rank[i];
+    Cell& cell = grid.cells[k];
+    if (rank == 0) {
+      const int blobs = cell.begin;
+      cell.begin = next;
+      next += blobs;
     }
-    grid.entries[cell.fill++] = {views.observations[begin + i].normalized, begin + i};
+    grid.entries[cell.begin + rank] = {views.observations[begin + i].normalized, begin + i, k};
   }
 }
 

@@ -42,16 +42,16 @@ class BlobIndex {
   struct Entry {
     Eigen::Vector2d normalized;
     int observation;
+    int cell;  // its cell's number: a cell's entries run while it is the same
   };
-  // A cell of the current build holds entries [begin, begin + count); a cell whose stamp is not
-  // the grid's holds none (it was filled by an earlier build, or never), so a build writes only
-  // the cells its blobs fall in and never clears the others (at 64 cameras clearing every cell
-  // cost more than the blobs).
+  // A cell of the current build holds the entries from `begin` on that carry its number; a cell
+  // whose stamp is not the grid's holds none (it was filled by an earlier build, or never), so a
+  // build writes only the cells its blobs fall in and never clears the others (at 64 cameras
+  // clearing every cell cost more than the blobs). Eight bytes: a frame's searches and build
+  // touch cells all over the grids, and half the size is half the lines to fetch.
   struct Cell {
     unsigned stamp = 0;
-    int begin = 0;
-    int count = 0;
-    int fill = 0;  // Build's cursor
+    int begin = 0;  // Build's count of its blobs until the range is placed
   };
   // One camera's observations bucketed into square cells (row-major cell numbers).
   struct Grid {
@@ -59,8 +59,10 @@ class BlobIndex {
     int cols = 0, rows = 0;
     unsigned stamp = 0;  // of the current build
     std::vector<Cell> cells;
-    std::vector<Entry> entries;
-    std::vector<int> cell_of_entry;  // scratch of Build, per camera so cameras build in parallel
+    std::vector<Entry> entries;  // and one more, of cell -1, that ends the last range
+    // Scratch of Build, per camera so cameras build in parallel: each blob's cell, and its rank
+    // among the blobs of that cell.
+    std::vector<std::pair<int, int>> cell_and_rank;
   };
   // Calls visit(entry) for the entries of the cells the square around `at` touches.
   template <typename Visit>
@@ -71,7 +73,7 @@ class BlobIndex {
 
 template <typename Visit>
 void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit) {
-  if (grid.entries.empty()) return;
+  if (grid.entries.size() < 2) return;
   // Cell coordinates of the square's corners, clamped to the grid (a point off the grid still
   // reaches blobs within the radius on its edge).
   const double x0 = (at.x() - radius - grid.min_x) * grid.inverse_cell;
@@ -85,8 +87,7 @@ void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, do
     for (int k = r * grid.cols + c0, last = r * grid.cols + c1; k <= last; ++k) {
       const Cell& cell = grid.cells[k];
       if (cell.stamp != grid.stamp) continue;
-      const Entry* entry = grid.entries.data() + cell.begin;
-      for (const Entry* end = entry + cell.count; entry != end; ++entry) visit(*entry);
+      for (const Entry* entry = grid.entries.data() + cell.begin; entry->cell == k; ++entry) visit(*entry);
     }
   }
 }

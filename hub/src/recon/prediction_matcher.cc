@@ -75,38 +75,72 @@ struct GatedReprojection {
   double radius = 0.0;
 };
 
+// Inlined into the loop over all predictions, whose divisions then overlap.
+[[gnu::always_inline]] inline GatedReprojection Reproject(const CameraModel& cam, const PointPrediction& prediction,
+                                                          const PredictionMatchOptions& options,
+                                                          double min_depth_mm) {
+  GatedReprojection gate;
+  const Eigen::Vector3d p = cam.cam_from_world_rotation * prediction.point_in_world + cam.cam_from_world_translation;
+  gate.in_front = p.z() > min_depth_mm;
+  if (!gate.in_front) return gate;
+  const double gate_px = std::clamp(cam.focal_px * prediction.gate_mm / p.z(), options.min_gate_px, options.max_gate_px);
+  gate.normalized = p.head<2>() / p.z();
+  gate.radius = gate_px / cam.focal_px;
+  return gate;
+}
+
 }  // namespace
+
+void PredictionMatcher::FindNearestBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                                         const std::vector<PointPrediction>& predictions, WorkerTeam* team) {
+  const int num_cameras = rig.NumCameras();
+  nearest_.resize(predictions.size() * static_cast<size_t>(num_cameras));
+  // One camera at a time: its grid stays in cache for all the predictions' searches there
+  // (prediction after prediction, every search went to another camera's grid). The gates of all
+  // predictions first, then the searches: the divisions then overlap instead of each waiting
+  // behind the previous search's branches.
+  const auto search_camera = [&](int c) {
+    const CameraModel& cam = rig.camera(c);
+    thread_local std::vector<GatedReprojection> gates;
+    gates.resize(predictions.size());
+    for (size_t i = 0; i < predictions.size(); ++i) {
+      gates[i] = Reproject(cam, predictions[i], options_, triangulation_options_.min_depth_mm);
+    }
+    for (size_t i = 0; i < predictions.size(); ++i) {
+      int& nearest = nearest_[i * num_cameras + c];
+      nearest = -1;
+      const GatedReprojection& gate = gates[i];
+      if (gate.in_front && !contested_[i]) {
+        nearest = index.Nearest(views, c, gate.normalized, gate.radius, [](int) { return true; });
+      }
+    }
+  };
+  if (team != nullptr) {
+    team->Run(num_cameras, search_camera);
+  } else {
+    for (int c = 0; c < num_cameras; ++c) search_camera(c);
+  }
+}
 
 void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                               const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
                               const std::vector<char>* shared, Attempt* attempt) const {
-  const PointPrediction& prediction = predictions[which];
   const int num_cameras = rig.NumCameras();
   std::vector<int>& picked = attempt->picked;
   picked.clear();
   attempt->served = false;
-  // Where the prediction falls in every camera first, then the searches: the divisions of all
-  // cameras then overlap instead of each waiting behind the previous search's branches.
-  thread_local std::vector<GatedReprojection> gates;
-  gates.resize(num_cameras);
+  const int* nearest = nearest_.data() + which * num_cameras;
   for (int c = 0; c < num_cameras; ++c) {
-    const CameraModel& cam = rig.camera(c);
-    const Eigen::Vector3d p =
-        cam.cam_from_world_rotation * prediction.point_in_world + cam.cam_from_world_translation;
-    GatedReprojection& gate = gates[c];
-    gate.in_front = p.z() > triangulation_options_.min_depth_mm;
-    if (!gate.in_front) continue;
-    const double gate_px = std::clamp(cam.focal_px * prediction.gate_mm / p.z(),
-                                      options_.min_gate_px, options_.max_gate_px);
-    gate.normalized = p.head<2>() / p.z();
-    gate.radius = gate_px / cam.focal_px;
-  }
-  for (int c = 0; c < num_cameras; ++c) {
-    const GatedReprojection& gate = gates[c];
-    if (!gate.in_front) continue;
-    const int best = index.Nearest(views, c, gate.normalized, gate.radius, [&](int o) {
-      return IsAvailable(views.observations[o], used[o]);
-    });
+    int best = nearest[c];
+    // The nearest blob of all, when still free, is the nearest free one (ties go to the lower
+    // index either way); only when an earlier point took it does the gate need a second search.
+    if (best >= 0 && !IsAvailable(views.observations[best], used[best])) {
+      const GatedReprojection gate =
+          Reproject(rig.camera(c), predictions[which], options_, triangulation_options_.min_depth_mm);
+      best = index.Nearest(views, c, gate.normalized, gate.radius, [&](int o) {
+        return IsAvailable(views.observations[o], used[o]);
+      });
+    }
     if (best >= 0) picked.push_back(best);
   }
   const size_t gathered = picked.size();
@@ -136,6 +170,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
                               std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
                               const std::vector<char>* shared, WorkerTeam* team) {
   MarkContested(predictions, options_.contested_gate_factor, options_.contested_gate_cap_mm, &contested_);
+  FindNearestBlobs(rig, views, index, predictions, team);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
   if (speculate) {
     speculative_.resize(predictions.size());

@@ -63,8 +63,12 @@ class PredictionMatcher {
     TriangulatedPoint point;
     std::vector<int> picked;
   };
+  // nearest_[i * cameras + c]: the blob of camera c nearest prediction i within its gate whether
+  // used or not, -1 when none (or i contested). Searched camera by camera before any is served.
+  void FindNearestBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+                        const std::vector<PointPrediction>& predictions, WorkerTeam* team);
   // Gathers and triangulates one prediction's blobs; not served when they do not make its marker.
-  // Reads only its arguments: safe on several threads with different attempts.
+  // Reads only its arguments and nearest_: safe on several threads with different attempts.
   void Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
              const std::vector<char>* shared, Attempt* attempt) const;
@@ -76,6 +80,7 @@ class PredictionMatcher {
   std::vector<Attempt> speculative_;
   Attempt attempt_;
   std::vector<char> contested_;
+  std::vector<int> nearest_;
   long long served_again_ = 0;
 };
 

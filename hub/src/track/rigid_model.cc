@@ -14,47 +14,71 @@ void RigidModel::EnsureCapacity(int slot) {
   if (slot < capacity_) return;
   const int capacity = std::max(slot + 1, capacity_ * 2);
   std::vector<RigidLink> grown(static_cast<size_t>(capacity) * capacity);
+  std::vector<unsigned char> grown_state(grown.size(), kUnlinked);
   for (int a = 0; a < capacity_; ++a) {
     for (int b = a + 1; b < capacity_; ++b) {
       grown[static_cast<size_t>(a) * capacity + b] = links_[Index(a, b)];
+      grown_state[static_cast<size_t>(a) * capacity + b] = state_[Index(a, b)];
     }
   }
   links_.swap(grown);
+  state_.swap(grown_state);
   capacity_ = capacity;
 }
 
 void RigidModel::ResetSlot(int slot) {
   if (slot >= capacity_) return;
   for (int other = 0; other < capacity_; ++other) {
-    if (other != slot) At(slot, other) = RigidLink();
+    if (other == slot) continue;
+    At(slot, other) = RigidLink();
+    state_[Index(slot, other)] = kUnlinked;
   }
 }
 
 void RigidModel::Update(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& positions) {
   for (int slot : slots) EnsureCapacity(slot);
   const double max_variance = options_.max_std_mm * options_.max_std_mm;
+  const double max_link_distance_mm = options_.max_link_distance_mm, max_deviation_mm = options_.max_deviation_mm;
   // Pairs never linked whose squared distance is over this are certainly beyond
   // max_link_distance_mm (a margin of 1e-9 over rounding): most pairs of a subject, and they
   // skip the square root.
   const double far_squared = options_.max_link_distance_mm * options_.max_link_distance_mm * (1.0 + 1e-9);
-  for (size_t i = 0; i < slots.size(); ++i) {
-    for (size_t j = i + 1; j < slots.size(); ++j) {
-      RigidLink& link = At(slots[i], slots[j]);
-      if (link.broken) continue;
-      const Eigen::Vector3d offset = positions[i] - positions[j];
-      if (link.samples == 0 && offset.squaredNorm() > far_squared) continue;
+  // Plain pointers and counts: the state bytes written below could alias the vectors' own
+  // members, which the loop would otherwise load again on every pair.
+  const size_t count = slots.size();
+  const int* slot = slots.data();
+  const Eigen::Vector3d* position = positions.data();
+  unsigned char* states = state_.data();
+  RigidLink* links = links_.data();
+  const size_t capacity = static_cast<size_t>(capacity_);
+  for (size_t i = 0; i < count; ++i) {
+    for (size_t j = i + 1; j < count; ++j) {
+      // The state byte first: most pairs are broken, or never linked and far apart, and their
+      // links are not read.
+      const size_t a = static_cast<size_t>(slot[i]), b = static_cast<size_t>(slot[j]);
+      const size_t index = a < b ? a * capacity + b : b * capacity + a;
+      unsigned char& state = states[index];
+      if (state == kBroken) continue;
+      const Eigen::Vector3d offset = position[i] - position[j];
+      if (state == kUnlinked && offset.squaredNorm() > far_squared) continue;
+      RigidLink& link = links[index];
       const double distance = offset.norm();
       if (link.samples == 0) {
-        if (distance > options_.max_link_distance_mm) continue;
-      } else if (std::abs(distance - link.mean) > options_.max_deviation_mm) {
+        if (distance > max_link_distance_mm) continue;
+      } else if (std::abs(distance - link.mean) > max_deviation_mm) {
         link.broken = true;
+        state = kBroken;
         continue;
       }
       ++link.samples;
+      state = kHolds;
       const double delta = distance - link.mean;
       link.mean += delta / link.samples;
       link.m2 += delta * (distance - link.mean);
-      if (link.samples >= 5 && link.Variance() > max_variance) link.broken = true;
+      if (link.samples >= 5 && link.Variance() > max_variance) {
+        link.broken = true;
+        state = kBroken;
+      }
     }
   }
 }

@@ -14,11 +14,13 @@
 
 namespace mocap {
 
+// 24 bytes (the flag beside the count, not after the doubles): the update and the swap repair
+// read a link for every pair of measured tracks every frame.
 struct RigidLink {
   int samples = 0;
+  bool broken = false;
   double mean = 0.0;
   double m2 = 0.0;  // sum of squared deviations (Welford)
-  bool broken = false;
 
   double Variance() const { return samples > 1 ? m2 / (samples - 1) : 0.0; }
 };
@@ -44,6 +46,12 @@ class RigidModel {
     return link.samples > 0 || link.broken ? &link : nullptr;
   }
   int NumActiveLinks() const;
+  // Whether a and b are linked and the link holds (Link non-null and not broken), from one byte
+  // per pair: the loops over every pair of measured tracks pass over the others without reading
+  // their links.
+  bool Holds(int a, int b) const {
+    return a < capacity_ && b < capacity_ && a != b && state_[Index(a, b)] == kHolds;
+  }
 
  private:
   void EnsureCapacity(int slot);
@@ -52,9 +60,13 @@ class RigidModel {
     return a < b ? static_cast<size_t>(a) * capacity_ + b : static_cast<size_t>(b) * capacity_ + a;
   }
 
+  // A link's state beside it, kept with every change of samples and broken.
+  enum : unsigned char { kUnlinked = 0, kHolds = 1, kBroken = 2 };
+
   RigidModelOptions options_;
   int capacity_ = 0;
   std::vector<RigidLink> links_;  // capacity_ x capacity_, upper triangle used
+  std::vector<unsigned char> state_;  // the same cells' states
 };
 
 }  // namespace mocap

@@ -30,9 +30,11 @@ int RigidSwapResolver::Resolve(const RigidModel& rigid, const std::vector<char>&
   bool any = false;
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
+      // A link that does not hold is never steady: its byte rules out most pairs unread.
+      if (!rigid.Holds(measured_[i], measured_[j])) continue;
       const RigidLink* link = rigid.Link(measured_[i], measured_[j]);
       // The distance first: it is cheaper than Steady's variance and rules out most pairs.
-      if (link == nullptr || link->mean > options_.cluster_radius_mm || !Steady(link)) continue;
+      if (link->mean > options_.cluster_radius_mm || !Steady(link)) continue;
       parent_[FindRoot(parent_, j)] = FindRoot(parent_, i);
       any = true;
     }

@@ -84,7 +84,8 @@ TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleK
 
 const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
   predictions_.clear();
-  std::vector<std::pair<int, int>> order;  // (-age, slot)
+  std::vector<std::pair<int, int>>& order = order_;  // (-age, slot)
+  order.clear();
   for (int slot = 0; slot < static_cast<int>(tracks_.size()); ++slot) {
     Track& track = tracks_[slot];
     if (track.state == State::kFree) continue;
@@ -144,7 +145,8 @@ void Tracker::AssignByDistance(const std::vector<int>& slots,
                                const std::vector<double>& gates,
                                const std::vector<ReconstructedPoint>& points,
                                std::vector<int>* point_of_slot, std::vector<char>* point_taken) {
-  std::vector<int> free_points;
+  std::vector<int>& free_points = free_points_;
+  free_points.clear();
   for (int p = 0; p < static_cast<int>(points.size()); ++p) {
     if (!(*point_taken)[p]) free_points.push_back(p);
   }
@@ -306,9 +308,12 @@ void Tracker::TakeHintedPoints(const std::vector<ReconstructedPoint>& points, Fr
 
 // 2. The other points against the remaining predictions.
 void Tracker::MatchPredictions(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
-  std::vector<int> slots;
-  std::vector<Eigen::Vector3d> centres;
-  std::vector<double> gates;
+  std::vector<int>& slots = assign_slots_;
+  std::vector<Eigen::Vector3d>& centres = assign_centres_;
+  std::vector<double>& gates = assign_gates_;
+  slots.clear();
+  centres.clear();
+  gates.clear();
   for (int slot = 0; slot < static_cast<int>(tracks_.size()); ++slot) {
     const Track& track = tracks_[slot];
     if ((track.state == State::kActive || track.state == State::kTentative) &&
@@ -350,9 +355,12 @@ void Tracker::PredictFromRigidModel(const std::vector<ReconstructedPoint>& point
 // (around where the model or their last sighting puts them) against the points left over.
 void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
   const int num_slots = static_cast<int>(tracks_.size());
-  std::vector<int> slots;
-  std::vector<Eigen::Vector3d> centres;
-  std::vector<double> gates;
+  std::vector<int>& slots = assign_slots_;
+  std::vector<Eigen::Vector3d>& centres = assign_centres_;
+  std::vector<double>& gates = assign_gates_;
+  slots.clear();
+  centres.clear();
+  gates.clear();
   for (int slot = 0; slot < num_slots; ++slot) {
     const Track& track = tracks_[slot];
     if (match->point_of_slot[slot] >= 0) continue;
@@ -369,7 +377,8 @@ void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMat
       gates.push_back(options_.reacquire_gate_mm);
     }
   }
-  const std::vector<int> before = match->point_of_slot;
+  std::vector<int>& before = wide_before_;
+  before = match->point_of_slot;
   AssignByDistance(slots, centres, gates, points, &match->point_of_slot, &match->point_taken);
   for (int slot : slots) match->found_wide[slot] = before[slot] < 0 && match->point_of_slot[slot] >= 0;
   for (int slot = 0; slot < num_slots; ++slot) {

@@ -141,6 +141,15 @@ class Tracker {
   FrameMatch match_;  // Update's, reused every frame
   std::vector<int> rigid_slots_;  // ApplyMeasurements' scratch: the rigid model's input
   std::vector<Eigen::Vector3d> rigid_positions_;
+  // Scratch of one step at a time, kept so that a frame allocates none of them: Predict's order
+  // (-age, slot); the slots, centres and gates MatchPredictions and SearchWide hand to
+  // AssignByDistance, and its free points; SearchWide's assignment before its own.
+  std::vector<std::pair<int, int>> order_;
+  std::vector<int> assign_slots_;
+  std::vector<Eigen::Vector3d> assign_centres_;
+  std::vector<double> assign_gates_;
+  std::vector<int> free_points_;
+  std::vector<int> wide_before_;
   int next_marker_ = 0;
   uint64_t next_serial_ = 1;
   std::vector<PointIdentity> point_identities_;
