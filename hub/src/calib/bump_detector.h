@@ -2,7 +2,10 @@
 // (marker_residuals.h) against the rig's baseline: the median of the cameras' median residuals
 // (most cameras of a rig are where the calibration says), or a baseline the caller knows (the
 // residual of the calibration itself). A camera well above it is drifting; one far above it
-// (a pose change of a few tenths of a degree moves every marker by pixels) is bumped.
+// (a pose change of a few tenths of a degree moves every marker by pixels) is bumped. The verdict
+// is the shift in the image, not the size of the move: a turn about the optical axis moves
+// markers near the image centre by little (0.5 deg: about 1 px at 120 px from it), so such a
+// camera is drifting, and re-solved alike.
 // Pure functions; options Check() throws std::invalid_argument.
 #pragma once
 
