@@ -2,6 +2,7 @@
 #include "cli/config_file.h"
 
 #include <fstream>
+#include <map>
 #include <stdexcept>
 
 #include "cli/commands.h"
@@ -41,10 +42,14 @@ std::vector<ConfigEntry> ReadConfigFile(const std::string& path) {
 }
 
 void ApplyConfigFile(CLI::App& command, const std::string& path) {
+  std::map<std::string, int> line_of_key;
   for (const ConfigEntry& e : ReadConfigFile(path)) {
     const std::string where = path + ":" + std::to_string(e.line) + ": ";
     CLI::Option* option = e.key == "config" ? nullptr : command.get_option_no_throw("--" + e.key);
     if (!option) throw UsageError(where + "unknown key '" + e.key + "' (see " + command.get_name() + " --help)");
+    // A second line for a key would count as given on the command line and be dropped unseen.
+    const auto [first, fresh] = line_of_key.emplace(e.key, e.line);
+    if (!fresh) throw UsageError(where + "'" + e.key + "' is set already on line " + std::to_string(first->second));
     if (option->count() > 0) continue;  // given on the command line
     try {
       option->add_result(e.value);

@@ -66,6 +66,23 @@ TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
   std::remove(path.c_str());
 }
 
+// A key on two lines was applied from the first and the second dropped without a word (the
+// option then counted as given); it is refused naming both lines.
+TEST(ConfigFile, AKeyOnTwoLinesIsRefusedNamingBoth) {
+  CLI::App app;
+  CLI::App* command = app.add_subcommand("serve");
+  double rate = 0;
+  command->add_option("--rate", rate);
+  const std::string path = WriteTemp("rate = 100\n# later\nrate = 200\n");
+  try {
+    ApplyConfigFile(*command, path);
+    FAIL() << "applied a key given twice";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find(":3: 'rate' is set already on line 1"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
 TEST(ConfigFile, TheShippedExampleNamesOnlyServeOptions) {
   CLI::App app;
   AddServeCommand(app);
