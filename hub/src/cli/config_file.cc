@@ -1,14 +1,18 @@
 // key = value config files (see config_file.h).
 #include "cli/config_file.h"
 
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include "cli/commands.h"
 
 namespace mocap {
 namespace {
+
+constexpr size_t kMaxConfigBytes = 64 * 1024;
 
 std::string Trim(const std::string& s) {
   const size_t first = s.find_first_not_of(" \t\r");
@@ -19,8 +23,19 @@ std::string Trim(const std::string& s) {
 }  // namespace
 
 std::vector<ConfigEntry> ReadConfigFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read the config file");
+  // Read whole and bounded before any line is looked at: getline on /dev/zero (which --config's
+  // existing-file check lets through) grew one line without end, and a FIFO never ended.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error(path + ": not a regular file (a config file is a file of at most 64 KiB)");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot read the config file");
+  std::string bytes(kMaxConfigBytes + 1, '\0');
+  file.read(&bytes[0], static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<size_t>(file.gcount()));
+  if (file.bad()) throw std::runtime_error(path + ": cannot read the config file");
+  if (bytes.size() > kMaxConfigBytes) throw std::runtime_error(path + ": larger than 64 KiB; not a config file");
+  std::istringstream in(bytes);
   std::vector<ConfigEntry> entries;
   std::string text;
   int number = 0;
