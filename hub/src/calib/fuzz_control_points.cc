@@ -1,23 +1,18 @@
 // libFuzzer entry for DLT control point files (`calibrate dlt --points`): any bytes as the file
 // must read or throw runtime_error naming the file; points read are finite, and a handful of them
 // go through the DLT solve, which refuses degenerate sets with invalid_argument.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "calib/dlt.h"
+#include "util/fuzz_scratch_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/mocap_fuzz_control_points_" + std::to_string(::getpid()) + ".txt";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  static const mocap::FuzzScratchFile scratch("control_points.txt");
+  const std::string& path = scratch.Write(data, size);
   std::vector<mocap::ControlPoint> points;
   try {
     points = mocap::ReadControlPoints(path);

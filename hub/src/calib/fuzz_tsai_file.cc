@@ -2,11 +2,8 @@
 // or throw runtime_error; cameras read must convert to the OpenCV model as the import does (or be
 // refused with invalid_argument), into a calibration that the calibration reader accepts (what
 // the import writes must load).
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,13 +12,11 @@
 
 #include "calib/tsai.h"
 #include "io/calibration_json.h"
+#include "util/fuzz_scratch_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/mocap_fuzz_tsai_" + std::to_string(::getpid()) + ".txt";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  static const mocap::FuzzScratchFile scratch("tsai.txt");
+  const std::string& path = scratch.Write(data, size);
   std::vector<mocap::TsaiCamera> cameras;
   try {
     cameras = mocap::ReadTsaiFile(path);

@@ -2,11 +2,8 @@
 // the real serve command's options, must apply or be refused with the file's name as
 // ReadConfigFile / ApplyConfigFile document (runtime_error for the file, UsageError for a key or
 // value); entries read must be trimmed keys on increasing lines.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +11,7 @@
 
 #include "cli/commands.h"
 #include "cli/config_file.h"
+#include "util/fuzz_scratch_file.h"
 
 namespace {
 
@@ -22,11 +20,8 @@ bool StartsWith(const std::string& text, const std::string& prefix) { return tex
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/mocap_fuzz_hub_conf_" + std::to_string(::getpid()) + ".conf";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  static const mocap::FuzzScratchFile scratch("hub.conf");
+  const std::string& path = scratch.Write(data, size);
   std::vector<mocap::ConfigEntry> entries;
   try {
     entries = mocap::ReadConfigFile(path);

@@ -27,16 +27,16 @@ bool Same(const mocap::SessionInfo& a, const mocap::SessionInfo& b) {
 }
 
 // A session directory of this process with a raw log of two frames (written once, by the
-// project's own writer); each input replaces its session.json.
-const fs::path& SessionDir() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("mocap_fuzz_session_info_" + std::to_string(::getpid()));
-    fs::remove_all(d);
+// project's own writer), removed when the process exits; each input replaces its session.json.
+class ScratchSession {
+ public:
+  ScratchSession() : dir_(fs::temp_directory_path() / ("mocap_fuzz_" + std::to_string(::getpid()) + "_session")) {
+    fs::remove_all(dir_);
     mocap::SessionInfo info;
     info.rate_hz = 100.0;
     info.camera_ids = {1, 2};
     mocap::SessionWriter writer;
-    writer.Create(d.string(), info);
+    writer.Create(dir_.string(), info);
     for (uint32_t camera : {1u, 2u}) {
       for (uint64_t frame : {0u, 1u}) {
         mocap::CameraFrame f;
@@ -49,15 +49,22 @@ const fs::path& SessionDir() {
       }
     }
     writer.Finish();
-    return d;
-  }();
-  return dir;
-}
+  }
+  ~ScratchSession() {
+    std::error_code ignored;
+    fs::remove_all(dir_, ignored);
+  }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const fs::path& dir = SessionDir();
+  static const ScratchSession session;
+  const fs::path& dir = session.dir();
   {
     std::ofstream out(dir / "session.json", std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));

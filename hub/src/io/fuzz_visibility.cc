@@ -1,24 +1,19 @@
 // libFuzzer entry for visibility.tsv (eval's per-frame camera counts of the truth markers): any
 // bytes as the file must read or throw runtime_error naming the file; a table read must be
 // written by VisibilityWriter and read back unchanged.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "io/visibility.h"
+#include "util/fuzz_scratch_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/mocap_fuzz_visibility_" + std::to_string(::getpid()) + ".tsv";
-  static const std::string again_path = path + ".again";
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  static const mocap::FuzzScratchFile scratch("visibility.tsv");
+  static const mocap::FuzzScratchFile written("visibility.tsv.again");
+  const std::string& path = scratch.Write(data, size);
   mocap::MarkerVisibility visibility;
   try {
     visibility = mocap::ReadVisibility(path);
@@ -28,14 +23,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (visibility.counts.size() != visibility.NumFrames() * visibility.names.size()) __builtin_trap();
   mocap::VisibilityWriter writer;
-  writer.Open(again_path, visibility.names);
+  writer.Open(written.path(), visibility.names);
   for (size_t f = 0; f < visibility.NumFrames(); ++f) {
     std::vector<int> row;
     for (size_t m = 0; m < visibility.names.size(); ++m) row.push_back(visibility.At(f, m));
     writer.WriteFrame(visibility.frame_numbers[f], row);
   }
   writer.Close();
-  const mocap::MarkerVisibility back = mocap::ReadVisibility(again_path);
+  const mocap::MarkerVisibility back = mocap::ReadVisibility(written.path());
   if (back.names != visibility.names || back.frame_numbers != visibility.frame_numbers ||
       back.counts != visibility.counts)
     __builtin_trap();
