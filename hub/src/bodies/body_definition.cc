@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -21,42 +21,76 @@ std::string Mm(double v) {
   return buf;
 }
 
-// Every `k`-subset of {0..n-1}, in lexicographic order.
-std::vector<std::vector<size_t>> Subsets(size_t n, size_t k) {
-  std::vector<std::vector<size_t>> out;
-  if (k > n) return out;
-  std::vector<size_t> idx(k);
-  std::iota(idx.begin(), idx.end(), 0);
-  while (true) {
-    out.push_back(idx);
-    size_t i = k;
-    while (i > 0 && idx[i - 1] == n - k + i - 1) --i;
-    if (i == 0) return out;
-    ++idx[i - 1];
-    for (size_t j = i; j < k; ++j) idx[j] = idx[j - 1] + 1;
-  }
-}
-
-// Whether some bijection maps subset `sa` of `a` onto subset `sb` of `b` with all pairwise
-// distances within tolerance; the matched distances go to `collide`.
-bool Congruent(const std::vector<Eigen::Vector3d>& a, const std::vector<size_t>& sa,
-               const std::vector<Eigen::Vector3d>& b, std::vector<size_t> sb, double tolerance,
-               std::vector<double>* collide) {
-  std::sort(sb.begin(), sb.end());
-  do {
-    bool all = true;
-    for (size_t i = 0; i < sa.size() && all; ++i)
-      for (size_t j = i + 1; j < sa.size() && all; ++j)
-        all = std::abs((a[sa[i]] - a[sa[j]]).norm() - (b[sb[i]] - b[sb[j]]).norm()) <= tolerance;
-    if (all) {
-      collide->clear();
-      for (size_t i = 0; i < sa.size(); ++i)
-        for (size_t j = i + 1; j < sa.size(); ++j) collide->push_back((a[sa[i]] - a[sa[j]]).norm());
-      return true;
+// A search for k markers of `a` congruent to k markers of `b`: a's subsets in lexicographic
+// order, depth first, each prefix carrying every injective map of it into b that keeps all its
+// pairwise distances within tolerance. A prefix no map fits is not extended, and a map's next
+// marker is looked up among b's markers at the right distance from its first (b's distances
+// sorted per marker), so the work follows the maps that survive (few for markers spread as
+// bodies need), not C(n, k)^2 k! (two 64-marker bodies: 10^13 comparisons, a bodies file that
+// never loaded). The first subset found is the lexicographically first one with a congruent
+// partner, as an exhaustive search over the subsets finds.
+class CongruenceSearch {
+ public:
+  CongruenceSearch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, size_t k,
+                   double tolerance)
+      : a_(a), b_(b), k_(k), tolerance_(tolerance), by_distance_(b.size()) {
+    for (size_t j = 0; j < b.size(); ++j) {
+      for (size_t other = 0; other < b.size(); ++other)
+        if (other != j) by_distance_[j].push_back({(b[j] - b[other]).norm(), other});
+      std::sort(by_distance_[j].begin(), by_distance_[j].end());
     }
-  } while (std::next_permutation(sb.begin(), sb.end()));
-  return false;
-}
+  }
+
+  // Whether there is such a subset; it is then subset().
+  bool Find() {
+    subset_.clear();
+    return Extend({{}});
+  }
+  const std::vector<size_t>& subset() const { return subset_; }
+
+ private:
+  bool Extend(const std::vector<std::vector<size_t>>& maps) {
+    if (subset_.size() == k_) return true;
+    const size_t first = subset_.empty() ? 0 : subset_.back() + 1;
+    for (size_t i = first; i + (k_ - subset_.size()) <= a_.size(); ++i) {
+      std::vector<std::vector<size_t>> longer;
+      for (const std::vector<size_t>& map : maps) {
+        if (map.empty()) {
+          for (size_t j = 0; j < b_.size(); ++j) longer.push_back({j});
+          continue;
+        }
+        const double wanted = (a_[subset_[0]] - a_[i]).norm();
+        const auto& near = by_distance_[map[0]];
+        // The range a hair wider than the tolerance, the test itself exact.
+        const double margin = tolerance_ + 1e-9 * (1.0 + wanted);
+        auto it = std::lower_bound(near.begin(), near.end(), std::make_pair(wanted - margin, size_t{0}));
+        for (; it != near.end() && it->first <= wanted + margin; ++it) {
+          const size_t j = it->second;
+          if (!(std::abs(wanted - it->first) <= tolerance_)) continue;
+          if (std::find(map.begin(), map.end(), j) != map.end()) continue;
+          bool fits = true;
+          for (size_t t = 1; t < subset_.size() && fits; ++t)
+            fits = std::abs((a_[subset_[t]] - a_[i]).norm() - (b_[map[t]] - b_[j]).norm()) <= tolerance_;
+          if (!fits) continue;
+          longer.push_back(map);
+          longer.back().push_back(j);
+        }
+      }
+      if (longer.empty()) continue;
+      subset_.push_back(i);
+      if (Extend(longer)) return true;
+      subset_.pop_back();
+    }
+    return false;
+  }
+
+  const std::vector<Eigen::Vector3d>& a_;
+  const std::vector<Eigen::Vector3d>& b_;
+  size_t k_;
+  double tolerance_;
+  std::vector<std::vector<std::pair<double, size_t>>> by_distance_;  // per marker of b: (distance, other)
+  std::vector<size_t> subset_;
+};
 
 Eigen::Vector3d Vec(const nlohmann::json& j, const std::string& where) {
   if (!j.is_array() || j.size() != 3) throw std::invalid_argument(where + " is not [x, y, z]");
@@ -108,16 +142,15 @@ RigidBodyDefinition DefineBody(const std::string& name, const std::vector<Eigen:
 
 std::string Ambiguity(const RigidBodyDefinition& a, const RigidBodyDefinition& b, const BodyDefinitionOptions& options) {
   const size_t k = std::min({options.start_markers, a.markers.size(), b.markers.size()});
-  std::vector<double> collide;
-  for (const auto& sa : Subsets(a.markers.size(), k))
-    for (const auto& sb : Subsets(b.markers.size(), k))
-      if (Congruent(a.markers, sa, b.markers, sb, 2.0 * options.distance_tolerance_mm, &collide)) {
-        std::string text = "'" + a.name + "' and '" + b.name + "' share " + std::to_string(k) +
-                           " markers with the same distances (";
-        for (size_t i = 0; i < collide.size(); ++i) text += (i ? ", " : "") + Mm(collide[i]);
-        return text + " mm, within " + Mm(2.0 * options.distance_tolerance_mm) + " mm): move a marker";
-      }
-  return {};
+  CongruenceSearch search(a.markers, b.markers, k, 2.0 * options.distance_tolerance_mm);
+  if (!search.Find()) return {};
+  const std::vector<size_t>& sa = search.subset();
+  std::string text = "'" + a.name + "' and '" + b.name + "' share " + std::to_string(k) +
+                     " markers with the same distances (";
+  for (size_t i = 0; i < sa.size(); ++i)
+    for (size_t j = i + 1; j < sa.size(); ++j)
+      text += (i == 0 && j == 1 ? "" : ", ") + Mm((a.markers[sa[i]] - a.markers[sa[j]]).norm());
+  return text + " mm, within " + Mm(2.0 * options.distance_tolerance_mm) + " mm): move a marker";
 }
 
 void AddBody(std::vector<RigidBodyDefinition>& bodies, RigidBodyDefinition body, const BodyDefinitionOptions& options) {
@@ -133,9 +166,8 @@ void AddBody(std::vector<RigidBodyDefinition>& bodies, RigidBodyDefinition body,
     bodies.push_back(std::move(body));
 }
 
-std::vector<RigidBodyDefinition> ReadBodiesFile(const std::string& path) {
-  const nlohmann::json doc = ReadJsonFile(path);
-  auto fail = [&](const std::string& why) { throw std::runtime_error(path + ": " + why); };
+std::vector<RigidBodyDefinition> BodiesFromJson(const nlohmann::json& doc, const std::string& source) {
+  auto fail = [&](const std::string& why) { throw std::runtime_error(source + ": " + why); };
   if (!doc.is_object() || !doc.contains("version") || doc["version"] != 1 || !doc.contains("bodies") ||
       !doc["bodies"].is_array())
     fail("not a bodies file (expected {\"version\": 1, \"bodies\": [...]})");
@@ -165,14 +197,22 @@ std::vector<RigidBodyDefinition> ReadBodiesFile(const std::string& path) {
   return bodies;
 }
 
-void WriteBodiesFile(const std::vector<RigidBodyDefinition>& bodies, const std::string& path) {
+std::vector<RigidBodyDefinition> ReadBodiesFile(const std::string& path) {
+  return BodiesFromJson(ReadJsonFile(path), path);
+}
+
+nlohmann::json BodiesToJson(const std::vector<RigidBodyDefinition>& bodies) {
   nlohmann::json list = nlohmann::json::array();
   for (const RigidBodyDefinition& b : bodies) {
     nlohmann::json markers = nlohmann::json::array();
     for (const Eigen::Vector3d& m : b.markers) markers.push_back({m.x(), m.y(), m.z()});
     list.push_back({{"name", b.name}, {"markers", markers}, {"pivot", {b.pivot.x(), b.pivot.y(), b.pivot.z()}}});
   }
-  WriteJsonFile({{"version", 1}, {"bodies", list}}, path);
+  return {{"version", 1}, {"bodies", list}};
+}
+
+void WriteBodiesFile(const std::vector<RigidBodyDefinition>& bodies, const std::string& path) {
+  WriteJsonFile(BodiesToJson(bodies), path);
 }
 
 }  // namespace mocap

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
 
 namespace mocap {
 
@@ -42,6 +43,10 @@ std::string Ambiguity(const RigidBodyDefinition& a, const RigidBodyDefinition& b
 // is ambiguous with another body, with the reason.
 void AddBody(std::vector<RigidBodyDefinition>& bodies, RigidBodyDefinition body,
              const BodyDefinitionOptions& options = {});
+
+// The bodies file as JSON; `source` names it in errors ("<source>: <reason>", std::runtime_error).
+std::vector<RigidBodyDefinition> BodiesFromJson(const nlohmann::json& doc, const std::string& source);
+nlohmann::json BodiesToJson(const std::vector<RigidBodyDefinition>& bodies);
 
 std::vector<RigidBodyDefinition> ReadBodiesFile(const std::string& path);
 void WriteBodiesFile(const std::vector<RigidBodyDefinition>& bodies, const std::string& path);

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace mocap {
 namespace {
@@ -90,6 +91,47 @@ TEST(BodyDefinition, FileRoundTripAndBadFiles) {
             std::string::npos);
   EXPECT_NE(write("not json").find(path), std::string::npos);
   std::filesystem::remove(path);
+}
+
+// A 4 x 4 x 4 grid of markers `spacing` mm apart.
+std::vector<Eigen::Vector3d> Grid(double spacing) {
+  std::vector<Eigen::Vector3d> markers;
+  for (int x = 0; x < 4; ++x)
+    for (int y = 0; y < 4; ++y)
+      for (int z = 0; z < 4; ++z) markers.emplace_back(spacing * x, spacing * y, spacing * z);
+  return markers;
+}
+
+// The file allows 64 markers a body. The ambiguity check compared every 4 of one body's markers
+// with every 4 of the other's in every order (two 64-marker bodies: about 10^13 comparisons), so
+// a file of two such bodies never finished loading (the bodies-file fuzzer: two bodies of 20
+// markers took over a minute). Now it loads, and an ambiguity among them is still found.
+TEST(BodyDefinition, BodiesOfManyMarkersLoadAndAreStillCheckedForAmbiguity) {
+  nlohmann::json file = {{"version", 1}, {"bodies", nlohmann::json::array()}};
+  auto add = [&](const std::string& name, const std::vector<Eigen::Vector3d>& markers) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const Eigen::Vector3d& m : markers) list.push_back({m.x(), m.y(), m.z()});
+    file["bodies"].push_back({{"name", name}, {"markers", list}});
+  };
+  add("small", Grid(15.0));
+  add("large", Grid(150.0));
+  const std::vector<RigidBodyDefinition> bodies = BodiesFromJson(file, "grids.json");
+  ASSERT_EQ(bodies.size(), 2u);
+  EXPECT_EQ(bodies[1].markers.size(), 64u);
+  std::vector<Eigen::Vector3d> shares = Grid(150.0);
+  shares.resize(60);  // four of the large grid's markers, at the same distances, among others
+  for (size_t i = 0; i < shares.size(); ++i) shares[i] = shares[i] * 1.3 + Eigen::Vector3d(0, 0, 7.0 * (i % 5));
+  const std::vector<Eigen::Vector3d> large = Grid(150.0);
+  for (size_t i = 0; i < 4; ++i) shares[i] = large[i * 5] + Eigen::Vector3d(2000, 0, 0);
+  add("twin", shares);
+  try {
+    BodiesFromJson(file, "grids.json");
+    FAIL() << "accepted a body sharing four markers with another";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("grids.json: ambiguous rigid body: 'twin' and 'large' share 4 markers"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -49,10 +49,15 @@ void TsaiCamera::Check() const {
   if (!(dpx > 0.0 && dpy > 0.0)) throw std::invalid_argument("dpx and dpy must be > 0");
   if (!(f > 0.0)) throw std::invalid_argument("f must be > 0");
   if (!(sx > 0.0)) throw std::invalid_argument("sx must be > 0");
-  if (!(nfx > 0.0)) throw std::invalid_argument("Nfx must be > 0");
+  // Nfx is the image width the conversion takes by default: a pixel count the calibration file
+  // can hold (0.2 became a camera 0 px wide, a file the calibration reader refuses).
+  if (!(nfx >= 0.5 && nfx <= kMaxTsaiImageWidth))
+    throw std::invalid_argument("Nfx must be an image width from 1 to " + std::to_string(kMaxTsaiImageWidth) + " px");
   for (double v : {ncx, nfx, dx, dy, dpx, dpy, cx, cy, sx, f, kappa1, tx, ty, tz, rx, ry, rz, p1, p2}) {
     if (!std::isfinite(v)) throw std::invalid_argument("values must be finite");
   }
+  if (!std::isfinite(sx * f / dpx) || !std::isfinite(f / dpy))
+    throw std::invalid_argument("the focal length in pixels (sx f / dpx, f / dpy) must be finite");
 }
 
 TsaiCamera ParseTsaiBlock(const std::vector<std::string>& lines, const std::string& source) {
@@ -151,6 +156,9 @@ TsaiConversion CameraFromTsai(const TsaiCamera& tsai, uint32_t id, int width, in
     }
   }
   const Eigen::Vector3d k = design.colPivHouseholderQr().solve(target);
+  if (!k.allFinite())
+    throw std::invalid_argument("Tsai lens (kappa1 " + std::to_string(tsai.kappa1) +
+                                ") cannot be fitted by OpenCV's k1 k2 k3 over the image");
   camera.intrinsics.distortion = {k(0), k(1), 0.0, 0.0, k(2)};
   for (size_t i = 0; i < undistorted.size(); ++i) {
     const Eigen::Vector2d opencv = camera.NormalizedToPixel(camera.DistortNormalized(undistorted[i]));

@@ -15,6 +15,9 @@
 
 namespace mocap {
 
+// The widest frame buffer (Nfx) taken: the calibration file's limit on image sizes.
+inline constexpr double kMaxTsaiImageWidth = 1 << 20;
+
 struct TsaiCamera {
   double ncx = 0, nfx = 0, dx = 0, dy = 0, dpx = 0, dpy = 0;  // sensor and frame buffer
   double cx = 0, cy = 0, sx = 1;                               // image centre (px), x scale
@@ -44,6 +47,7 @@ struct TsaiConversion {
 };
 
 // width/height: image size (Tsai blocks carry only the width, Nfx); height 0 takes 3/4 of it.
+// Throws std::invalid_argument for a camera that fails Check() or a lens OpenCV's terms cannot fit.
 TsaiConversion CameraFromTsai(const TsaiCamera& tsai, uint32_t id, int width, int height);
 
 }  // namespace mocap

@@ -10,8 +10,10 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "calib/mcd.h"
+#include "io/calibration_json.h"
 #include "geometry/triangulation.h"
 
 namespace mocap {
@@ -77,6 +79,32 @@ TEST(TsaiTest, MalformedBlocksAreRefused) {
   block = SeedBlock();
   block[2] = "0.013 0.014";
   EXPECT_THROW(ParseTsaiBlock(block, "x"), std::runtime_error);
+}
+
+// What a block converts into must be a calibration the calibration reader loads: the Tsai-file
+// fuzzer's Nfx 0.2 made a camera 0 px wide, 3e9 one of a negative width, f 1e308 an infinite
+// focal length, and import-tsai wrote those into calibrations nothing could read.
+TEST(TsaiTest, BlocksThatConvertIntoUnreadableCamerasAreRefused) {
+  const auto refusal = [](size_t value, const std::string& text) {
+    std::vector<std::string> block = SeedBlock();
+    block[value] = text;
+    try {
+      ParseTsaiBlock(block, "x");
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal(1, "0.2 //Nfx").find("Nfx must be an image width"), std::string::npos);
+  EXPECT_NE(refusal(1, "3e9 //Nfx").find("Nfx must be an image width"), std::string::npos);
+  EXPECT_NE(refusal(9, "1e308 //f").find("focal length"), std::string::npos);
+  EXPECT_NE(refusal(4, "1e-320 //dpx").find("focal length"), std::string::npos);
+  EXPECT_EQ(refusal(1, "1 //Nfx"), "accepted");
+  const TsaiCamera tsai = ParseTsaiBlock(SeedBlock(), "seed");
+  Rig rig;
+  rig.cameras.push_back(CameraFromTsai(tsai, 1, 0, 0).camera);
+  EXPECT_EQ(RigFromJson(RigToJson(rig), "imported").cameras.size(), 1u);
+  EXPECT_EQ(rig.cameras[0].intrinsics.width, 320);
 }
 
 std::string BlockText(const TsaiCamera& t) {

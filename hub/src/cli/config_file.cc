@@ -1,13 +1,18 @@
 // key = value config files (see config_file.h).
 #include "cli/config_file.h"
 
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include "cli/commands.h"
 
 namespace mocap {
 namespace {
+
+constexpr size_t kMaxConfigBytes = 64 * 1024;
 
 std::string Trim(const std::string& s) {
   const size_t first = s.find_first_not_of(" \t\r");
@@ -18,8 +23,19 @@ std::string Trim(const std::string& s) {
 }  // namespace
 
 std::vector<ConfigEntry> ReadConfigFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot read the config file");
+  // Read whole and bounded before any line is looked at: getline on /dev/zero (which --config's
+  // existing-file check lets through) grew one line without end, and a FIFO never ended.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw std::runtime_error(path + ": not a regular file (a config file is a file of at most 64 KiB)");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot read the config file");
+  std::string bytes(kMaxConfigBytes + 1, '\0');
+  file.read(&bytes[0], static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<size_t>(file.gcount()));
+  if (file.bad()) throw std::runtime_error(path + ": cannot read the config file");
+  if (bytes.size() > kMaxConfigBytes) throw std::runtime_error(path + ": larger than 64 KiB; not a config file");
+  std::istringstream in(bytes);
   std::vector<ConfigEntry> entries;
   std::string text;
   int number = 0;
@@ -41,10 +57,14 @@ std::vector<ConfigEntry> ReadConfigFile(const std::string& path) {
 }
 
 void ApplyConfigFile(CLI::App& command, const std::string& path) {
+  std::map<std::string, int> line_of_key;
   for (const ConfigEntry& e : ReadConfigFile(path)) {
     const std::string where = path + ":" + std::to_string(e.line) + ": ";
     CLI::Option* option = e.key == "config" ? nullptr : command.get_option_no_throw("--" + e.key);
     if (!option) throw UsageError(where + "unknown key '" + e.key + "' (see " + command.get_name() + " --help)");
+    // A second line for a key would count as given on the command line and be dropped unseen.
+    const auto [first, fresh] = line_of_key.emplace(e.key, e.line);
+    if (!fresh) throw UsageError(where + "'" + e.key + "' is set already on line " + std::to_string(first->second));
     if (option->count() > 0) continue;  // given on the command line
     try {
       option->add_result(e.value);

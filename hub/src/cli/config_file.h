@@ -17,7 +17,8 @@ struct ConfigEntry {
   std::string value;
 };
 
-// Throws std::runtime_error "<path>:<line>: <why>" on unreadable files and malformed lines.
+// Throws std::runtime_error "<path>:<line>: <why>" on unreadable files and malformed lines, and
+// "<path>: <why>" for anything but a regular file of at most 64 KiB.
 std::vector<ConfigEntry> ReadConfigFile(const std::string& path);
 
 // Gives each entry to the command's option of that name, unless the command line set it (flags

@@ -66,6 +66,46 @@ TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
   std::remove(path.c_str());
 }
 
+// The file is read whole and bounded first: /dev/zero (an existing file to --config's check) made
+// one line grow without end, and a long file without newlines was buffered whole.
+TEST(ConfigFile, OnlyRegularFilesUpTo64KiBAreRead) {
+  try {
+    ReadConfigFile("/dev/zero");
+    FAIL() << "read /dev/zero";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/zero: not a regular file"), std::string::npos) << e.what();
+  }
+  const std::string path = WriteTemp(std::string(64 * 1024 + 1, '#'));
+  try {
+    ReadConfigFile(path);
+    FAIL() << "read a file over 64 KiB";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": larger than 64 KiB"), std::string::npos) << e.what();
+  }
+  std::string comments;
+  for (int i = 0; i < 1023; ++i) comments += std::string(63, '#') + "\n";
+  std::ofstream(path) << comments << "rate = 1\n";  // 65481 bytes
+  EXPECT_EQ(ReadConfigFile(path).size(), 1u);
+  std::remove(path.c_str());
+}
+
+// A key on two lines was applied from the first and the second dropped without a word (the
+// option then counted as given); it is refused naming both lines.
+TEST(ConfigFile, AKeyOnTwoLinesIsRefusedNamingBoth) {
+  CLI::App app;
+  CLI::App* command = app.add_subcommand("serve");
+  double rate = 0;
+  command->add_option("--rate", rate);
+  const std::string path = WriteTemp("rate = 100\n# later\nrate = 200\n");
+  try {
+    ApplyConfigFile(*command, path);
+    FAIL() << "applied a key given twice";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find(":3: 'rate' is set already on line 1"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
 TEST(ConfigFile, TheShippedExampleNamesOnlyServeOptions) {
   CLI::App app;
   AddServeCommand(app);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "ingest/frame_codec.h"
@@ -12,6 +13,25 @@
 
 namespace mocap {
 namespace fs = std::filesystem;
+
+namespace {
+
+// A JSON integer from 0 to T's maximum. nlohmann's get<unsigned>() converts a float or a negative
+// number too: a float beyond the type's range ("epoch_ns": 1e48) is undefined behaviour, a
+// negative one wraps to a huge count, so neither reaches it.
+template <typename T>
+T UnsignedValue(const nlohmann::json& value, const std::string& name) {
+  if (!value.is_number_unsigned() || value.get<uint64_t>() > std::numeric_limits<T>::max())
+    throw std::runtime_error(name + " must be an integer from 0 to " + std::to_string(std::numeric_limits<T>::max()) +
+                             ", not " + value.dump());
+  return static_cast<T>(value.get<uint64_t>());
+}
+
+uint64_t OptionalCount(const nlohmann::json& j, const char* name) {
+  return j.contains(name) ? UnsignedValue<uint64_t>(j[name], name) : 0;
+}
+
+}  // namespace
 
 nlohmann::json SessionInfo::ToJson() const {
   nlohmann::json j = extra;
@@ -39,12 +59,14 @@ SessionInfo SessionInfo::FromJson(const nlohmann::json& j) {
   SessionInfo info;
   try {
     info.rate_hz = j.at("rate_hz").get<double>();
-    info.epoch_ns = j.value("epoch_ns", uint64_t{0});
+    info.epoch_ns = OptionalCount(j, "epoch_ns");
     info.free_run = j.value("free_run", false);
-    info.camera_ids = j.at("cameras").get<std::vector<uint32_t>>();
-    info.frame_sets = j.value("frame_sets", uint64_t{0});
-    info.camera_frames = j.value("camera_frames", uint64_t{0});
-    info.dropped_camera_frames = j.value("dropped_camera_frames", uint64_t{0});
+    const nlohmann::json& cameras = j.at("cameras");
+    if (!cameras.is_array()) throw std::runtime_error("cameras must be a list of camera ids");
+    for (const nlohmann::json& id : cameras) info.camera_ids.push_back(UnsignedValue<uint32_t>(id, "a camera id"));
+    info.frame_sets = OptionalCount(j, "frame_sets");
+    info.camera_frames = OptionalCount(j, "camera_frames");
+    info.dropped_camera_frames = OptionalCount(j, "dropped_camera_frames");
     info.calibration = j.value("calibration", std::string("calibration.json"));
     info.log = j.value("log", std::string("raw.mlog"));
     info.source = j.value("source", std::string());

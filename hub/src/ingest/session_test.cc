@@ -314,6 +314,38 @@ TEST(Session, BadSessionJsonIsRefusedWithReason) {
   EXPECT_THROW(reader.Open((dir / "missing").string()), std::runtime_error);
 }
 
+// Counts, times and camera ids are integers from 0 up: a float past the type's range (the
+// session fuzzer's "epoch_ns": 1.5e48, undefined behaviour in the conversion) or a negative
+// number (which wrapped to a huge id) is refused naming the field, not converted.
+TEST(Session, OutOfRangeNumbersAreRefusedNamingTheField) {
+  const fs::path dir = TempDir("badnumbers");
+  fs::create_directories(dir);
+  auto refusal = [&](const std::string& fields) {
+    std::ofstream(dir / "session.json") << "{\"format\": \"mocap-session\", \"version\": 1, \"rate_hz\": 100, " + fields + "}";
+    try {
+      LoadSessionInfo(dir.string());
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("\"cameras\": [1], \"epoch_ns\": 1.5e48").find("epoch_ns"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1], \"epoch_ns\": -5").find("epoch_ns"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1], \"frame_sets\": 2.5").find("frame_sets"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1], \"camera_frames\": 1e30").find("camera_frames"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1], \"dropped_camera_frames\": -1").find("dropped_camera_frames"),
+            std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [-1]").find("camera id"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1e20]").find("camera id"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [4294967296]").find("camera id"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": 1").find("cameras"), std::string::npos);
+  EXPECT_NE(refusal("\"cameras\": [1]").find("accepted"), std::string::npos);
+  const SessionInfo info = LoadSessionInfo(dir.string());
+  EXPECT_EQ(info.camera_ids, std::vector<uint32_t>{1});
+  refusal("\"cameras\": [4294967295], \"epoch_ns\": 18446744073709551615");
+  EXPECT_EQ(LoadSessionInfo(dir.string()).epoch_ns, 18446744073709551615ull);
+}
+
 // Reads every frame set; returns their frame numbers.
 std::vector<uint64_t> ReadFrameNumbers(SessionReader* reader) {
   std::vector<uint64_t> out;

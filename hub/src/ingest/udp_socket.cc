@@ -25,7 +25,8 @@ HostPort ParseHostPort(const std::string& text) {
   char* end = nullptr;
   errno = 0;
   const long value = std::strtol(port.c_str(), &end, 10);
-  if (port.empty() || *end != '\0' || errno != 0 || value < 0 || value > 65535)
+  // The whole port, not up to a NUL (a config file line may hold one: "30000\0junk" was 30000).
+  if (port.empty() || end != port.c_str() + port.size() || errno != 0 || value < 0 || value > 65535)
     throw std::invalid_argument("address '" + text + "': port must be 0-65535");
   hp.port = static_cast<uint16_t>(value);
   return hp;

@@ -60,6 +60,7 @@ TEST(UdpSocket, AddressesAreParsedAndBadOnesRefused) {
   EXPECT_EQ(ParseHostPort("127.0.0.1:9000").port, 9000);
   EXPECT_THROW(ParseHostPort("127.0.0.1"), std::invalid_argument);
   EXPECT_THROW(ParseHostPort("127.0.0.1:70000"), std::invalid_argument);
+  EXPECT_THROW(ParseHostPort(std::string("127.0.0.1:9000\0junk", 19)), std::invalid_argument);
   UdpSocket a, b;
   a.Bind(Loopback(0));
   EXPECT_THROW(b.Bind(Loopback(a.port())), std::runtime_error);  // port in use

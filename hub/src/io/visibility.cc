@@ -1,6 +1,7 @@
 // Reading and writing visibility.tsv.
 #include "io/visibility.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdlib>
@@ -50,6 +51,16 @@ MarkerVisibility ReadVisibility(const std::string& path) {
     if (!have_header) {
       if (cells.empty() || cells[0] != "frame") fail(number, "header must start with \"frame\"");
       visibility.names.assign(cells.begin() + 1, cells.end());
+      // A name the writer cannot put back as read (an empty last cell is no cell; text after a
+      // NUL is lost) would shift every count to another marker: refused.
+      for (size_t m = 0; m < visibility.names.size(); ++m) {
+        const std::string& name = visibility.names[m];
+        const bool control = std::any_of(name.begin(), name.end(), [](char c) {
+          return static_cast<unsigned char>(c) < 0x20 || c == '\x7f';
+        });
+        if (name.empty() || control)
+          fail(number, "marker " + std::to_string(m + 1) + "'s name is empty or holds a control character");
+      }
       have_header = true;
       continue;
     }

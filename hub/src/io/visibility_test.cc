@@ -42,6 +42,28 @@ TEST(VisibilityTest, Errors) {
   expect_error("frame\tA\n1\t-2\n", "bad camera count");
   expect_error("frame\tA\n2\t1\n2\t1\n", "must increase");
   EXPECT_THROW(ReadVisibility("/nonexistent/v.tsv"), std::runtime_error);
+  // Names the writer cannot put back as read: the fuzzer's header "frame\t\0\0`..." was read
+  // as one marker, written back as none, and the written file refused.
+  expect_error(std::string("frame\tA\t\0x\n0\t1\t2\n", 17), "line 1: marker 2's name is empty");
+  expect_error("frame\t\tB\n0\t1\t2\n", "marker 1's name is empty");
+  expect_error("frame\tA\x01\n0\t1\n", "control character");
+}
+
+// Whatever the reader accepts, the writer puts back unchanged.
+TEST(VisibilityTest, WhatIsReadIsWrittenBackUnchanged) {
+  const std::string path = testing::TempDir() + "/visibility_in.tsv";
+  const std::string again = testing::TempDir() + "/visibility_again.tsv";
+  std::ofstream(path) << "frame\tA\tB C\t\xc3\xa9\n0\t1\t2\t3\n7\t0\t0\t65535\n";
+  const MarkerVisibility read = ReadVisibility(path);
+  VisibilityWriter writer;
+  writer.Open(again, read.names);
+  writer.WriteFrame(0, {1, 2, 3});
+  writer.WriteFrame(7, {0, 0, 65535});
+  writer.Close();
+  const MarkerVisibility back = ReadVisibility(again);
+  EXPECT_EQ(back.names, read.names);
+  EXPECT_EQ(back.frame_numbers, read.frame_numbers);
+  EXPECT_EQ(back.counts, read.counts);
 }
 
 }  // namespace

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <type_traits>
 
 #include <nlohmann/json.hpp>
 
@@ -109,6 +111,21 @@ bool PixelSpan(double lo, double hi, uint32_t size, uint32_t* first, uint32_t* c
 template <typename T>
 T Field(const nlohmann::json& j, const char* name, const std::string& where) {
   if (!j.is_object() || !j.contains(name)) throw std::runtime_error(where + ": missing \"" + name + "\"");
+  if constexpr (std::is_integral_v<T>) {
+    // nlohmann's get<integer>() converts floats and negative numbers too: a float past the
+    // type's range ("width": 1e71) is undefined behaviour, a negative one wraps ("camera_id": -1
+    // became camera 4294967295). Only integers the type holds are taken.
+    const nlohmann::json& v = j.at(name);
+    const bool fits = v.is_number_unsigned()
+                          ? v.get<uint64_t>() <= static_cast<uint64_t>(std::numeric_limits<T>::max())
+                          : v.is_number_integer() && v.get<int64_t>() >= static_cast<int64_t>(std::numeric_limits<T>::min()) &&
+                                (v.get<int64_t>() < 0 || static_cast<uint64_t>(v.get<int64_t>()) <=
+                                                             static_cast<uint64_t>(std::numeric_limits<T>::max()));
+    if (v.is_number() && !fits)
+      throw std::runtime_error(where + ": \"" + name + "\" must be an integer from " +
+                               std::to_string(std::numeric_limits<T>::min()) + " to " +
+                               std::to_string(std::numeric_limits<T>::max()) + ", not " + v.dump());
+  }
   try {
     return j.at(name).get<T>();
   } catch (const nlohmann::json::exception&) {

@@ -245,6 +245,22 @@ TEST(AutoMask, FileRoundTripAndBadFiles) {
   expect_error(R"({"version": 1, "cameras": [{"camera_id": "one", "width": 10, "height": 10, "regions": []}]})",
                "wrong type");
   expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 10, "height": 10}]})", "regions");
+  // Numbers the field's integer type cannot hold are refused naming the field, not converted: the
+  // masks-file fuzzer's "width": 1e71 was undefined behaviour, a camera_id of -1 wrapped to
+  // 4294967295 and a width of 2^32 + 10 to 10.
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 1e71, "height": 10, "regions": []}]})",
+               "\"width\" must be an integer from 0 to 4294967295");
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": -1, "width": 10, "height": 10, "regions": []}]})",
+               "\"camera_id\" must be an integer");
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 4294967306, "height": 10, "regions": []}]})",
+               "\"width\" must be an integer");
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 10.5, "height": 10, "regions": []}]})",
+               "\"width\" must be an integer");
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 10, "height": 10, "frames": -3, "regions": []}]})",
+               "\"frames\" must be an integer");
+  expect_error(R"({"version": 1, "cameras": [{"camera_id": 1, "width": 10, "height": 10,
+                 "regions": [{"x": 1e30, "y": 0, "width": 1, "height": 1}]}]})", "\"x\" must be an integer");
+  expect_error(R"({"version": 1e40, "cameras": []})", "\"version\" must be an integer");
 }
 
 }  // namespace

@@ -59,6 +59,9 @@ nlohmann::json ReadJsonFile(const std::string& path) {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& error) {
     Fail(path, "not valid JSON at byte " + std::to_string(error.byte) + " (" + error.what() + ")");
+  } catch (const nlohmann::json::exception& error) {
+    // The parser throws out_of_range for a number no double holds (1e500), not parse_error.
+    Fail(path, std::string("not valid JSON (") + error.what() + ")");
   }
 }
 
