@@ -1,7 +1,7 @@
 // Fast undistortion of blob centroids for one camera: a coarse table of undistorted normalized
-// coordinates (exact, from Camera::UndistortPixel) interpolated bilinearly, then Newton steps
+// coordinates (exact, from Camera::UndistortPixel) interpolated bilinearly, then one Newton step
 // on the shared lens model (geometry/lens.h). Every blob of every frame is undistorted, and the iterative inverse
-// from scratch costs several times more than this; the result agrees to ~1e-12.
+// from scratch costs several times more than this; the result agrees to under 1e-5 px.
 #pragma once
 
 #include <vector>
