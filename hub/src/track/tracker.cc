@@ -140,11 +140,9 @@ Eigen::Vector3d Tracker::NeighbourInnovation(int slot, const std::vector<char>& 
   return count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero();
 }
 
-void Tracker::AssignByDistance(const std::vector<int>& slots,
-                               const std::vector<Eigen::Vector3d>& centres,
-                               const std::vector<double>& gates,
-                               const std::vector<ReconstructedPoint>& points,
+void Tracker::AssignByDistance(const SearchList& search, const std::vector<ReconstructedPoint>& points,
                                std::vector<int>* point_of_slot, std::vector<char>* point_taken) {
+  const std::vector<int>& slots = search.slots;
   std::vector<int>& free_points = free_points_;
   free_points.clear();
   for (int p = 0; p < static_cast<int>(points.size()); ++p) {
@@ -154,10 +152,10 @@ void Tracker::AssignByDistance(const std::vector<int>& slots,
   Eigen::MatrixXd cost(slots.size(), free_points.size());
   for (size_t r = 0; r < slots.size(); ++r) {
     for (size_t c = 0; c < free_points.size(); ++c) {
-      cost(r, c) = (points[free_points[c]].point_in_world - centres[r]).norm();
+      cost(r, c) = (points[free_points[c]].point_in_world - search.centres[r]).norm();
     }
   }
-  const std::vector<int> column_of_row = Assign(options_.assignment, cost, gates);
+  const std::vector<int> column_of_row = Assign(options_.assignment, cost, search.gates);
   for (size_t r = 0; r < slots.size(); ++r) {
     if (column_of_row[r] < 0) continue;
     const int p = free_points[column_of_row[r]];
@@ -308,22 +306,15 @@ void Tracker::TakeHintedPoints(const std::vector<ReconstructedPoint>& points, Fr
 
 // 2. The other points against the remaining predictions.
 void Tracker::MatchPredictions(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
-  std::vector<int>& slots = assign_slots_;
-  std::vector<Eigen::Vector3d>& centres = assign_centres_;
-  std::vector<double>& gates = assign_gates_;
-  slots.clear();
-  centres.clear();
-  gates.clear();
+  search_.Clear();
   for (int slot = 0; slot < static_cast<int>(tracks_.size()); ++slot) {
     const Track& track = tracks_[slot];
     if ((track.state == State::kActive || track.state == State::kTentative) &&
         match->point_of_slot[slot] < 0) {
-      slots.push_back(slot);
-      centres.push_back(track.filter.position());
-      gates.push_back(GateOf(track));
+      search_.Add(slot, track.filter.position(), GateOf(track));
     }
   }
-  AssignByDistance(slots, centres, gates, points, &match->point_of_slot, &match->point_taken);
+  AssignByDistance(search_, points, &match->point_of_slot, &match->point_taken);
   ReassignAroundMisses(points, &match->point_of_slot, &match->point_taken, &match->moved);
 }
 
@@ -355,32 +346,25 @@ void Tracker::PredictFromRigidModel(const std::vector<ReconstructedPoint>& point
 // (around where the model or their last sighting puts them) against the points left over.
 void Tracker::SearchWide(const std::vector<ReconstructedPoint>& points, FrameMatch* match) {
   const int num_slots = static_cast<int>(tracks_.size());
-  std::vector<int>& slots = assign_slots_;
-  std::vector<Eigen::Vector3d>& centres = assign_centres_;
-  std::vector<double>& gates = assign_gates_;
-  slots.clear();
-  centres.clear();
-  gates.clear();
+  search_.Clear();
   for (int slot = 0; slot < num_slots; ++slot) {
     const Track& track = tracks_[slot];
     if (match->point_of_slot[slot] >= 0) continue;
     if (track.state == State::kActive) {
-      slots.push_back(slot);
-      centres.push_back(match->has_rigid[slot]
-                            ? match->rigid_position[slot]
-                            : track.filter.position() + NeighbourInnovation(slot, match->measured,
-                                                                             match->position_of_slot, 3, 400.0));
-      gates.push_back(options_.wide_gate_mm);
+      search_.Add(slot,
+                  match->has_rigid[slot]
+                      ? match->rigid_position[slot]
+                      : Eigen::Vector3d(track.filter.position() + NeighbourInnovation(slot, match->measured,
+                                                                                      match->position_of_slot, 3, 400.0)),
+                  options_.wide_gate_mm);
     } else if (track.state == State::kLost) {
-      slots.push_back(slot);
-      centres.push_back(track.reference);
-      gates.push_back(options_.reacquire_gate_mm);
+      search_.Add(slot, track.reference, options_.reacquire_gate_mm);
     }
   }
   std::vector<int>& before = wide_before_;
   before = match->point_of_slot;
-  AssignByDistance(slots, centres, gates, points, &match->point_of_slot, &match->point_taken);
-  for (int slot : slots) match->found_wide[slot] = before[slot] < 0 && match->point_of_slot[slot] >= 0;
+  AssignByDistance(search_, points, &match->point_of_slot, &match->point_taken);
+  for (int slot : search_.slots) match->found_wide[slot] = before[slot] < 0 && match->point_of_slot[slot] >= 0;
   for (int slot = 0; slot < num_slots; ++slot) {
     const int p = match->point_of_slot[slot];
     if (match->moved[slot] && p >= 0 &&

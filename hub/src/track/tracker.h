@@ -127,8 +127,23 @@ class Tracker {
                                       double radius_mm) const;
   void ReassignAroundMisses(const std::vector<ReconstructedPoint>& points, std::vector<int>* point_of_slot,
                             std::vector<char>* point_taken, std::vector<char>* moved);
-  void AssignByDistance(const std::vector<int>& slots, const std::vector<Eigen::Vector3d>& centres,
-                        const std::vector<double>& gates, const std::vector<ReconstructedPoint>& points,
+  // Tracks to search for points: each slot's search centre and gate (mm).
+  struct SearchList {
+    std::vector<int> slots;
+    std::vector<Eigen::Vector3d> centres;
+    std::vector<double> gates;
+    void Clear() {
+      slots.clear();
+      centres.clear();
+      gates.clear();
+    }
+    void Add(int slot, const Eigen::Vector3d& centre, double gate) {
+      slots.push_back(slot);
+      centres.push_back(centre);
+      gates.push_back(gate);
+    }
+  };
+  void AssignByDistance(const SearchList& search, const std::vector<ReconstructedPoint>& points,
                         std::vector<int>* point_of_slot, std::vector<char>* point_taken);
 
   TrackerOptions options_;
@@ -142,12 +157,10 @@ class Tracker {
   std::vector<int> rigid_slots_;  // ApplyMeasurements' scratch: the rigid model's input
   std::vector<Eigen::Vector3d> rigid_positions_;
   // Scratch of one step at a time, kept so that a frame allocates none of them: Predict's order
-  // (-age, slot); the slots, centres and gates MatchPredictions and SearchWide hand to
-  // AssignByDistance, and its free points; SearchWide's assignment before its own.
+  // (-age, slot); the search MatchPredictions and SearchWide hand to AssignByDistance, and its
+  // free points; SearchWide's assignment before its own.
   std::vector<std::pair<int, int>> order_;
-  std::vector<int> assign_slots_;
-  std::vector<Eigen::Vector3d> assign_centres_;
-  std::vector<double> assign_gates_;
+  SearchList search_;
   std::vector<int> free_points_;
   std::vector<int> wide_before_;
   int next_marker_ = 0;
