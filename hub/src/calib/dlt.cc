@@ -17,6 +17,7 @@
 
 #include "calib/camera_blocks.h"
 #include "calib/cost_functions.h"
+#include "util/bounded_line.h"
 
 namespace mocap {
 namespace {
@@ -200,8 +201,10 @@ std::vector<ControlPoint> ReadControlPoints(const std::string& path) {
   std::vector<ControlPoint> points;
   std::string line;
   int number = 0;
-  while (std::getline(in, line)) {
+  for (LineRead read; (read = ReadBoundedLine(in, &line, kMaxTextLineBytes)) != LineRead::kEnd;) {
     ++number;
+    if (read == LineRead::kTooLong)
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": longer than 1 MiB: not a control point file");
     const size_t hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream fields(line);

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "simcore/test_scenes.h"
+#include "util/bounded_line.h"
 
 namespace mocap {
 namespace {
@@ -116,6 +117,16 @@ TEST(DltTest, ReadsControlPointFiles) {
     out << "1 2 3 4 x\n";
   }
   EXPECT_THROW(ReadControlPoints(path), std::runtime_error);
+  {
+    std::ofstream out(path);
+    out << "1 2 3 4 5\n" << std::string(kMaxTextLineBytes + 1, '7');
+  }
+  try {
+    ReadControlPoints(path);
+    ADD_FAILURE() << "a line without end was read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":2: longer than 1 MiB"), std::string::npos) << e.what();
+  }
   std::filesystem::remove(path);
   EXPECT_THROW(ReadControlPoints(path), std::runtime_error);
 }

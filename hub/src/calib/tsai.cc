@@ -10,6 +10,8 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -101,8 +103,10 @@ std::vector<TsaiCamera> ReadTsaiFile(const std::string& path) {
     cameras.push_back(ParseTsaiBlock(block, path + ":" + std::to_string(block_start)));
     block.clear();
   };
-  while (std::getline(in, line)) {
+  for (LineRead read; (read = ReadBoundedLine(in, &line, kMaxTextLineBytes)) != LineRead::kEnd;) {
     ++number;
+    if (read == LineRead::kTooLong)
+      throw std::runtime_error(path + ":" + std::to_string(number) + ": longer than 1 MiB: not a Tsai file");
     if (line.find_first_not_of(" \t\r") == std::string::npos) {
       flush();
       continue;

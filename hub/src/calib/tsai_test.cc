@@ -4,6 +4,7 @@
 #include "calib/tsai.h"
 
 #include <cmath>
+#include <fstream>
 #include <utility>
 #include <sstream>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 
 #include "calib/mcd.h"
 #include "io/calibration_json.h"
+#include "util/bounded_line.h"
 #include "geometry/triangulation.h"
 
 namespace mocap {
@@ -174,6 +176,18 @@ TEST(McdTest, MalformedRecordingsNameTheLine) {
   expect_error("CameraCount: 1\n" + block + "\nFrame: 1\nmarksCount: 1 x = 1 y = 2 x = 3 y = 4\n", "more marks");
   expect_error("CameraCount: 1\n" + block + "\nFrame: 2\nmarksCount: 0\nFrame: 1\nmarksCount: 0\n", "increase");
   expect_error("CameraCount: 1\n" + block + "\nFrame: x\n", "Frame: K");
+}
+
+// A file whose line never ends (/dev/zero, a damaged file) is refused at 1 MiB, not read on.
+TEST(TsaiTest, ALineWithoutEndIsRefused) {
+  const std::string path = testing::TempDir() + "/endless_tsai.txt";
+  std::ofstream(path) << std::string(kMaxTextLineBytes + 1, '\0');
+  try {
+    ReadTsaiFile(path);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":1: longer than 1 MiB"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

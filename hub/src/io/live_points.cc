@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -55,7 +57,8 @@ MarkerTrajectories ReadLivePoints(const std::string& path) {
 MarkerTrajectories ParseLivePoints(std::istream& in, const std::string& path) {
   std::string text;
   size_t line = 1;
-  if (!std::getline(in, text) || text.rfind(kMagic, 0) != 0) Fail(path, 1, "not a live points file (header)");
+  if (ReadBoundedLine(in, &text, kMaxTextLineBytes) != LineRead::kLine || text.rfind(kMagic, 0) != 0)
+    Fail(path, 1, "not a live points file (header)");
   MarkerTrajectories out;
   try {
     out.rate_hz = std::stod(text.substr(std::string(kMagic).size()));
@@ -72,8 +75,9 @@ MarkerTrajectories ParseLivePoints(std::istream& in, const std::string& path) {
   std::vector<uint64_t> last_used;                          // per pool column
   uint64_t last_frame = 0;
   bool any = false;
-  while (std::getline(in, text)) {
+  for (LineRead read; (read = ReadBoundedLine(in, &text, kMaxTextLineBytes)) != LineRead::kEnd;) {
     ++line;
+    if (read == LineRead::kTooLong) Fail(path, line, "longer than 1 MiB: not a live points row");
     if (text.empty() || text[0] == '#') continue;
     std::istringstream fields(text);
     Row r;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -55,7 +57,8 @@ TEST(LivePoints, DamageIsRefusedWithItsLine) {
                                  header + "5\tnan\t2\t3\t0\t0\t3\t0.1\n", header + "5\t1\t2\t3\t0\t2\t3\t0.1\n",
                                  header + "5\t1\t2\t3\t-4\t0\t3\t0.1\n",
                                  header + "1\t1\t2\t3\t0\t0\t3\t0.1\n99999999999\t1\t2\t3\t0\t0\t3\t0.1\n",
-                                 std::string("# mocap live points v1 rate_hz=-3\n")}) {
+                                 std::string("# mocap live points v1 rate_hz=-3\n"),
+                                 std::string(kMaxTextLineBytes + 1, '#'), header + std::string(kMaxTextLineBytes + 1, '5')}) {
     try {
       Parse(bad);
       ADD_FAILURE() << "accepted: " << bad;

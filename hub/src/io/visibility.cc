@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -43,8 +45,9 @@ MarkerVisibility ReadVisibility(const std::string& path) {
   std::string line;
   size_t number = 0;
   bool have_header = false;
-  while (std::getline(in, line)) {
+  for (LineRead read; (read = ReadBoundedLine(in, &line, kMaxTextLineBytes)) != LineRead::kEnd;) {
     ++number;
+    if (read == LineRead::kTooLong) fail(number, "longer than 1 MiB: not a visibility file");
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
     const std::vector<std::string> cells = Split(line);

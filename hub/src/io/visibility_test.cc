@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -47,6 +49,8 @@ TEST(VisibilityTest, Errors) {
   expect_error(std::string("frame\tA\t\0x\n0\t1\t2\n", 17), "line 1: marker 2's name is empty");
   expect_error("frame\t\tB\n0\t1\t2\n", "marker 1's name is empty");
   expect_error("frame\tA\x01\n0\t1\n", "control character");
+  // A line without end (/dev/zero, a damaged file) stops at 1 MiB instead of growing.
+  expect_error(std::string(kMaxTextLineBytes + 10, '\0'), "line 1: longer than 1 MiB");
 }
 
 // Whatever the reader accepts, the writer puts back unchanged.
