@@ -189,6 +189,11 @@ std::vector<RigidBodyDefinition> BodiesFromJson(const nlohmann::json& doc, const
       body.markers = markers;
       DefineBody(body.name, markers);
       if (j.contains("pivot")) body.pivot = Vec(j["pivot"], where + " pivot");
+      // AddBody replaces a body of the same name (a body defined again live); in a file two of
+      // one name is a mistake that would keep the second unseen.
+      for (size_t k = 0; k < bodies.size(); ++k) {
+        if (bodies[k].name == body.name) fail(where + ": the name '" + body.name + "' is body " + std::to_string(k + 1) + "'s already");
+      }
       AddBody(bodies, body);
     } catch (const std::invalid_argument& e) {
       fail(e.what());

@@ -90,6 +90,10 @@ TEST(BodyDefinition, FileRoundTripAndBadFiles) {
   EXPECT_NE(write("{\"version\": 1, \"bodies\": [{\"name\": \"a\", \"markers\": [[0,0,0],[100,0,0]]}]}").find("at least 3"),
             std::string::npos);
   EXPECT_NE(write("not json").find(path), std::string::npos);
+  // Two bodies of one name: the second was kept and the first dropped without a word.
+  const std::string wand = "{\"name\": \"w\", \"markers\": [[0,0,0],[100,0,0],[0,60,0],[0,0,40]]}";
+  EXPECT_NE(write("{\"version\": 1, \"bodies\": [" + wand + ", " + wand + "]}").find("body 2: the name 'w' is body 1's"),
+            std::string::npos);
   std::filesystem::remove(path);
 }
 
