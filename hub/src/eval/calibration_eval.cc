@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -87,7 +88,9 @@ std::map<uint32_t, double> ReadReportedReprojectionRms(const std::string& path) 
     const auto id = camera.find("id");
     const auto rms = camera.find("reprojection_rms_px");
     if (id == camera.end() || rms == camera.end() || !id->is_number_unsigned() || !rms->is_number()) continue;
-    reported[id->get<uint32_t>()] = rms->get<double>();
+    // No camera has an id past 32 bits: such an entry is not one (it would wrap onto another's).
+    if (id->get<uint64_t>() > std::numeric_limits<uint32_t>::max()) continue;
+    reported[static_cast<uint32_t>(id->get<uint64_t>())] = rms->get<double>();
   }
   return reported;
 }

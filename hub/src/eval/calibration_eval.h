@@ -49,7 +49,7 @@ CalibrationEval EvaluateCalibration(const Rig& truth, const Rig& result,
                                     const CalibrationEvalOptions& options);
 
 // The per-camera "reprojection_rms_px" fields a calibration JSON may carry (calibrate wand writes
-// them); cameras without one are absent. Throws std::runtime_error naming the file when it
+// them); cameras without one, and entries that are not a camera's, are absent. Throws std::runtime_error naming the file when it
 // cannot be read or parsed.
 std::map<uint32_t, double> ReadReportedReprojectionRms(const std::string& path);
 

@@ -4,6 +4,8 @@
 #include "eval/calibration_eval.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -152,6 +154,18 @@ void ExpectWandCalibrationMeetsTargets(int cameras, int frames, uint64_t seed) {
 TEST(WandCalibrationAccuracyTest, EightCameras) { ExpectWandCalibrationMeetsTargets(8, 2000, 3); }
 
 TEST(WandCalibrationAccuracyTest, SixteenCameras) { ExpectWandCalibrationMeetsTargets(16, 2000, 4); }
+
+TEST(ReportedReprojectionRms, CamerasAreReadAndEntriesThatAreNoCameraSkipped) {
+  const std::string path = testing::TempDir() + "/reported_rms.json";
+  // 4294967297 would have wrapped onto camera 1, and replaced its figure.
+  std::ofstream(path) << R"({"cameras": [{"id": 1, "reprojection_rms_px": 0.25}, {"id": 4294967297,
+    "reprojection_rms_px": 9.0}, {"id": -2, "reprojection_rms_px": 1.0}, {"id": 3}, "x"]})";
+  const std::map<uint32_t, double> reported = ReadReportedReprojectionRms(path);
+  ASSERT_EQ(reported.size(), 1u);
+  EXPECT_EQ(reported.at(1), 0.25);
+  std::filesystem::remove(path);
+  EXPECT_THROW(ReadReportedReprojectionRms(path), std::runtime_error);
+}
 
 }  // namespace
 }  // namespace mocap
