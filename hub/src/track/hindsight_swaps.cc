@@ -98,20 +98,17 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const int joinable_mask = ((1 << (kBefore + 2)) - 1) & ~((1 << first) - 1);
   const int full_mask = ((1 << kHeldRows) - 1) & ~((1 << first) - 1);
   columns_.clear();
-  index_.assign(num_columns, -1);
   for (int column = 0; column < num_columns; ++column) {
     if ((present_[column] & joinable_mask) != joinable_mask) continue;
-    index_[column] = static_cast<int>(columns_.size());
     columns_.emplace_back();
-    columns_.back().label = column;
-    columns_.back().full = (present_[column] & full_mask) == full_mask;
-  }
-  if (columns_.size() < 2) return;
-  for (int k = first; k < kHeldRows; ++k) {
-    for (const TrackSample& sample : rows_[t - kBefore + k].samples) {
-      if (index_[sample.marker] >= 0) columns_[index_[sample.marker]].positions[k] = sample.position;
+    Column& judged = columns_.back();
+    judged.label = column;
+    judged.full = (present_[column] & full_mask) == full_mask;
+    for (int k = first; k < kHeldRows; ++k) {
+      if (present_[column] >> k & 1) judged.positions[k] = window_[static_cast<size_t>(k) * num_columns + column];
     }
   }
+  if (columns_.size() < 2) return;
   // Only a column that jumps here can be part of a trade: its second differences at t-1 and t.
   const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
   const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;

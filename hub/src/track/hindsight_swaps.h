@@ -114,7 +114,7 @@ class HindsightSwaps {
   std::vector<TrackSample> late_;
   SteadyDistances distances_;
   // JudgeBoundary's scratch.
-  std::vector<int> present_, index_;  // by column
+  std::vector<int> present_;  // by column
   std::vector<Eigen::Vector3d> window_;  // [k * columns + column]: valid where present_ says
   std::vector<Column> columns_;
   std::vector<std::vector<SteadyDistances::Neighbour>> neighbours_;  // by columns_ index

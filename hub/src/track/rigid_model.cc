@@ -6,6 +6,8 @@
 
 #include <Eigen/Dense>
 
+#include "util/running_variance.h"
+
 namespace mocap {
 
 RigidModel::RigidModel(const RigidModelOptions& options) : options_(options) { options_.Check(); }
@@ -70,11 +72,8 @@ void RigidModel::Update(const std::vector<int>& slots, const std::vector<Eigen::
         state = kBroken;
         continue;
       }
-      ++link.samples;
+      AddToRunningVariance(distance, &link.samples, &link.mean, &link.m2);
       state = kHolds;
-      const double delta = distance - link.mean;
-      link.mean += delta / link.samples;
-      link.m2 += delta * (distance - link.mean);
       if (link.samples >= 5 && link.Variance() > max_variance) {
         link.broken = true;
         state = kBroken;

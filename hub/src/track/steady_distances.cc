@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/running_variance.h"
+
 namespace mocap {
 
 bool SteadyDistances::Steady(const Pair& pair) const {
@@ -72,10 +74,7 @@ void SteadyDistances::Observe(Pair* pair, uint64_t frame_number, double distance
   }
   pair->strays = 0;
   pair->drift = 0;
-  ++pair->samples;
-  const double delta = distance - pair->mean;
-  pair->mean += delta / pair->samples;
-  pair->m2 += delta * (distance - pair->mean);
+  AddToRunningVariance(distance, &pair->samples, &pair->mean, &pair->m2);
 }
 
 void SteadyDistances::ForgetOld(uint64_t frame_number) {
