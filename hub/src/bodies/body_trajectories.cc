@@ -3,10 +3,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+
+#include "util/regular_file.h"
 
 namespace mocap {
 
@@ -146,11 +147,7 @@ std::vector<BodyPoseRecord> ParseBodyPoses(const std::string& text, const std::s
 }
 
 std::vector<BodyPoseRecord> ReadBodyPoses(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return ParseBodyPoses(text.str(), path);
+  return ParseBodyPoses(ReadRegularFile(path, kMaxRecordingFileBytes, "a body pose file"), path);
 }
 
 }  // namespace mocap

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "bodies/body_trajectories.h"
+#include "util/special_file_testing.h"
 
 namespace mocap {
 namespace {
@@ -55,6 +56,14 @@ TEST(BodyPoses, RefusesOtherFilesWithTheLine) {
   EXPECT_NE(reason(header + "1\t0\tw\t2\t0\t1\t2\t3\t0\t0\t0\t1\t0\t3\n").find("0 or 1"), std::string::npos);
   EXPECT_NE(reason("").find("empty"), std::string::npos);
   EXPECT_EQ(reason(header + "1\t0\tw\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\n"), "accepted");  // an untracked row
+}
+
+// A pose file is read whole: a FIFO was waited on (and /dev/zero grew without end: not tried
+// here, as without the check it would take all memory). Refused at once now, naming the path.
+TEST(BodyPoses, ReadsOnlyRegularFiles) {
+  const auto read = [](const std::string& path) { ReadBodyPoses(path); };
+  const std::string fifo = testing::ErrorOfReadingAFifo(read, "poses.tsv");
+  EXPECT_NE(fifo.find("poses.tsv: not a regular file (a FIFO)"), std::string::npos) << fifo;
 }
 
 }  // namespace

@@ -1,17 +1,22 @@
 // Cost functors: their residuals agree with the shared camera model, and their automatic
-// derivatives agree with numeric ones (ceres::GradientChecker), with and without distortion.
+// derivatives agree with numeric ones (ceres::GradientChecker) over many random cameras, lenses
+// and points, with a numeric step small against each scene (calib/gradient_check_testing.h).
 #include "calib/cost_functions.h"
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <random>
+#include <string>
 #include <vector>
 
-#include <ceres/gradient_checker.h>
 #include <ceres/manifold.h>
 #include <ceres/product_manifold.h>
 #include <ceres/sphere_manifold.h>
 #include <gtest/gtest.h>
 
 #include "calib/camera_blocks.h"
+#include "calib/gradient_check_testing.h"
 #include "simcore/test_scenes.h"
 
 namespace mocap {
@@ -22,6 +27,60 @@ Camera TestCamera() {
   camera.intrinsics.distortion = {-0.21, 0.065, 0.0009, -0.0006, -0.012};
   return camera;
 }
+
+// A camera of a capture volume, drawn at random: 2-7 m from a target in the volume, 0.3-3.5 m
+// high, a sensor of 640x480 to 2048x1536, lenses from wide (fx 0.5 x width) to long (1.6 x),
+// real lenses' distortion (barrel to slight pincushion, small tangential terms).
+Camera RandomCamera(uint32_t id, std::mt19937* rng) {
+  const auto uniform = [rng](double low, double high) { return std::uniform_real_distribution<double>(low, high)(*rng); };
+  const Eigen::Vector3d target(uniform(-1000.0, 1000.0), uniform(-1000.0, 1000.0), uniform(300.0, 1700.0));
+  const double azimuth = uniform(0.0, 2.0 * M_PI), range = uniform(2000.0, 7000.0);
+  const Eigen::Vector3d centre(target.x() + range * std::cos(azimuth), target.y() + range * std::sin(azimuth),
+                               uniform(300.0, 3500.0));
+  Camera camera = testing::LookAtCamera(id, centre, target);
+  static const int kSensors[][2] = {{640, 480}, {1280, 800}, {1920, 1080}, {2048, 1536}};
+  const auto& sensor = kSensors[std::uniform_int_distribution<int>(0, 3)(*rng)];
+  CameraIntrinsics& lens = camera.intrinsics;
+  lens.width = sensor[0];
+  lens.height = sensor[1];
+  lens.fx = uniform(0.5, 1.6) * lens.width;
+  lens.fy = lens.fx * uniform(0.98, 1.02);
+  lens.cx = 0.5 * lens.width + uniform(-30.0, 30.0);
+  lens.cy = 0.5 * lens.height + uniform(-30.0, 30.0);
+  lens.distortion = {uniform(-0.35, 0.05), uniform(-0.1, 0.2), uniform(-0.002, 0.002), uniform(-0.002, 0.002),
+                     uniform(-0.05, 0.05)};
+  return camera;
+}
+
+// A point the camera sees, 1-7 m deep, anywhere in the image but near its centre lines: there the
+// lens terms' derivatives (2xy, r^2 x, ...) vanish, and a relative comparison of a vanishing
+// derivative with a numeric one of roundoff says nothing about either.
+Eigen::Vector3d RandomPointInCamera(const Camera& camera, std::mt19937* rng) {
+  const auto uniform = [rng](double low, double high) { return std::uniform_real_distribution<double>(low, high)(*rng); };
+  const auto sign = [rng] { return std::bernoulli_distribution(0.5)(*rng) ? 1.0 : -1.0; };
+  const CameraIntrinsics& lens = camera.intrinsics;
+  const double x_max = 0.5 * lens.width / lens.fx, y_max = 0.5 * lens.height / lens.fy;
+  const double x = sign() * uniform(0.35, 1.0) * x_max, y = sign() * uniform(0.35, 1.0) * y_max;
+  return uniform(1000.0, 7000.0) * Eigen::Vector3d(x, y, 1.0);
+}
+
+Eigen::Vector3d WorldOf(const Camera& camera, const Eigen::Vector3d& point_in_camera) {
+  return camera.rotation.transpose() * (point_in_camera - camera.translation);
+}
+
+// How far the first numeric step of the pose moves a point: by its translation (mm) or its
+// rotation (rad, times the point's distance from the camera).
+double PoseFirstStepMm(const std::array<double, kPoseSize>& pose, const Eigen::Vector3d& point_in_camera) {
+  double largest_angle = 0.0, largest_translation = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    largest_angle = std::max(largest_angle, std::abs(pose[i]));
+    largest_translation = std::max(largest_translation, std::abs(pose[3 + i]));
+  }
+  return std::max(testing::RiddersFirstStep(largest_translation),
+                  testing::RiddersFirstStep(largest_angle) * point_in_camera.norm());
+}
+
+constexpr int kProbedConfigurations = 2000;
 
 TEST(WandReprojectionErrorTest, ResidualMatchesCameraModel) {
   const Camera camera = TestCamera();
@@ -42,20 +101,38 @@ TEST(WandReprojectionErrorTest, ResidualMatchesCameraModel) {
   EXPECT_NEAR(residuals[1], 1.3, 1e-9);
 }
 
+// Random cameras, wands of half-length 100-500 mm on either side of the centre, any direction.
 TEST(WandReprojectionErrorTest, GradientsMatchNumericDerivatives) {
-  const Camera camera = TestCamera();
-  auto pose = PoseBlock(camera);
-  auto intrinsics = IntrinsicsBlock(camera.intrinsics);
-  const Eigen::Vector3d axis = Eigen::Vector3d(-0.5, 0.1, 0.85).normalized();
-  const double wand[6] = {-420.0, 610.0, 700.0, axis.x(), axis.y(), axis.z()};
-  std::unique_ptr<ceres::CostFunction> cost(WandReprojectionError::Create(Eigen::Vector2d(500.0, 300.0), -250.0));
+  std::mt19937 rng(11);
   ceres::ProductManifold<ceres::EuclideanManifold<3>, ceres::SphereManifold<3>> wand_manifold;
   const std::vector<const ceres::Manifold*> manifolds = {nullptr, nullptr, &wand_manifold};
-  ceres::NumericDiffOptions numeric_options;
-  ceres::GradientChecker checker(cost.get(), &manifolds, numeric_options);
-  ceres::GradientChecker::ProbeResults results;
-  const double* parameters[] = {pose.data(), intrinsics.data(), wand};
-  EXPECT_TRUE(checker.Probe(parameters, 1e-6, &results)) << results.error_log;
+  for (int k = 0; k < kProbedConfigurations; ++k) {
+    const Camera camera = RandomCamera(1, &rng);
+    auto pose = PoseBlock(camera);
+    auto intrinsics = IntrinsicsBlock(camera.intrinsics);
+    const Eigen::Vector3d marker_in_camera = RandomPointInCamera(camera, &rng);
+    const Eigen::Vector3d marker = WorldOf(camera, marker_in_camera);
+    std::normal_distribution<double> normal;
+    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    const double offset = (std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0) *
+                          std::uniform_real_distribution<double>(100.0, 500.0)(rng);
+    const Eigen::Vector3d centre = marker - offset * axis;
+    const double wand[6] = {centre.x(), centre.y(), centre.z(), axis.x(), axis.y(), axis.z()};
+    Eigen::Vector2d pixel;
+    ASSERT_TRUE(camera.ProjectToPixel(marker, &pixel));
+    // Off the projection, so that the residual is not zero.
+    const Eigen::Vector2d observed = pixel + Eigen::Vector2d(std::uniform_real_distribution<double>(-10.0, 10.0)(rng),
+                                                             std::uniform_real_distribution<double>(-10.0, 10.0)(rng));
+    std::unique_ptr<ceres::CostFunction> cost(WandReprojectionError::Create(observed, offset));
+    // The centre moves by its own step; the marker by the axis' step (of a unit vector) x offset.
+    const double first_step_mm =
+        std::max({PoseFirstStepMm(pose, marker_in_camera),
+                  testing::RiddersFirstStep(centre.cwiseAbs().maxCoeff()),
+                  testing::RiddersFirstStep(1.0) * std::abs(offset)});
+    const double* parameters[] = {pose.data(), intrinsics.data(), wand};
+    EXPECT_TRUE(testing::GradientsMatchNumeric(*cost, &manifolds, parameters, first_step_mm, marker_in_camera.z(),
+                                               "configuration " + std::to_string(k)));
+  }
 }
 
 TEST(WandReprojectionErrorTest, PointBehindCameraIsRejected) {
@@ -71,7 +148,7 @@ TEST(WandReprojectionErrorTest, PointBehindCameraIsRejected) {
   EXPECT_FALSE(cost->Evaluate(parameters, residuals, nullptr));
 }
 
-TEST(KnownPointReprojectionErrorTest, ResidualAndGradients) {
+TEST(KnownPointReprojectionErrorTest, ResidualIsZeroAtTheProjection) {
   const Camera camera = TestCamera();
   auto pose = PoseBlock(camera);
   auto intrinsics = IntrinsicsBlock(camera.intrinsics);
@@ -84,11 +161,25 @@ TEST(KnownPointReprojectionErrorTest, ResidualAndGradients) {
   ASSERT_TRUE(cost->Evaluate(parameters, residuals, nullptr));
   EXPECT_NEAR(residuals[0], 0.0, 1e-9);
   EXPECT_NEAR(residuals[1], 0.0, 1e-9);
-  const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
-  ceres::NumericDiffOptions numeric_options;
-  ceres::GradientChecker checker(cost.get(), no_manifolds, numeric_options);
-  ceres::GradientChecker::ProbeResults results;
-  EXPECT_TRUE(checker.Probe(parameters, 1e-6, &results)) << results.error_log;
+}
+
+TEST(KnownPointReprojectionErrorTest, GradientsMatchNumericDerivatives) {
+  std::mt19937 rng(12);
+  for (int k = 0; k < kProbedConfigurations; ++k) {
+    const Camera camera = RandomCamera(1, &rng);
+    auto pose = PoseBlock(camera);
+    auto intrinsics = IntrinsicsBlock(camera.intrinsics);
+    const Eigen::Vector3d point_in_camera = RandomPointInCamera(camera, &rng);
+    const Eigen::Vector3d point = WorldOf(camera, point_in_camera);
+    Eigen::Vector2d pixel;
+    ASSERT_TRUE(camera.ProjectToPixel(point, &pixel));
+    const Eigen::Vector2d observed = pixel + Eigen::Vector2d(std::uniform_real_distribution<double>(-10.0, 10.0)(rng),
+                                                             std::uniform_real_distribution<double>(-10.0, 10.0)(rng));
+    std::unique_ptr<ceres::CostFunction> cost(KnownPointReprojectionError::Create(point, observed));
+    const double* parameters[] = {pose.data(), intrinsics.data()};
+    EXPECT_TRUE(testing::GradientsMatchNumeric(*cost, nullptr, parameters, PoseFirstStepMm(pose, point_in_camera),
+                                               point_in_camera.z(), "configuration " + std::to_string(k)));
+  }
 }
 
 }  // namespace

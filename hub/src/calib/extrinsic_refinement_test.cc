@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
 #include "calib/camera_blocks.h"
+#include "calib/gradient_check_testing.h"
 #include "calib/marker_reprojection_error.h"
 #include "io/trc.h"
 #include "simcore/camera_bump.h"
@@ -174,41 +174,29 @@ TEST(ExtrinsicRefinementTest, OptionsAreChecked) {
   EXPECT_THROW(residuals.Check(), std::invalid_argument);
 }
 
-// GradientChecker differentiates numerically by Ridders' method, whose first step is
-// ridders_relative_initial_step_size x |parameter| x shrink^(extrapolations / 2), i.e. 32 x the
-// relative step by default, then shrinks. The residual is smooth only well inside the point's
-// depth (the projection divides by it), but the pose's translation is the world origin in camera
-// coordinates: metres, unrelated to that depth. At ceres' default of 1e-2 a translation of 4.2 m
-// starts Ridders at 1.33 m for a point 2.35 m deep, where the tableau cannot converge: its
-// estimate was 0.65 % off the automatic Jacobian, which plain central differences at every step
-// from 1e-4 to 1 mm agree with to 1e-6. 1e-4 starts every step below 2 % of the depth, which the
-// probe asserts for each configuration, so that it stays sound on any scene.
-constexpr double kRiddersRelativeStep = 1e-4;
-constexpr double kRiddersStartFactor = 32.0;  // shrink factor 2 ^ (10 extrapolations / 2)
-
+// The residual's Jacobians at a point `distance_mm` along the pixel's ray, against numeric ones
+// with a first step small against the depth (calib/gradient_check_testing.h).
 void ExpectGradientMatchesNumeric(const Camera& camera, const Eigen::Vector2d& pixel, double distance_mm) {
   std::array<double, kPoseSize> pose = PoseBlock(camera);
   std::array<double, kIntrinsicsSize> intrinsics = IntrinsicsBlock(camera.intrinsics);
   const Eigen::Vector3d point_in_world = camera.CenterInWorld() + distance_mm * camera.RayDirectionInWorld(pixel);
   std::array<double, 3> point = {point_in_world.x(), point_in_world.y(), point_in_world.z()};
-  const double depth = (camera.rotation * point_in_world + camera.translation).z();
-  double largest_length = 0.0;  // the largest translation or point coordinate, mm
+  const Eigen::Vector3d point_in_camera = camera.rotation * point_in_world + camera.translation;
+  double largest_length = 0.0, largest_angle = 0.0;  // mm: translation and point; rad: rotation
   for (int i = 0; i < 3; ++i) {
     largest_length = std::max({largest_length, std::abs(pose[3 + i]), std::abs(point[i])});
+    largest_angle = std::max(largest_angle, std::abs(pose[i]));
   }
-  SCOPED_TRACE("camera " + std::to_string(camera.id) + " pixel (" + std::to_string(pixel.x()) + ", " +
-               std::to_string(pixel.y()) + ") depth " + std::to_string(depth) + " mm");
-  ASSERT_LT(kRiddersRelativeStep * kRiddersStartFactor * largest_length, 0.02 * depth);
+  const double first_step_mm = std::max(testing::RiddersFirstStep(largest_length),
+                                        testing::RiddersFirstStep(largest_angle) * point_in_camera.norm());
 
   // The observation is off the projection, so that the residual is not zero.
   std::unique_ptr<ceres::CostFunction> cost(MarkerReprojectionError::Create(pixel + Eigen::Vector2d(7.0, -5.0)));
-  ceres::NumericDiffOptions numeric;
-  numeric.ridders_relative_initial_step_size = kRiddersRelativeStep;
-  const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
-  ceres::GradientChecker checker(cost.get(), no_manifolds, numeric);
-  ceres::GradientChecker::ProbeResults results;
   const double* parameters[] = {pose.data(), intrinsics.data(), point.data()};
-  EXPECT_TRUE(checker.Probe(parameters, 1e-6, &results)) << results.error_log;
+  EXPECT_TRUE(testing::GradientsMatchNumeric(*cost, nullptr, parameters, first_step_mm, point_in_camera.z(),
+                                             "camera " + std::to_string(camera.id) + " pixel (" +
+                                                 std::to_string(pixel.x()) + ", " + std::to_string(pixel.y()) +
+                                                 ") at " + std::to_string(distance_mm) + " mm"));
 }
 
 // Every camera of two rigs (the walk's, and the fixed ring with other lenses), points near every

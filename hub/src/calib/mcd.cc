@@ -2,9 +2,10 @@
 #include "calib/mcd.h"
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "util/regular_file.h"
 
 namespace mocap {
 namespace {
@@ -124,11 +125,7 @@ McdRecording ParseMcd(const std::string& text, const std::string& source) {
 }
 
 McdRecording ReadMcd(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return ParseMcd(text.str(), path);
+  return ParseMcd(ReadRegularFile(path, kMaxRecordingFileBytes, "an .mcd recording"), path);
 }
 
 }  // namespace mocap

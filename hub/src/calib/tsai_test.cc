@@ -16,6 +16,7 @@
 #include "calib/mcd.h"
 #include "io/calibration_json.h"
 #include "util/bounded_line.h"
+#include "util/special_file_testing.h"
 #include "geometry/triangulation.h"
 
 namespace mocap {
@@ -178,9 +179,17 @@ TEST(McdTest, MalformedRecordingsNameTheLine) {
   expect_error("CameraCount: 1\n" + block + "\nFrame: x\n", "Frame: K");
 }
 
+// A recording is read whole: a FIFO was waited on (and /dev/zero grew without end: not tried
+// here, as without the check it would take all memory). Refused at once now, naming the path.
+TEST(McdTest, ReadsOnlyRegularFiles) {
+  const auto read = [](const std::string& path) { ReadMcd(path); };
+  const std::string fifo = testing::ErrorOfReadingAFifo(read, "wand.mcd");
+  EXPECT_NE(fifo.find("wand.mcd: not a regular file (a FIFO)"), std::string::npos) << fifo;
+}
+
 // A file whose line never ends (/dev/zero, a damaged file) is refused at 1 MiB, not read on.
 TEST(TsaiTest, ALineWithoutEndIsRefused) {
-  const std::string path = testing::TempDir() + "/endless_tsai.txt";
+  const std::string path = ::testing::TempDir() + "/endless_tsai.txt";
   std::ofstream(path) << std::string(kMaxTextLineBytes + 1, '\0');
   try {
     ReadTsaiFile(path);

@@ -1,13 +1,12 @@
 // key = value config files (see config_file.h).
 #include "cli/config_file.h"
 
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "cli/commands.h"
+#include "util/regular_file.h"
 
 namespace mocap {
 namespace {
@@ -25,16 +24,7 @@ std::string Trim(const std::string& s) {
 std::vector<ConfigEntry> ReadConfigFile(const std::string& path) {
   // Read whole and bounded before any line is looked at: getline on /dev/zero (which --config's
   // existing-file check lets through) grew one line without end, and a FIFO never ended.
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path + ": not a regular file (a config file is a file of at most 64 KiB)");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot read the config file");
-  std::string bytes(kMaxConfigBytes + 1, '\0');
-  file.read(&bytes[0], static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<size_t>(file.gcount()));
-  if (file.bad()) throw std::runtime_error(path + ": cannot read the config file");
-  if (bytes.size() > kMaxConfigBytes) throw std::runtime_error(path + ": larger than 64 KiB; not a config file");
+  const std::string bytes = ReadRegularFile(path, kMaxConfigBytes, "a config file");
   std::istringstream in(bytes);
   std::vector<ConfigEntry> entries;
   std::string text;

@@ -5,10 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <stdexcept>
+
+#include "util/regular_file.h"
 
 namespace mocap {
 namespace {
@@ -389,10 +390,8 @@ MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string
 }
 
 MarkerTrajectories ReadC3d(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return ParseC3d(bytes, path);
+  const std::string text = ReadRegularFile(path, kMaxRecordingFileBytes, "a C3D file");
+  return ParseC3d(std::vector<uint8_t>(text.begin(), text.end()), path);
 }
 
 }  // namespace mocap

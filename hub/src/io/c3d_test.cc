@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "io/trajectory_file.h"
+#include "util/special_file_testing.h"
 
 namespace mocap {
 namespace {
@@ -174,6 +175,14 @@ TEST(C3d, BrokenFilesGetReasons) {
   C3dWriter w;
   EXPECT_THROW(w.Open(TempPath("x.c3d"), {}, 100.0), std::runtime_error);
   EXPECT_THROW(w.Open(TempPath("x.c3d"), {"A"}, 0.0), std::runtime_error);
+}
+
+// A C3D file is read whole: a FIFO was waited on (and /dev/zero grew without end: not tried
+// here, as without the check it would take all memory). Refused at once now, naming the path.
+TEST(C3d, ReadsOnlyRegularFiles) {
+  const auto read = [](const std::string& path) { ReadC3d(path); };
+  const std::string fifo = testing::ErrorOfReadingAFifo(read, "take.c3d");
+  EXPECT_NE(fifo.find("take.c3d: not a regular file (a FIFO)"), std::string::npos) << fifo;
 }
 
 TEST(TrajectoryFile, ByExtension) {

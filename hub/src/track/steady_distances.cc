@@ -23,27 +23,113 @@ double SteadyDistances::Excess(const Neighbour& neighbour, double distance_mm) {
 }
 
 void SteadyDistances::Learn(uint64_t frame_number, const std::vector<TrackSample>& row) {
-  const double radius2 = radius_mm_ * radius_mm_;
+  measured_.clear();
   for (size_t i = 0; i < row.size(); ++i) {
-    if (row[i].kind != SampleKind::kMeasured) continue;
-    for (size_t j = i + 1; j < row.size(); ++j) {
-      if (row[j].kind != SampleKind::kMeasured) continue;
-      const int a = row[i].marker, b = row[j].marker;
-      if (a == b || a < 0 || b < 0) continue;
-      const double distance2 = (row[i].position - row[j].position).squaredNorm();
-      auto found = pairs_.find(Key(a, b));
-      if (found == pairs_.end()) {
-        if (distance2 > radius2) continue;
-        found = pairs_.emplace(Key(a, b), Pair()).first;
-        const size_t needed = static_cast<size_t>(std::max(a, b)) + 1;
-        if (partners_.size() < needed) partners_.resize(needed);
-        partners_[a].push_back(b);
-        partners_[b].push_back(a);
-      }
-      Observe(&found->second, frame_number, std::sqrt(distance2));
+    if (row[i].kind == SampleKind::kMeasured && row[i].marker >= 0) measured_.push_back(static_cast<int>(i));
+  }
+  distances_computed_ = 0;
+  ObserveKnownPairs(frame_number, row);
+  LearnNewPairs(frame_number, row);
+  ForgetOld(frame_number);
+}
+
+void SteadyDistances::ObserveKnownPairs(uint64_t frame_number, const std::vector<TrackSample>& row) {
+  // A known pair is observed at whatever distance, so that it can drift apart and break.
+  row_of_column_.assign(partners_.size(), -1);
+  for (int i : measured_) {
+    if (static_cast<size_t>(row[i].marker) < partners_.size()) row_of_column_[row[i].marker] = i;
+  }
+  for (int i : measured_) {
+    const int a = row[i].marker;
+    if (static_cast<size_t>(a) >= partners_.size()) continue;
+    for (const Partner& partner : partners_[a]) {
+      const int j = partner.column < a ? -1 : row_of_column_[partner.column];  // each pair once
+      if (j < 0) continue;
+      ++distances_computed_;
+      // The same bits whichever sample comes first: a difference's negation is exact.
+      Observe(partner.pair, frame_number, std::sqrt((row[i].position - row[j].position).squaredNorm()));
     }
   }
-  ForgetOld(frame_number);
+}
+
+bool SteadyDistances::Known(int a, int b) const {
+  const std::vector<Partner>& list = partners_[a];  // a short list: the columns that came close
+  return std::any_of(list.begin(), list.end(), [b](const Partner& p) { return p.column == b; });
+}
+
+void SteadyDistances::LearnNewPairs(uint64_t frame_number, const std::vector<TrackSample>& row) {
+  const double radius2 = radius_mm_ * radius_mm_;
+  // Sweep along the axis the row spreads most on: sorted by that coordinate, a sample's pairs
+  // within the radius are among the next ones, up to the first farther than the radius along it
+  // (a squared distance is a sum of non-negative squares, rounded: never below its term on the
+  // axis). A sample with a NaN coordinate has a NaN distance to any other, which was never
+  // farther than the radius: it is tried with every other, as it was.
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(HUGE_VAL), high = Eigen::Vector3d::Constant(-HUGE_VAL);
+  for (int i : measured_) {
+    for (int k = 0; k < 3; ++k) {
+      const double v = row[i].position[k];
+      if (v < low[k]) low[k] = v;
+      if (v > high[k]) high[k] = v;
+    }
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (high[k] - low[k] > high[axis] - low[axis]) axis = k;
+  }
+  sweep_.clear();
+  unordered_.clear();
+  for (int i : measured_) {
+    if (row[i].position.hasNaN()) {
+      unordered_.push_back(i);
+    } else {
+      sweep_.push_back({row[i].position, i});
+    }
+  }
+  std::sort(sweep_.begin(), sweep_.end(),
+            [axis](const SweepEntry& x, const SweepEntry& y) { return x.position[axis] < y.position[axis]; });
+
+  new_pairs_.clear();
+  const auto consider = [&](int i, int j, double distance2) {
+    const int a = row[i].marker, b = row[j].marker;
+    if (a == b || distance2 > radius2) return;
+    if (static_cast<size_t>(std::max(a, b)) < partners_.size() && Known(a, b)) return;  // observed already
+    new_pairs_.push_back({std::min(i, j), std::max(i, j), distance2});
+  };
+  for (size_t k = 0; k < sweep_.size(); ++k) {
+    const SweepEntry& first = sweep_[k];
+    for (size_t l = k + 1; l < sweep_.size(); ++l) {
+      const double along = sweep_[l].position[axis] - first.position[axis];
+      if (along * along > radius2) break;
+      ++distances_computed_;
+      consider(first.row, sweep_[l].row, (first.position - sweep_[l].position).squaredNorm());
+    }
+  }
+  for (int u : unordered_) {
+    for (int i : measured_) {
+      // Two such samples meet once, from the earlier one.
+      if (i == u || (row[i].position.hasNaN() && i < u)) continue;
+      ++distances_computed_;
+      consider(u, i, (row[u].position - row[i].position).squaredNorm());
+    }
+  }
+
+  // New pairs enter in row order (as a walk over the row's pairs finds them): each column's
+  // partners, and so the order of its steady neighbours, do not depend on the sweep.
+  std::sort(new_pairs_.begin(), new_pairs_.end(), [](const NewPair& x, const NewPair& y) {
+    return x.first != y.first ? x.first < y.first : x.second < y.second;
+  });
+  for (const NewPair& n : new_pairs_) {
+    const int a = row[n.first].marker, b = row[n.second].marker;
+    const auto [entry, fresh] = pairs_.emplace(Key(a, b), Pair());
+    if (fresh) {  // (not fresh only for a row that breaks the one-sample-per-column rule)
+      // Elements of an unordered_map stay where they are as it grows: partners keep the address.
+      const size_t needed = static_cast<size_t>(std::max(a, b)) + 1;
+      if (partners_.size() < needed) partners_.resize(needed);
+      partners_[a].push_back({b, &entry->second});
+      partners_[b].push_back({a, &entry->second});
+    }
+    Observe(&entry->second, frame_number, std::sqrt(n.distance2));
+  }
 }
 
 void SteadyDistances::Observe(Pair* pair, uint64_t frame_number, double distance) const {
@@ -87,8 +173,9 @@ void SteadyDistances::ForgetOld(uint64_t frame_number) {
     }
     const int a = static_cast<int>(it->first >> 32), b = static_cast<int>(it->first & 0xffffffffu);
     for (auto [from, to] : {std::pair<int, int>{a, b}, std::pair<int, int>{b, a}}) {
-      std::vector<int>& list = partners_[from];
-      list.erase(std::remove(list.begin(), list.end(), to), list.end());
+      std::vector<Partner>& list = partners_[from];
+      list.erase(std::remove_if(list.begin(), list.end(), [to = to](const Partner& p) { return p.column == to; }),
+                 list.end());
     }
     it = pairs_.erase(it);
   }
@@ -97,9 +184,9 @@ void SteadyDistances::ForgetOld(uint64_t frame_number) {
 void SteadyDistances::SteadyNeighbours(int column, std::vector<Neighbour>* out) const {
   out->clear();
   if (column < 0 || static_cast<size_t>(column) >= partners_.size()) return;
-  for (int other : partners_[column]) {
-    const Pair& pair = pairs_.at(Key(column, other));
-    if (!pair.broken && Steady(pair)) out->push_back({other, pair.mean, Tolerance(pair)});
+  for (const Partner& partner : partners_[column]) {
+    const Pair& pair = *partner.pair;
+    if (!pair.broken && Steady(pair)) out->push_back({partner.column, pair.mean, Tolerance(pair)});
   }
 }
 

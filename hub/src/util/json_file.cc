@@ -6,8 +6,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
+
+#include "util/regular_file.h"
 
 namespace mocap {
 namespace {
@@ -53,10 +54,9 @@ void SyncDirectory(const fs::path& dir) {
 }  // namespace
 
 nlohmann::json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) Fail(path, "cannot open: " + ErrnoText());
+  const std::string text = ReadRegularFile(path, kMaxJsonFileBytes, "a JSON file");
   try {
-    return nlohmann::json::parse(in);
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& error) {
     Fail(path, "not valid JSON at byte " + std::to_string(error.byte) + " (" + error.what() + ")");
   } catch (const nlohmann::json::exception& error) {

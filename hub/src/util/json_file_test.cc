@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "util/special_file_testing.h"
+
 namespace mocap {
 namespace {
 
@@ -95,6 +97,25 @@ TEST_F(JsonFileTest, ReadErrorsNameTheFileAndThePosition) {
   const std::string overflow = ErrorOf([&] { ReadJsonFile(broken); });
   EXPECT_NE(overflow.find(broken + ": not valid JSON ("), std::string::npos) << overflow;
   EXPECT_NE(overflow.find("number overflow"), std::string::npos) << overflow;
+}
+
+// Only regular files are read, and only up to kMaxJsonFileBytes: a path naming a device or a FIFO
+// (session.json, a bodies or masks file, a calibration all come from the command line or a
+// directory) read until it ended, and a FIFO's open waited for a writer.
+TEST_F(JsonFileTest, OnlyRegularFilesWithinTheBoundAreRead) {
+  const auto read = [](const std::string& path) { ReadJsonFile(path); };
+  EXPECT_EQ(testing::ErrorOfReading(read, "/dev/zero"),
+            "/dev/zero: not a regular file (a character device); a JSON file is a regular file of at most 16 MiB");
+  const std::string fifo = testing::ErrorOfReadingAFifo(read, "session.json");
+  EXPECT_NE(fifo.find("session.json: not a regular file (a FIFO)"), std::string::npos) << fifo;
+  // Past the bound by a byte (a sparse file: its size is what is looked at first).
+  const std::string large = Path("large.json");
+  std::ofstream(large) << "[]";
+  fs::resize_file(large, kMaxJsonFileBytes + 1);
+  EXPECT_EQ(testing::ErrorOfReading(read, large), large + ": larger than 16 MiB, the bound for a JSON file");
+  // At the bound it is read: "[]" and spaces.
+  std::ofstream(large) << "[1]" << std::string(kMaxJsonFileBytes - 3, ' ');
+  EXPECT_EQ(ReadJsonFile(large), nlohmann::json::array({1}));
 }
 
 }  // namespace

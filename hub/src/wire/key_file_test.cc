@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "util/special_file_testing.h"
 #include "wire/key_file.h"
 
 namespace mocap::wire {
@@ -82,6 +83,15 @@ TEST(KeyFile, WrittenPrivateAndRefusedWhenOthersMayRead) {
   }
   EXPECT_THROW(ReadKeyFile(std::string(dir_template) + "/none.key"), std::runtime_error);
   std::filesystem::remove_all(dir_template);
+}
+
+// The key file is checked to be a regular file once opened; a FIFO's open waited for a writer
+// before that check could run.
+TEST(KeyFile, AFifoIsRefusedWithoutWaiting) {
+  const auto read = [](const std::string& path) { ReadKeyFile(path); };
+  const std::string error = mocap::testing::ErrorOfReadingAFifo(read, "node-5.key");
+  EXPECT_NE(error.find("node-5.key: not a regular file"), std::string::npos) << error;
+  EXPECT_NE(error.rfind("waited", 0), 0u) << error;
 }
 
 }  // namespace
