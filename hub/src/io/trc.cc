@@ -13,6 +13,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "util/bounded_line.h"
+
 namespace mocap {
 namespace {
 
@@ -56,10 +58,12 @@ bool ParseDouble(const std::string& cell, double* value) {
 
 bool IsBlank(const std::string& line) { return Trim(line).empty(); }
 
-// Lines from a stream, ending at \n, \r\n or a lone \r, counted for error messages.
+// Lines from a stream, ending at \n, \r\n or a lone \r, counted for error messages. A line
+// over kMaxTextLineBytes (no TRC row comes near: 1000 markers make ~40 KiB) is refused naming
+// it: /dev/zero or a damaged file would otherwise grow one line without end.
 class LineReader {
  public:
-  explicit LineReader(std::istream& in) : buffer_(in.rdbuf()) {}
+  LineReader(std::istream& in, const std::string& source) : buffer_(in.rdbuf()), source_(source) {}
 
   bool Next(std::string* line) {
     line->clear();
@@ -67,6 +71,10 @@ class LineReader {
     int c = buffer_->sbumpc();
     if (c == EOF) return false;
     while (c != EOF && c != '\n' && c != '\r') {
+      if (line->size() >= kMaxTextLineBytes) {
+        throw std::runtime_error(source_ + ": line " + std::to_string(number_ + 1) +
+                                 ": longer than 1 MiB: not a TRC file");
+      }
       line->push_back(static_cast<char>(c));
       c = buffer_->sbumpc();
     }
@@ -89,6 +97,7 @@ class LineReader {
 
  private:
   std::streambuf* buffer_;
+  const std::string& source_;
   size_t number_ = 0;
   bool terminated_ = true;
 };
@@ -99,7 +108,7 @@ class TrcParser {
       : source_(source), options_(options) {}
 
   MarkerTrajectories Parse(std::istream& in) {
-    LineReader reader(in);
+    LineReader reader(in, source_);
     std::string line, values;
     if (!reader.NextNonBlank(&line) || Trim(line).rfind("PathFileType", 0) != 0) {
       Fail(std::max<size_t>(reader.number(), 1), "not a TRC file (first line must start with PathFileType)");

@@ -177,6 +177,24 @@ TEST(TrcTest, ClearErrors) {
   EXPECT_THROW(ReadTrc("/nonexistent/motion.trc"), std::runtime_error);
 }
 
+TEST(TrcTest, AnEndlessLineIsRefusedNamingItInsteadOfReadWhole) {
+  const std::string header =
+      "PathFileType\t4\t(X/Y/Z)\tx.trc\n"
+      "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
+      "60\t60\t2\t1\tmm\n"
+      "Frame#\tTime\tA\t\t\t\n"
+      "\t\tX1\tY1\tZ1\t\n";
+  ExpectParseError(header + "1\t0\t1\t2\t3" + std::string(2 << 20, 'x') + "\n", "line 6: longer than 1 MiB");
+  // A row just under the bound is read whole: its error is its value's.
+  ExpectParseError(header + "1\t0\t1\t2\t3" + std::string((1 << 20) - 16, 'x') + "\n", "line 6: malformed coordinate");
+  try {
+    ReadTrc("/dev/zero");
+    ADD_FAILURE() << "/dev/zero read as a TRC file";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("/dev/zero: line 1: longer than 1 MiB"), std::string::npos) << error.what();
+  }
+}
+
 TEST(TrcTest, AFileCutInsideItsLastRowIsRefusedNamingTheRow) {
   // The probe: a TRC cut mid-row was read as a frame whose last markers were gaps, silently.
   const std::string path = (std::filesystem::temp_directory_path() / "mocap_trc_cut.trc").string();
