@@ -7,8 +7,9 @@
 // Each pair of columns seen within `radius_mm` is learned: a running mean and variance of its
 // distance (Welford), followed at any distance once learned. New pairs are found by a sweep along
 // one axis, so that a row costs about its close pairs rather than all its pairs (7503 for 123
-// markers). A pair whose distance varies by more than noise while it is learned, or drifts away from its steady distance for kMaxDrift frames, has a joint between its markers and
-// is never steady again. A distance that steps (from one frame to the next) away from the learned
+// markers). A pair whose distance varies by more than noise while it is learned, or drifts away
+// from its steady distance for kMaxDrift frames, has a joint between its markers and is never
+// steady again. A distance that steps (from one frame to the next) away from the learned
 // one is a change of labels: kMaxStrays frames of it start the learning again from there, as
 // does a step while it is learned. Steady: kMinSamples samples, standard deviation under
 // max_sd_mm. Memory: one entry per pair that came close, forgotten after kForgetFrames frames
