@@ -328,10 +328,17 @@ MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string
     return fallback;
   };
 
-  const size_t points = static_cast<size_t>(number("POINT", "USED", U16(h + 2)));
+  // USED and DATA_START are 16-bit counts in the format; a parameter may still hold them as a
+  // float of any size (converting one past size_t is undefined, and a huge USED would name
+  // that many markers): out of range is refused.
+  const auto count16 = [&](const char* name, double value) {
+    if (!(value >= 0.0 && value <= 65535.0)) fail(std::string("POINT:") + name + " out of range");
+    return static_cast<size_t>(value);
+  };
+  const size_t points = count16("USED", number("POINT", "USED", U16(h + 2)));
   const double scale = number("POINT", "SCALE", F32(h + 12));
   const double rate = number("POINT", "RATE", F32(h + 20));
-  const size_t data_start = static_cast<size_t>(number("POINT", "DATA_START", U16(h + 16)));
+  const size_t data_start = count16("DATA_START", number("POINT", "DATA_START", U16(h + 16)));
   if (!(rate > 0.0) || !std::isfinite(rate)) fail("no usable POINT:RATE");
   if (!std::isfinite(scale) || scale == 0.0) fail("no usable POINT:SCALE");
   if (data_start == 0) fail("no usable POINT:DATA_START");
@@ -343,11 +350,11 @@ MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string
   if (data_at > bytes.size()) fail("POINT:DATA_START past the end of the file");
   double declared = number("POINT", "LONG_FRAMES", -1.0);
   if (!(declared >= 0.0)) declared = number("POINT", "FRAMES", static_cast<double>(U16(h + 8)) - U16(h + 6) + 1);
-  size_t frames = declared > 0.0 && std::isfinite(declared) ? static_cast<size_t>(declared) : 0;
   // A file cut short (a writer that crashed) keeps the frames it has; no promise in the header
-  // makes the reader allocate more than the file holds.
-  if (frame_size > 0) frames = std::min(frames, (bytes.size() - data_at) / frame_size);
-  else frames = 0;
+  // makes the reader allocate more than the file holds (compared as doubles: a float LONG_FRAMES
+  // may be past any size_t).
+  const size_t held = frame_size > 0 ? (bytes.size() - data_at) / frame_size : 0;
+  const size_t frames = declared > 0.0 ? (declared < static_cast<double>(held) ? static_cast<size_t>(declared) : held) : 0;
 
   MarkerTrajectories out;
   out.rate_hz = rate;

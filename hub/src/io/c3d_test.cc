@@ -7,6 +7,7 @@
 #include <cmath>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +108,25 @@ TEST(C3d, CutShortKeepsWholeFrames) {
   const MarkerTrajectories r = ParseC3d(b, "cut");
   EXPECT_EQ(r.NumFrames(), 14u);
   std::filesystem::remove(path);
+}
+
+// POINT:LONG_FRAMES is a float: a damaged one past any count (4e20) is a promise like any
+// other, and the file keeps the frames it holds (converting it to a count was undefined).
+TEST(C3d, AFrameCountPastAnyIntegerKeepsTheFramesHeld) {
+  const std::string path = TempPath("long_frames.c3d");
+  WriteC3d(Sample(3, 20, 0), path);
+  std::vector<uint8_t> b = Bytes(path);
+  std::filesystem::remove(path);
+  const std::string name = "LONG_FRAMES";
+  const auto at = std::search(b.begin(), b.end(), name.begin(), name.end());
+  ASSERT_NE(at, b.end());
+  // name, then the offset to the next parameter (2 bytes), the type (4: float), no dimensions.
+  const size_t record = static_cast<size_t>(at - b.begin()) + name.size();
+  ASSERT_EQ(static_cast<int8_t>(b[record + 2]), 4);
+  ASSERT_EQ(b[record + 3], 0);
+  const float huge = 4e20f;
+  std::memcpy(&b[record + 4], &huge, sizeof huge);
+  EXPECT_EQ(ParseC3d(b, "long_frames").NumFrames(), 20u);
 }
 
 // A file as other tools write it: integer data with a scale, two analog samples per frame,
