@@ -101,6 +101,13 @@ TEST(WandReprojectionErrorTest, ResidualMatchesCameraModel) {
   EXPECT_NEAR(residuals[1], 1.3, 1e-9);
 }
 
+// An observation up to 10 px off a projection each way, so that the residual is not zero.
+Eigen::Vector2d OffProjection(const Eigen::Vector2d& pixel, std::mt19937* rng) {
+  std::uniform_real_distribution<double> off(-10.0, 10.0);
+  const double dx = off(*rng);
+  return pixel + Eigen::Vector2d(dx, off(*rng));
+}
+
 // Random cameras, wands of half-length 100-500 mm on either side of the centre, any direction.
 TEST(WandReprojectionErrorTest, GradientsMatchNumericDerivatives) {
   std::mt19937 rng(11);
@@ -120,9 +127,7 @@ TEST(WandReprojectionErrorTest, GradientsMatchNumericDerivatives) {
     const double wand[6] = {centre.x(), centre.y(), centre.z(), axis.x(), axis.y(), axis.z()};
     Eigen::Vector2d pixel;
     ASSERT_TRUE(camera.ProjectToPixel(marker, &pixel));
-    // Off the projection, so that the residual is not zero.
-    const Eigen::Vector2d observed = pixel + Eigen::Vector2d(std::uniform_real_distribution<double>(-10.0, 10.0)(rng),
-                                                             std::uniform_real_distribution<double>(-10.0, 10.0)(rng));
+    const Eigen::Vector2d observed = OffProjection(pixel, &rng);
     std::unique_ptr<ceres::CostFunction> cost(WandReprojectionError::Create(observed, offset));
     // The centre moves by its own step; the marker by the axis' step (of a unit vector) x offset.
     const double first_step_mm =
@@ -173,8 +178,7 @@ TEST(KnownPointReprojectionErrorTest, GradientsMatchNumericDerivatives) {
     const Eigen::Vector3d point = WorldOf(camera, point_in_camera);
     Eigen::Vector2d pixel;
     ASSERT_TRUE(camera.ProjectToPixel(point, &pixel));
-    const Eigen::Vector2d observed = pixel + Eigen::Vector2d(std::uniform_real_distribution<double>(-10.0, 10.0)(rng),
-                                                             std::uniform_real_distribution<double>(-10.0, 10.0)(rng));
+    const Eigen::Vector2d observed = OffProjection(pixel, &rng);
     std::unique_ptr<ceres::CostFunction> cost(KnownPointReprojectionError::Create(point, observed));
     const double* parameters[] = {pose.data(), intrinsics.data()};
     EXPECT_TRUE(testing::GradientsMatchNumeric(*cost, nullptr, parameters, PoseFirstStepMm(pose, point_in_camera),

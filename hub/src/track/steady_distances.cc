@@ -25,7 +25,10 @@ double SteadyDistances::Excess(const Neighbour& neighbour, double distance_mm) {
 void SteadyDistances::Learn(uint64_t frame_number, const std::vector<TrackSample>& row) {
   measured_.clear();
   for (size_t i = 0; i < row.size(); ++i) {
-    if (row[i].kind == SampleKind::kMeasured && row[i].marker >= 0) measured_.push_back(static_cast<int>(i));
+    // A measured sample is a triangulated point, so finite; one that is not has no distance.
+    if (row[i].kind == SampleKind::kMeasured && row[i].marker >= 0 && row[i].position.allFinite()) {
+      measured_.push_back(static_cast<int>(i));
+    }
   }
   distances_computed_ = 0;
   ObserveKnownPairs(frame_number, row);
@@ -62,29 +65,16 @@ void SteadyDistances::LearnNewPairs(uint64_t frame_number, const std::vector<Tra
   // Sweep along the axis the row spreads most on: sorted by that coordinate, a sample's pairs
   // within the radius are among the next ones, up to the first farther than the radius along it
   // (a squared distance is a sum of non-negative squares, rounded: never below its term on the
-  // axis). A sample with a NaN coordinate has a NaN distance to any other, which was never
-  // farther than the radius: it is tried with every other, as it was.
-  Eigen::Vector3d low = Eigen::Vector3d::Constant(HUGE_VAL), high = Eigen::Vector3d::Constant(-HUGE_VAL);
+  // axis).
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(HUGE_VAL), high = -low;
+  sweep_.clear();
   for (int i : measured_) {
-    for (int k = 0; k < 3; ++k) {
-      const double v = row[i].position[k];
-      if (v < low[k]) low[k] = v;
-      if (v > high[k]) high[k] = v;
-    }
+    low = low.cwiseMin(row[i].position);
+    high = high.cwiseMax(row[i].position);
+    sweep_.push_back({row[i].position, i});
   }
   int axis = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (high[k] - low[k] > high[axis] - low[axis]) axis = k;
-  }
-  sweep_.clear();
-  unordered_.clear();
-  for (int i : measured_) {
-    if (row[i].position.hasNaN()) {
-      unordered_.push_back(i);
-    } else {
-      sweep_.push_back({row[i].position, i});
-    }
-  }
+  (high - low).maxCoeff(&axis);  // the first of equal spreads
   std::sort(sweep_.begin(), sweep_.end(),
             [axis](const SweepEntry& x, const SweepEntry& y) { return x.position[axis] < y.position[axis]; });
 
@@ -104,14 +94,7 @@ void SteadyDistances::LearnNewPairs(uint64_t frame_number, const std::vector<Tra
       consider(first.row, sweep_[l].row, (first.position - sweep_[l].position).squaredNorm());
     }
   }
-  for (int u : unordered_) {
-    for (int i : measured_) {
-      // Two such samples meet once, from the earlier one.
-      if (i == u || (row[i].position.hasNaN() && i < u)) continue;
-      ++distances_computed_;
-      consider(u, i, (row[u].position - row[i].position).squaredNorm());
-    }
-  }
+
 
   // New pairs enter in row order (as a walk over the row's pairs finds them): each column's
   // partners, and so the order of its steady neighbours, do not depend on the sweep.

@@ -102,12 +102,11 @@ class SteadyDistances {
   uint64_t last_sweep_ = 0;
   size_t distances_computed_ = 0;
   // Scratch of Learn, kept to spare allocations: the row positions of measured samples, the row
-  // position of each column's sample (-1: none), the sweep's order, samples with a NaN
-  // coordinate, and the pairs first seen in the row.
+  // position of each column's sample (-1: none), the sweep's order, and the pairs first seen in
+  // the row.
   std::vector<int> measured_;
   std::vector<int> row_of_column_;
   std::vector<SweepEntry> sweep_;
-  std::vector<int> unordered_;
   std::vector<NewPair> new_pairs_;
 };
 
