@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace mocap {
@@ -13,9 +14,13 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   Grid& grid = grids_[camera];
   const int begin = views.camera_begin[camera], end = views.camera_begin[camera + 1];
   const int count = end - begin;
-  grid.entries.resize(count + 1);
-  grid.entries[count].cell = -1;
-  if (count == 0) return;
+  grid.entries.resize(static_cast<size_t>(count) + kWindow);
+  constexpr double kFar = std::numeric_limits<double>::infinity();
+  std::fill(grid.entries.begin() + count, grid.entries.end(), Entry{Eigen::Vector2d(kFar, kFar), -1});
+  if (count == 0) {
+    grid.cols = grid.rows = 0;
+    return;
+  }
   Eigen::Vector2d low = views.observations[begin].normalized, high = low;
   for (int o = begin + 1; o < end; ++o) {
     low = low.cwiseMin(views.observations[o].normalized);
@@ -34,37 +39,63 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   grid.inverse_cell = 1.0 / cell;
   grid.cols = static_cast<int>((high.x() - low.x()) * grid.inverse_cell) + 1;
   grid.rows = static_cast<int>((high.y() - low.y()) * grid.inverse_cell) + 1;
-  const size_t cells = static_cast<size_t>(grid.cols) * grid.rows;
-  // Counting sort into cells; within a cell, observations keep their order. A new stamp makes
-  // every cell of earlier builds empty; a stamp that wraps around clears them for real.
-  if (++grid.stamp == 0) {
-    for (Cell& stale : grid.cells) stale.stamp = 0;
-    grid.stamp = 1;
-  }
-  if (grid.cells.size() < cells) grid.cells.resize(cells);
-  grid.cell_and_rank.resize(count);
+  const int cells = grid.cols * grid.rows;
+  // Counting sort into cells; within a cell, observations keep their order. Cell k's count goes
+  // to begin[k + 2], the running sum makes begin[k + 1] its first slot, and placing each blob
+  // there advances it to the next cell's first: begin[k] ends as cell k's first entry.
+  grid.begin.assign(static_cast<size_t>(cells) + 2, 0);
+  grid.cell_of.resize(count);
   for (int o = begin; o < end; ++o) {
     const Eigen::Vector2d& p = views.observations[o].normalized;
     const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
     const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
     const int k = row * grid.cols + col;
-    Cell& cell = grid.cells[k];
-    if (cell.stamp != grid.stamp) cell = {grid.stamp, 0};
-    grid.cell_and_rank[o - begin] = {k, cell.begin++};
+    grid.cell_of[o - begin] = k;
+    ++grid.begin[k + 2];
   }
-  // Ranges in the order cells are first met (at their blob of rank 0, which holds the count
-  // until then), each blob placed at its rank in its cell's range.
-  int next = 0;
+  for (int k = 2; k < cells + 2; ++k) grid.begin[k] += grid.begin[k - 1];
   for (int i = 0; i < count; ++i) {
-    const auto [k, rank] = grid.cell_and_rank[i];
-    Cell& cell = grid.cells[k];
-    if (rank == 0) {
-      const int blobs = cell.begin;
-      cell.begin = next;
-      next += blobs;
-    }
-    grid.entries[cell.begin + rank] = {views.observations[begin + i].normalized, begin + i, k};
+    grid.entries[grid.begin[grid.cell_of[i] + 1]++] = {views.observations[begin + i].normalized, begin + i};
   }
+}
+
+int BlobIndex::NearestOfAll(int camera, const Eigen::Vector2d& normalized, double radius) const {
+  const Grid& grid = grids_[camera];
+  CellRange range;
+  if (!TouchedCells(grid, normalized, radius, &range)) return -1;
+  // Observations compared unsigned: "none" (-1) is then above every observation, and a tie at the
+  // radius goes to the blob as Nearest's does. Selects, not branches.
+  unsigned best = ~0u;
+  double best_distance = radius * radius;
+  const auto consider = [&](const Entry& entry) {
+    const double d2 = (entry.normalized - normalized).squaredNorm();
+    const unsigned observation = static_cast<unsigned>(entry.observation);
+    const bool nearer = (d2 < best_distance) | ((d2 == best_distance) & (observation < best));
+    best_distance = nearer ? d2 : best_distance;
+    best = nearer ? observation : best;
+  };
+  // A short run is compared kWindow entries long: those past it are other cells' blobs (or the
+  // sentinels at infinity), and any of them within the radius lies in a touched cell anyway, so
+  // meeting it changes nothing; nor does meeting a blob twice.
+  const Entry* entries = grid.entries.data();
+  const auto scan_row = [&](int r) {
+    const int* row = grid.begin.data() + r * grid.cols;
+    const Entry* entry = entries + row[range.c0];
+    const Entry* end = entries + row[range.c1 + 1];
+    if (end - entry <= kWindow) {
+      for (int i = 0; i < kWindow; ++i) consider(entry[i]);
+    } else {
+      for (; entry != end; ++entry) consider(*entry);
+    }
+  };
+  if (range.r1 - range.r0 <= 1) {
+    // One or two rows: both scanned, the one row twice (no branch on how many).
+    scan_row(range.r0);
+    scan_row(range.r1);
+  } else {
+    for (int r = range.r0; r <= range.r1; ++r) scan_row(r);
+  }
+  return static_cast<int>(best);
 }
 
 void BlobIndex::Build(const RigModel& rig, const FrameViews& views) {

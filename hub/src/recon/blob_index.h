@@ -20,7 +20,6 @@ class BlobIndex {
   static constexpr double kCellPx = 12.0;
   // Cells per blob at most (cells grow when few blobs spread over a large image): fine enough
   // that a crowded subject's blobs mostly sit one to a cell, so a query compares few of them.
-  // A build touches only the cells that hold blobs, so empty cells cost nothing to build.
   static constexpr double kCellsPerBlob = 16.0;
 
   void Build(const RigModel& rig, const FrameViews& views);
@@ -33,6 +32,10 @@ class BlobIndex {
   template <typename Accept>
   int Nearest(const FrameViews& views, int camera, const Eigen::Vector2d& normalized, double radius,
               Accept available) const;
+  // Nearest(views, camera, normalized, radius, accept every observation), without branches on
+  // the blobs met (which cell, how many, which is nearer): the prediction search asks this of
+  // every prediction in every camera, and those branches went every which way.
+  int NearestOfAll(int camera, const Eigen::Vector2d& normalized, double radius) const;
   // Calls visit(observation, distance) for every observation of `camera` within `radius`.
   template <typename Visit>
   void ForEachWithin(const FrameViews& views, int camera, const Eigen::Vector2d& normalized, double radius,
@@ -42,28 +45,25 @@ class BlobIndex {
   struct Entry {
     Eigen::Vector2d normalized;
     int observation;
-    int cell;  // its cell's number: a cell's entries run while it is the same
   };
-  // A cell of the current build holds the entries from `begin` on that carry its number; a cell
-  // whose stamp is not the grid's holds none (it was filled by an earlier build, or never), so a
-  // build writes only the cells its blobs fall in and never clears the others (at 64 cameras
-  // clearing every cell cost more than the blobs). Eight bytes: a frame's searches and build
-  // touch cells all over the grids, and half the size is half the lines to fetch.
-  struct Cell {
-    unsigned stamp = 0;
-    int begin = 0;  // Build's count of its blobs until the range is placed
-  };
-  // One camera's observations bucketed into square cells (row-major cell numbers).
+  // One camera's observations bucketed into square cells, stored cell after cell in row-major
+  // order: a row's cells from c0 to c1 are one run of entries, [begin[r * cols + c0],
+  // begin[r * cols + c1 + 1]), so a query walks one run per row instead of cell by cell.
   struct Grid {
     double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
     int cols = 0, rows = 0;
-    unsigned stamp = 0;  // of the current build
-    std::vector<Cell> cells;
-    std::vector<Entry> entries;  // and one more, of cell -1, that ends the last range
-    // Scratch of Build, per camera so cameras build in parallel: each blob's cell, and its rank
-    // among the blobs of that cell.
-    std::vector<std::pair<int, int>> cell_and_rank;
+    std::vector<int> begin;  // rows * cols + 2: cell k's entries are [begin[k], begin[k + 1])
+    std::vector<Entry> entries;  // then kWindow entries at infinity, read past the last run
+    std::vector<int> cell_of;  // Build's scratch, per camera so cameras build in parallel
   };
+  // A run of entries of up to this many is compared in full, without a branch on its length.
+  static constexpr int kWindow = 4;
+  // The cells the square around `at` touches, clamped to the grid (a point off the grid still
+  // reaches blobs within the radius on its edge); false when it touches none.
+  struct CellRange {
+    int c0, c1, r0, r1;
+  };
+  static bool TouchedCells(const Grid& grid, const Eigen::Vector2d& at, double radius, CellRange* range);
   // Calls visit(entry) for the entries of the cells the square around `at` touches.
   template <typename Visit>
   static void ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit);
@@ -71,23 +71,29 @@ class BlobIndex {
   std::vector<Grid> grids_;
 };
 
-template <typename Visit>
-void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit) {
-  if (grid.entries.size() < 2) return;
-  // Cell coordinates of the square's corners, clamped to the grid (a point off the grid still
-  // reaches blobs within the radius on its edge).
+inline bool BlobIndex::TouchedCells(const Grid& grid, const Eigen::Vector2d& at, double radius, CellRange* range) {
+  if (grid.rows == 0) return false;
   const double x0 = (at.x() - radius - grid.min_x) * grid.inverse_cell;
   const double x1 = (at.x() + radius - grid.min_x) * grid.inverse_cell;
   const double y0 = (at.y() - radius - grid.min_y) * grid.inverse_cell;
   const double y1 = (at.y() + radius - grid.min_y) * grid.inverse_cell;
-  if (!(x1 >= 0.0 && y1 >= 0.0 && x0 < grid.cols && y0 < grid.rows)) return;
-  const int c0 = std::max(0, static_cast<int>(x0)), c1 = std::min(grid.cols - 1, static_cast<int>(x1));
-  const int r0 = std::max(0, static_cast<int>(y0)), r1 = std::min(grid.rows - 1, static_cast<int>(y1));
-  for (int r = r0; r <= r1; ++r) {
-    for (int k = r * grid.cols + c0, last = r * grid.cols + c1; k <= last; ++k) {
-      const Cell& cell = grid.cells[k];
-      if (cell.stamp != grid.stamp) continue;
-      for (const Entry* entry = grid.entries.data() + cell.begin; entry->cell == k; ++entry) visit(*entry);
+  if (!(x1 >= 0.0 && y1 >= 0.0 && x0 < grid.cols && y0 < grid.rows)) return false;
+  range->c0 = std::max(0, static_cast<int>(x0));
+  range->c1 = std::min(grid.cols - 1, static_cast<int>(x1));
+  range->r0 = std::max(0, static_cast<int>(y0));
+  range->r1 = std::min(grid.rows - 1, static_cast<int>(y1));
+  return true;
+}
+
+template <typename Visit>
+void BlobIndex::ForEachCandidate(const Grid& grid, const Eigen::Vector2d& at, double radius, Visit visit) {
+  CellRange range;
+  if (!TouchedCells(grid, at, radius, &range)) return;
+  const Entry* entries = grid.entries.data();
+  for (int r = range.r0; r <= range.r1; ++r) {
+    const int* row = grid.begin.data() + r * grid.cols;
+    for (const Entry *entry = entries + row[range.c0], *end = entries + row[range.c1 + 1]; entry != end; ++entry) {
+      visit(*entry);
     }
   }
 }

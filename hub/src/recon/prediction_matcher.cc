@@ -91,7 +91,7 @@ struct GatedReprojection {
 
 }  // namespace
 
-void PredictionMatcher::FindNearestBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+void PredictionMatcher::FindNearestBlobs(const RigModel& rig, const BlobIndex& index,
                                          const std::vector<PointPrediction>& predictions, WorkerTeam* team) {
   const int num_cameras = rig.NumCameras();
   nearest_.resize(predictions.size() * static_cast<size_t>(num_cameras));
@@ -111,7 +111,7 @@ void PredictionMatcher::FindNearestBlobs(const RigModel& rig, const FrameViews& 
       nearest = -1;
       const GatedReprojection& gate = gates[i];
       if (gate.in_front && !contested_[i]) {
-        nearest = index.Nearest(views, c, gate.normalized, gate.radius, [](int) { return true; });
+        nearest = index.NearestOfAll(c, gate.normalized, gate.radius);
       }
     }
   };
@@ -170,7 +170,7 @@ void PredictionMatcher::Match(const RigModel& rig, const FrameViews& views, cons
                               std::vector<TriangulatedPoint>* points, std::vector<int>* track_ids,
                               const std::vector<char>* shared, WorkerTeam* team) {
   MarkContested(predictions, options_.contested_gate_factor, options_.contested_gate_cap_mm, &contested_);
-  FindNearestBlobs(rig, views, index, predictions, team);
+  FindNearestBlobs(rig, index, predictions, team);
   const bool speculate = team != nullptr && team->threads() > 1 && predictions.size() > 1;
   if (speculate) {
     speculative_.resize(predictions.size());

@@ -65,7 +65,7 @@ class PredictionMatcher {
   };
   // nearest_[i * cameras + c]: the blob of camera c nearest prediction i within its gate whether
   // used or not, -1 when none (or i contested). Searched camera by camera before any is served.
-  void FindNearestBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
+  void FindNearestBlobs(const RigModel& rig, const BlobIndex& index,
                         const std::vector<PointPrediction>& predictions, WorkerTeam* team);
   // Gathers and triangulates one prediction's blobs; not served when they do not make its marker.
   // Reads only its arguments and nearest_: safe on several threads with different attempts.
