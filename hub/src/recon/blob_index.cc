@@ -88,13 +88,7 @@ int BlobIndex::NearestOfAll(int camera, const Eigen::Vector2d& normalized, doubl
       for (; entry != end; ++entry) consider(*entry);
     }
   };
-  if (range.r1 - range.r0 <= 1) {
-    // One or two rows: both scanned, the one row twice (no branch on how many).
-    scan_row(range.r0);
-    scan_row(range.r1);
-  } else {
-    for (int r = range.r0; r <= range.r1; ++r) scan_row(r);
-  }
+  for (int r = range.r0; r <= range.r1; ++r) scan_row(r);
   return static_cast<int>(best);
 }
 

@@ -12,12 +12,21 @@ void MarkContested(const std::vector<PointPrediction>& predictions, double facto
   if (!(factor > 0.0) || predictions.size() < 2) return;
   // Sweep along x: a pair can only be contested while their x distance is under the factor
   // times their gates, so each prediction meets only its neighbours along x.
+  // Last call's order, sorted again by insertion: tracks move little from frame to frame, so it
+  // is nearly sorted already. A count that changed is sorted from scratch.
   thread_local std::vector<size_t> by_x;
-  by_x.resize(predictions.size());
-  for (size_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
-  std::sort(by_x.begin(), by_x.end(), [&](size_t a, size_t b) {
-    return predictions[a].point_in_world.x() < predictions[b].point_in_world.x();
-  });
+  const auto x_of = [&](size_t i) { return predictions[i].point_in_world.x(); };
+  if (by_x.size() != predictions.size()) {
+    by_x.resize(predictions.size());
+    for (size_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
+    std::sort(by_x.begin(), by_x.end(), [&](size_t a, size_t b) { return x_of(a) < x_of(b); });
+  }
+  for (size_t i = 1; i < by_x.size(); ++i) {
+    const size_t moving = by_x[i];
+    size_t j = i;
+    for (; j > 0 && x_of(by_x[j - 1]) > x_of(moving); --j) by_x[j] = by_x[j - 1];
+    by_x[j] = moving;
+  }
   const auto gate_of = [&](const PointPrediction& p) { return std::min(p.gate_mm, gate_cap_mm); };
   double max_gate = 0.0;
   for (const PointPrediction& p : predictions) max_gate = std::max(max_gate, gate_of(p));

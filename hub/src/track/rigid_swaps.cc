@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <map>
 #include <numeric>
 
 #include "util/union_find.h"
@@ -40,12 +39,23 @@ int RigidSwapResolver::Resolve(const RigidModel& rigid, const std::vector<char>&
     }
   }
   if (!any) return 0;
-  std::map<int, std::vector<int>> clusters;  // root -> slots
-  for (int i = 0; i < n; ++i) clusters[FindRoot(parent_, i)].push_back(measured_[i]);
+  // The clusters by root, in the order of their roots, each member's slot in measured order: a
+  // counting sort on the root (kept buffers instead of a map of vectors allocated every frame).
+  cluster_begin_.assign(static_cast<size_t>(n) + 2, 0);
+  root_of_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    root_of_[i] = FindRoot(parent_, i);
+    ++cluster_begin_[root_of_[i] + 2];
+  }
+  for (int r = 2; r < n + 2; ++r) cluster_begin_[r] += cluster_begin_[r - 1];
+  cluster_members_.resize(n);
+  for (int i = 0; i < n; ++i) cluster_members_[cluster_begin_[root_of_[i] + 1]++] = measured_[i];
   int repaired = 0;
-  for (const auto& [root, cluster] : clusters) {
-    if (cluster.size() < 2 || static_cast<int>(cluster.size()) > options_.max_cluster) continue;
-    RepairCluster(rigid, cluster, points, point_of_slot, changed, &repaired);
+  for (int root = 0; root < n; ++root) {
+    const int size = cluster_begin_[root + 1] - cluster_begin_[root];
+    if (size < 2 || size > options_.max_cluster) continue;
+    cluster_.assign(cluster_members_.begin() + cluster_begin_[root], cluster_members_.begin() + cluster_begin_[root + 1]);
+    RepairCluster(rigid, cluster_, points, point_of_slot, changed, &repaired);
   }
   return repaired;
 }
@@ -58,7 +68,8 @@ void RigidSwapResolver::RepairCluster(const RigidModel& rigid, const std::vector
   constraints_.clear();
   for (int m = 0; m < size; ++m) {
     for (int other : measured_) {
-      if (other == cluster[m]) continue;
+      // A steady link holds: the state byte passes over the others without reading their links.
+      if (!rigid.Holds(cluster[m], other)) continue;
       const RigidLink* link = rigid.Link(cluster[m], other);
       if (Steady(link)) constraints_.push_back({m, other, link->mean});
     }

@@ -57,6 +57,9 @@ class RigidSwapResolver {
   RigidSwapOptions options_;
   std::vector<int> measured_;
   std::vector<int> parent_;
+  // Resolve's clusters: each measured track's root, the members grouped by root (cluster
+  // root's members at [cluster_begin_[root], cluster_begin_[root + 1])), one cluster at a time.
+  std::vector<int> root_of_, cluster_begin_, cluster_members_, cluster_;
   std::vector<char> in_cluster_;
   std::vector<Constraint> constraints_;
   std::vector<int> candidates_;
