@@ -11,6 +11,7 @@
 
 #include "ingest/frame_codec.h"
 #include "wire/datagram_envelope.h"
+#include "util/temporary_directory_testing.h"
 #include "wire/key_file.h"
 
 namespace mocap {
@@ -59,8 +60,8 @@ class Nodes {
 };
 
 TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
-  const fs::path dir = fs::temp_directory_path() / ("mocap_recorder_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing::TemporaryDirectory temp("recorder_test");
+  const fs::path& dir = temp.path();
   Nodes nodes(dir / "keys");
   RecorderOptions o;
   o.auth.keys_dir = (dir / "keys").string();
@@ -144,7 +145,6 @@ TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
   while (reader.Next(&set)) ++replayed;
   EXPECT_EQ(replayed, 10);
   EXPECT_EQ(reader.stats().duplicate_chunks, 1u);
-  fs::remove_all(dir);
 }
 
 TEST(Recorder, RefusesBadOptions) {

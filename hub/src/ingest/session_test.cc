@@ -9,16 +9,11 @@
 #include <gtest/gtest.h>
 
 #include "ingest/frame_codec.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 namespace fs = std::filesystem;
-
-fs::path TempDir(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() / ("mocap_session_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
 
 CameraFrame MakeFrame(uint32_t camera, uint64_t number, int blobs) {
   CameraFrame f;
@@ -46,7 +41,8 @@ SessionInfo Info() {
 }
 
 TEST(Session, RoundTripGroupsCamerasByFrameNumber) {
-  const fs::path dir = TempDir("roundtrip");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 20; ++n)
@@ -73,11 +69,11 @@ TEST(Session, RoundTripGroupsCamerasByFrameNumber) {
   }
   EXPECT_EQ(expected, 20u);
   EXPECT_TRUE(reader.warnings().empty());
-  fs::remove_all(dir);
 }
 
 TEST(Session, OutOfOrderArrivalIsSortedWithinTheWindow) {
-  const fs::path dir = TempDir("reorder");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n : {3, 1, 2, 0, 5, 4}) writer.Write(MakeFrame(1, n, 2));
@@ -91,7 +87,8 @@ TEST(Session, OutOfOrderArrivalIsSortedWithinTheWindow) {
 }
 
 TEST(Session, TruncatedLogKeepsEverythingBeforeTheTornRecord) {
-  const fs::path dir = TempDir("truncated");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 10; ++n) writer.Write(MakeFrame(1, n, 3));
@@ -109,9 +106,9 @@ TEST(Session, TruncatedLogKeepsEverythingBeforeTheTornRecord) {
   EXPECT_NE(reader.warnings()[0].find("truncated"), std::string::npos);
 }
 
-// Ten frames of camera 1 (one record each), then `damage` applied to the raw log's bytes.
-fs::path DamagedSession(const std::string& name, const std::function<void(std::string*)>& damage) {
-  const fs::path dir = TempDir(name);
+// A session in dir of ten frames of camera 1 (one record each), then `damage` applied to the raw
+// log's bytes.
+void DamagedSession(const fs::path& dir, const std::function<void(std::string*)>& damage) {
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 10; ++n) writer.Write(MakeFrame(1, n, 3));
@@ -124,7 +121,6 @@ fs::path DamagedSession(const std::string& name, const std::function<void(std::s
   }
   damage(&bytes);
   std::ofstream(log, std::ios::binary | std::ios::trunc) << bytes;
-  return dir;
 }
 
 std::vector<uint64_t> FrameNumbers(SessionReader* reader) {
@@ -148,7 +144,9 @@ size_t RecordStart(const std::string& bytes, int k) {
 TEST(Session, AFlippedByteCostsOnlyItsRecord) {
   // The probe: one flipped byte at 10 % of a raw log kept 16 of 151 frames. Now the reader
   // resynchronises on the next good record: only the damaged record's frame is lost.
-  const fs::path dir = DamagedSession("flip", [](std::string* b) { (*b)[RecordStart(*b, 3) + 25] ^= 0x04; });
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
+  DamagedSession(dir, [](std::string* b) { (*b)[RecordStart(*b, 3) + 25] ^= 0x04; });
   SessionReader reader;
   reader.Open(dir.string());
   EXPECT_EQ(FrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 2, 4, 5, 6, 7, 8, 9}));
@@ -166,7 +164,6 @@ TEST(Session, AFlippedByteCostsOnlyItsRecord) {
       << reader.warnings()[0];
   EXPECT_NE(reader.warnings()[0].find("CRC mismatch"), std::string::npos) << reader.warnings()[0];
   EXPECT_NE(reader.warnings()[0].find("kept 9 good records"), std::string::npos) << reader.warnings()[0];
-  fs::remove_all(dir);
 }
 
 TEST(Session, DamagedHeadersLengthsAndLostBlocksAreSkipped) {
@@ -190,19 +187,22 @@ TEST(Session, DamagedHeadersLengthsAndLostBlocksAreSkipped) {
        {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, "impossible record length"},
   };
   for (const Case& c : cases) {
-    const fs::path dir = DamagedSession(std::string("case_") + c.name, c.damage);
+    const testing::TemporaryDirectory temp("session_test");
+    const fs::path& dir = temp.path();
+    DamagedSession(dir, c.damage);
     SessionReader reader;
     reader.Open(dir.string());
     EXPECT_EQ(FrameNumbers(&reader), c.frames) << c.name;
     EXPECT_EQ(reader.stats().damaged_log_stretches, 1u) << c.name;
     ASSERT_FALSE(reader.warnings().empty()) << c.name;
     EXPECT_NE(reader.warnings()[0].find(c.why), std::string::npos) << c.name << ": " << reader.warnings()[0];
-    fs::remove_all(dir);
   }
 }
 
 TEST(Session, DamageRunningToTheEndIsReportedAsATornTail) {
-  const fs::path dir = DamagedSession("tail", [](std::string* b) { (*b)[RecordStart(*b, 5) + 30] ^= 1; b->resize(b->size() - 7); });
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
+  DamagedSession(dir, [](std::string* b) { (*b)[RecordStart(*b, 5) + 30] ^= 1; b->resize(b->size() - 7); });
   SessionReader reader;
   reader.Open(dir.string());
   EXPECT_EQ(FrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 2, 3, 4, 6, 7, 8}));
@@ -213,11 +213,12 @@ TEST(Session, DamageRunningToTheEndIsReportedAsATornTail) {
   EXPECT_NE(warning.find("CRC mismatch"), std::string::npos) << warning;
   EXPECT_NE(warning.find("the last"), std::string::npos) << warning;
   EXPECT_NE(warning.find("(truncated record)"), std::string::npos) << warning;
-  fs::remove_all(dir);
 }
 
 TEST(Session, AnUnknownLogVersionIsRefusedWithWhatThisReaderReads) {
-  const fs::path dir = DamagedSession("version", [](std::string* b) { (*b)[8] = 2; });
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
+  DamagedSession(dir, [](std::string* b) { (*b)[8] = 2; });
   SessionReader reader;
   try {
     reader.Open(dir.string());
@@ -226,13 +227,13 @@ TEST(Session, AnUnknownLogVersionIsRefusedWithWhatThisReaderReads) {
     EXPECT_NE(std::string(e.what()).find("session log version 2 is not one this mocap-hub reads"), std::string::npos)
         << e.what();
   }
-  fs::remove_all(dir);
 }
 
 TEST(Session, FramesOfAnotherImageSizeThanTheCalibrationsAreRescaledOrRefused) {
   // The probe: a node at 640x400 against a calibration at 1280x800 was used as it was. Camera 2
   // here sends a binned mode (same aspect: rescaled), camera 3 a crop (another aspect: refused).
-  const fs::path dir = TempDir("image_size");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 5; ++n) {
@@ -272,11 +273,11 @@ TEST(Session, FramesOfAnotherImageSizeThanTheCalibrationsAreRescaledOrRefused) {
   EXPECT_NE(all.find("camera 3: images of 640x480 against a calibration at 1280x800: 5 frames refused"),
             std::string::npos)
       << all;
-  fs::remove_all(dir);
 }
 
 TEST(Session, ForeignDatagramsAreCountedNotFatal) {
-  const fs::path dir = TempDir("foreign");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   writer.Write(MakeFrame(1, 0, 3));
@@ -294,8 +295,8 @@ TEST(Session, ForeignDatagramsAreCountedNotFatal) {
 }
 
 TEST(Session, BadSessionJsonIsRefusedWithReason) {
-  const fs::path dir = TempDir("badjson");
-  fs::create_directories(dir);
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   std::ofstream(dir / "session.json") << "{\"format\": \"mocap-session\", \"version\": 1, \"cameras\": [1]}";
   SessionReader reader;
   try {
@@ -318,8 +319,8 @@ TEST(Session, BadSessionJsonIsRefusedWithReason) {
 // session fuzzer's "epoch_ns": 1.5e48, undefined behaviour in the conversion) or a negative
 // number (which wrapped to a huge id) is refused naming the field, not converted.
 TEST(Session, OutOfRangeNumbersAreRefusedNamingTheField) {
-  const fs::path dir = TempDir("badnumbers");
-  fs::create_directories(dir);
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   auto refusal = [&](const std::string& fields) {
     std::ofstream(dir / "session.json") << "{\"format\": \"mocap-session\", \"version\": 1, \"rate_hz\": 100, " + fields + "}";
     try {
@@ -359,7 +360,8 @@ std::vector<uint64_t> ReadFrameNumbers(SessionReader* reader) {
 TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
   for (const uint64_t forged : {uint64_t{1'000'000'000}, uint64_t{1} << 63, ~uint64_t{0}}) {
     for (const bool forged_first : {false, true}) {
-      const fs::path dir = TempDir("forged");
+      const testing::TemporaryDirectory temp("session_test");
+      const fs::path& dir = temp.path();
       SessionWriter writer;
       writer.Create(dir.string(), Info());
       if (forged_first) writer.Write(MakeFrame(1, forged, 0));
@@ -376,14 +378,14 @@ TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
       EXPECT_EQ(reader.stats().implausible_frames, 1u);
       ASSERT_EQ(reader.warnings().size(), 1u);
       EXPECT_NE(reader.warnings()[0].find("1 camera frames skipped"), std::string::npos);
-      fs::remove_all(dir);
     }
   }
 }
 
 // A pause within the bound is a legitimate gap: its frames are kept, in order.
 TEST(Session, PausesUpToTheBoundAreKept) {
-  const fs::path dir = TempDir("pause");
+  const testing::TemporaryDirectory temp("session_test");
+  const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   const uint64_t gap = MaxFrameGap(Info());
@@ -394,7 +396,6 @@ TEST(Session, PausesUpToTheBoundAreKept) {
   reader.Open(dir.string());
   EXPECT_EQ(ReadFrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 1 + gap, 2 + gap}));
   EXPECT_EQ(reader.stats().implausible_frames, 1u);
-  fs::remove_all(dir);
 }
 
 }  // namespace
