@@ -40,6 +40,14 @@ SessionInfo Info() {
   return info;
 }
 
+// Reads every frame set; returns their frame numbers.
+std::vector<uint64_t> FrameNumbers(SessionReader* reader) {
+  std::vector<uint64_t> out;
+  FrameSet set;
+  while (reader->Next(&set)) out.push_back(set.frame_number);
+  return out;
+}
+
 TEST(Session, RoundTripGroupsCamerasByFrameNumber) {
   const testing::TemporaryDirectory temp("session_test");
   const fs::path& dir = temp.path();
@@ -80,10 +88,7 @@ TEST(Session, OutOfOrderArrivalIsSortedWithinTheWindow) {
   writer.Finish();
   SessionReader reader(8);
   reader.Open(dir.string());
-  FrameSet set;
-  std::vector<uint64_t> order;
-  while (reader.Next(&set)) order.push_back(set.frame_number);
-  EXPECT_EQ(order, (std::vector<uint64_t>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(FrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 2, 3, 4, 5}));
 }
 
 TEST(Session, TruncatedLogKeepsEverythingBeforeTheTornRecord) {
@@ -121,13 +126,6 @@ void DamagedSession(const fs::path& dir, const std::function<void(std::string*)>
   }
   damage(&bytes);
   std::ofstream(log, std::ios::binary | std::ios::trunc) << bytes;
-}
-
-std::vector<uint64_t> FrameNumbers(SessionReader* reader) {
-  std::vector<uint64_t> out;
-  FrameSet set;
-  while (reader->Next(&set)) out.push_back(set.frame_number);
-  return out;
 }
 
 // Byte offset of record k (0-based) in an undamaged log, walked by the records' lengths.
@@ -347,14 +345,6 @@ TEST(Session, OutOfRangeNumbersAreRefusedNamingTheField) {
   EXPECT_EQ(LoadSessionInfo(dir.string()).epoch_ns, 18446744073709551615ull);
 }
 
-// Reads every frame set; returns their frame numbers.
-std::vector<uint64_t> ReadFrameNumbers(SessionReader* reader) {
-  std::vector<uint64_t> out;
-  FrameSet set;
-  while (reader->Next(&set)) out.push_back(set.frame_number);
-  return out;
-}
-
 // A corrupt or forged frame number is skipped and counted, wherever it sits in the log; the
 // reader's work follows the records, not the frame numbers' values.
 TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
@@ -374,7 +364,7 @@ TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
       reader.Open(dir.string());
       std::vector<uint64_t> expected(10);
       for (uint64_t n = 0; n < 10; ++n) expected[n] = n;
-      EXPECT_EQ(ReadFrameNumbers(&reader), expected) << forged << (forged_first ? " first" : " last");
+      EXPECT_EQ(FrameNumbers(&reader), expected) << forged << (forged_first ? " first" : " last");
       EXPECT_EQ(reader.stats().implausible_frames, 1u);
       ASSERT_EQ(reader.warnings().size(), 1u);
       EXPECT_NE(reader.warnings()[0].find("1 camera frames skipped"), std::string::npos);
@@ -394,7 +384,7 @@ TEST(Session, PausesUpToTheBoundAreKept) {
   writer.Finish();
   SessionReader reader;
   reader.Open(dir.string());
-  EXPECT_EQ(ReadFrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 1 + gap, 2 + gap}));
+  EXPECT_EQ(FrameNumbers(&reader), (std::vector<uint64_t>{0, 1, 1 + gap, 2 + gap}));
   EXPECT_EQ(reader.stats().implausible_frames, 1u);
 }
 
