@@ -8,29 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include "ingest/camera_frame_testing.h"
 #include "ingest/frame_codec.h"
 #include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 namespace fs = std::filesystem;
-
-CameraFrame MakeFrame(uint32_t camera, uint64_t number, int blobs) {
-  CameraFrame f;
-  f.camera_id = camera;
-  f.frame_number = number;
-  f.width = 1280;
-  f.height = 800;
-  for (int i = 0; i < blobs; ++i) {
-    Blob b;
-    b.pixel = Eigen::Vector2d(10.0 + i * 4.25 + camera * 0.5, 20.0 + number * 0.125);
-    b.area = 12 + i;
-    b.peak = 250;
-    b.mean = 180;
-    f.blobs.push_back(b);
-  }
-  return f;
-}
 
 SessionInfo Info() {
   SessionInfo info;
@@ -55,7 +39,7 @@ TEST(Session, RoundTripGroupsCamerasByFrameNumber) {
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 20; ++n)
     for (uint32_t cam = 1; cam <= 3; ++cam)
-      if (!(n == 7 && cam == 2)) writer.Write(MakeFrame(cam, n, 100));  // 100 markers: 3 chunks
+      if (!(n == 7 && cam == 2)) writer.Write(testing::FrameOfBlobs(cam, n, 100));  // 100 markers: 3 chunks
   writer.Finish();
 
   SessionReader reader;
@@ -68,7 +52,7 @@ TEST(Session, RoundTripGroupsCamerasByFrameNumber) {
     EXPECT_EQ(set.frame_number, expected);
     EXPECT_EQ(set.cameras.size(), expected == 7 ? 2u : 3u);
     for (const CameraFrame& f : set.cameras) {
-      const CameraFrame truth = MakeFrame(f.camera_id, f.frame_number, 100);
+      const CameraFrame truth = testing::FrameOfBlobs(f.camera_id, f.frame_number, 100);
       ASSERT_EQ(f.blobs.size(), truth.blobs.size());
       for (size_t i = 0; i < f.blobs.size(); ++i)
         EXPECT_NEAR((f.blobs[i].pixel - truth.blobs[i].pixel).norm(), 0.0, 1.0 / 256);
@@ -84,7 +68,7 @@ TEST(Session, OutOfOrderArrivalIsSortedWithinTheWindow) {
   const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
-  for (uint64_t n : {3, 1, 2, 0, 5, 4}) writer.Write(MakeFrame(1, n, 2));
+  for (uint64_t n : {3, 1, 2, 0, 5, 4}) writer.Write(testing::FrameOfBlobs(1, n, 2));
   writer.Finish();
   SessionReader reader(8);
   reader.Open(dir.string());
@@ -96,7 +80,7 @@ TEST(Session, TruncatedLogKeepsEverythingBeforeTheTornRecord) {
   const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
-  for (uint64_t n = 0; n < 10; ++n) writer.Write(MakeFrame(1, n, 3));
+  for (uint64_t n = 0; n < 10; ++n) writer.Write(testing::FrameOfBlobs(1, n, 3));
   writer.Finish();
   const fs::path log = dir / "raw.mlog";
   fs::resize_file(log, fs::file_size(log) - 5);
@@ -116,7 +100,7 @@ TEST(Session, TruncatedLogKeepsEverythingBeforeTheTornRecord) {
 void DamagedSession(const fs::path& dir, const std::function<void(std::string*)>& damage) {
   SessionWriter writer;
   writer.Create(dir.string(), Info());
-  for (uint64_t n = 0; n < 10; ++n) writer.Write(MakeFrame(1, n, 3));
+  for (uint64_t n = 0; n < 10; ++n) writer.Write(testing::FrameOfBlobs(1, n, 3));
   writer.Finish();
   const fs::path log = dir / "raw.mlog";
   std::string bytes;
@@ -235,12 +219,12 @@ TEST(Session, FramesOfAnotherImageSizeThanTheCalibrationsAreRescaledOrRefused) {
   SessionWriter writer;
   writer.Create(dir.string(), Info());
   for (uint64_t n = 0; n < 5; ++n) {
-    writer.Write(MakeFrame(1, n, 2));
-    CameraFrame binned = MakeFrame(2, n, 2);
+    writer.Write(testing::FrameOfBlobs(1, n, 2));
+    CameraFrame binned = testing::FrameOfBlobs(2, n, 2);
     binned.width = 640;
     binned.height = 400;
     writer.Write(binned);
-    CameraFrame cropped = MakeFrame(3, n, 2);
+    CameraFrame cropped = testing::FrameOfBlobs(3, n, 2);
     cropped.width = 640;
     cropped.height = 480;
     writer.Write(cropped);
@@ -255,8 +239,8 @@ TEST(Session, FramesOfAnotherImageSizeThanTheCalibrationsAreRescaledOrRefused) {
   while (reader.Next(&set)) {
     ++sets;
     ASSERT_EQ(set.cameras.size(), 2u);  // camera 3 refused
-    EXPECT_EQ(set.cameras[0].blobs[0].pixel, MakeFrame(1, set.frame_number, 2).blobs[0].pixel);
-    const Eigen::Vector2d binned = MakeFrame(2, set.frame_number, 2).blobs[0].pixel;
+    EXPECT_EQ(set.cameras[0].blobs[0].pixel, testing::FrameOfBlobs(1, set.frame_number, 2).blobs[0].pixel);
+    const Eigen::Vector2d binned = testing::FrameOfBlobs(2, set.frame_number, 2).blobs[0].pixel;
     EXPECT_NEAR((set.cameras[1].blobs[0].pixel - ((binned.array() + 0.5) * 2.0 - 0.5).matrix()).norm(), 0.0, 1e-9);
     EXPECT_EQ(set.cameras[1].width, 1280u);
   }
@@ -278,10 +262,10 @@ TEST(Session, ForeignDatagramsAreCountedNotFatal) {
   const fs::path& dir = temp.path();
   SessionWriter writer;
   writer.Create(dir.string(), Info());
-  writer.Write(MakeFrame(1, 0, 3));
+  writer.Write(testing::FrameOfBlobs(1, 0, 3));
   const uint8_t junk[] = {1, 2, 3, 4, 5};
   writer.AppendDatagram(junk, sizeof junk, 0);
-  writer.Write(MakeFrame(1, 1, 3));
+  writer.Write(testing::FrameOfBlobs(1, 1, 3));
   writer.Finish();
   SessionReader reader;
   reader.Open(dir.string());
@@ -354,10 +338,10 @@ TEST(Session, ImplausibleFrameNumbersAreSkippedAndCounted) {
       const fs::path& dir = temp.path();
       SessionWriter writer;
       writer.Create(dir.string(), Info());
-      if (forged_first) writer.Write(MakeFrame(1, forged, 0));
+      if (forged_first) writer.Write(testing::FrameOfBlobs(1, forged, 0));
       for (uint64_t n = 0; n < 10; ++n)
-        for (uint32_t cam = 1; cam <= 3; ++cam) writer.Write(MakeFrame(cam, n, 0));
-      if (!forged_first) writer.Write(MakeFrame(2, forged, 0));
+        for (uint32_t cam = 1; cam <= 3; ++cam) writer.Write(testing::FrameOfBlobs(cam, n, 0));
+      if (!forged_first) writer.Write(testing::FrameOfBlobs(2, forged, 0));
       writer.Finish();
 
       SessionReader reader;
@@ -380,7 +364,7 @@ TEST(Session, PausesUpToTheBoundAreKept) {
   writer.Create(dir.string(), Info());
   const uint64_t gap = MaxFrameGap(Info());
   const std::vector<uint64_t> numbers = {0, 1, 1 + gap, 2 + gap, 2 + 2 * gap + 1};
-  for (uint64_t n : numbers) writer.Write(MakeFrame(1, n, 0));
+  for (uint64_t n : numbers) writer.Write(testing::FrameOfBlobs(1, n, 0));
   writer.Finish();
   SessionReader reader;
   reader.Open(dir.string());
