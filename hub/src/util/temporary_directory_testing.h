@@ -1,7 +1,8 @@
-// For tests that write files: a directory of the test's own under the system's temporary
-// directory, made empty by mkdtemp (a name no other process holds, so tests running in parallel
-// never share one, and nothing a crashed run left behind is in it) and removed with everything
-// in it when the object goes out of scope, a failed ASSERT's early return included.
+// For tests that write files: a directory of the test's own, made empty by mkdtemp in the
+// test's scratch directory (GoogleTest's TempDir(): TEST_TMPDIR, which cmake/Testing.cmake sets
+// to build/test-tmp/<test program>, else /tmp), so tests running in parallel never share one and
+// nothing a crashed run left behind is in it; removed with everything in it when the object goes
+// out of scope, a failed ASSERT's early return included.
 #pragma once
 
 #include <stdlib.h>
@@ -11,13 +12,15 @@
 #include <string>
 #include <system_error>
 
+#include <gtest/gtest.h>
+
 namespace mocap::testing {
 
 class TemporaryDirectory {
  public:
   // `label` goes into the directory's name (mocap_<label>_XXXXXX), to tell whose it is.
   explicit TemporaryDirectory(const std::string& label) {
-    std::string name = (std::filesystem::temp_directory_path() / ("mocap_" + label + "_XXXXXX")).string();
+    std::string name = (std::filesystem::path(::testing::TempDir()) / ("mocap_" + label + "_XXXXXX")).string();
     if (::mkdtemp(name.data()) == nullptr) throw std::runtime_error("cannot make a temporary directory like " + name);
     path_ = name;
   }
