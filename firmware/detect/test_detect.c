@@ -15,36 +15,9 @@
 
 #include "detect/detect.h"
 #include "test_spots.h"
+#include "testing/alloc_counting.h"
 
 #define BG 16.0
-
-/* Every allocation of the code under test goes through these (linked with --wrap), so a test
- * can check that running the detector allocates nothing. */
-static unsigned long alloc_count;
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-
-void *__wrap_malloc(size_t n)
-{
-    alloc_count++;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    alloc_count++;
-    return __real_calloc(n, size);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    alloc_count++;
-    return __real_realloc(p, n);
-}
 
 struct truth {
     double x, y;
@@ -673,15 +646,15 @@ static void test_no_allocation_per_frame(void **state)
     mn_detect_config_default(&cfg);
     cfg.threshold = 40;
     cfg.max_blobs = 4096;
-    unsigned long at_start = alloc_count;
+    unsigned long at_start = mn_alloc_count();
     struct mn_detector *det = mn_detector_new(&cfg, w, h);
     assert_non_null(det);
-    assert_true(alloc_count > at_start); /* the counting wrappers are in effect */
+    assert_true(mn_alloc_count() > at_start); /* the counting wrappers are in effect */
     struct mn_blob *b = malloc(4096 * sizeof *b);
     struct mn_rect rect = {100, 100, 50, 50};
     assert_int_equal(mn_detector_set_mask_rects(det, &rect, 1), 0);
     size_t n = 0;
-    unsigned long before = alloc_count;
+    unsigned long before = mn_alloc_count();
     for (int pass = 0; pass < 3; pass++) {
         assert_int_equal(mn_detector_run(det, grid, w, h, w, b, 4096, &n), 0);
         assert_true(n > 1000);
@@ -690,7 +663,7 @@ static void test_no_allocation_per_frame(void **state)
         assert_int_equal(mn_detector_run(det, grid, w - 3, h - 5, w, b, 4096, &n), 0);
         assert_int_equal(mn_detector_set_threshold(det, MN_THRESHOLD_FIXED, 40), 0);
     }
-    assert_int_equal(alloc_count, before);
+    assert_int_equal(mn_alloc_count(), before);
     mn_detector_free(det);
     free(b);
     free(grid);
