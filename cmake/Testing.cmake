@@ -68,6 +68,18 @@ function(mocap_add_cmocka_test name)
     _mocap_add_test_program(${name} mocap::cmocka firmware ${ARGN})
 endfunction()
 
+# mocap_count_allocations(name): the test program's malloc, calloc and realloc go through
+# counting wrappers (libs/testing/alloc_counting.h), for tests that check a loop allocates
+# nothing. A no-op where the test is not built (parsers-only builds).
+function(mocap_count_allocations name)
+    if(NOT TARGET ${name})
+        return()
+    endif()
+    target_sources(${name} PRIVATE ${PROJECT_SOURCE_DIR}/libs/testing/alloc_counting.c)
+    target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/libs)
+    target_link_options(${name} PRIVATE -Wl,--wrap=malloc,--wrap=calloc,--wrap=realloc)
+endfunction()
+
 # mocap_add_gtest(name SOURCES ... [LIBS ...] [ARGS ...] [LABELS ...])
 function(mocap_add_gtest name)
     _mocap_add_test_program(${name} "GTest::gtest;GTest::gtest_main" hub ${ARGN})

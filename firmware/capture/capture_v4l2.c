@@ -2,49 +2,35 @@
  * / uninit / close), DQBUF -> process bytesused -> QBUF, EINTR retried, EAGAIN = no frame yet.
  * GREY is handed out in place; Y10, Y16 and YUYV are converted to Y8 into one buffer allocated
  * at open. Sensors in external-trigger mode simply deliver a buffer per pulse, so nothing here
- * assumes a frame rate. V4L2 uAPI types stay inside this file. */
+ * assumes a frame rate. V4L2 uAPI types stay inside this file and v4l2_buffers.h (the buffer
+ * calls it shares with the vivid test's feeder). */
 #include <errno.h>
 #include <fcntl.h>
 #include <linux/videodev2.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/ioctl.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include "common/clock.h"
 #include "common/log.h"
 #include "capture/capture.h"
 #include "capture/pixfmt.h"
+#include "capture/v4l2_buffers.h"
 
 #define MAX_BUFFERS 32
-
-struct map {
-    void *start;
-    size_t length;
-};
 
 struct v4l2 {
     int fd;
     char device[MN_CONFIG_STR];
     uint32_t fourcc;
     uint32_t width, height, bytesperline, sizeimage;
-    struct map maps[MAX_BUFFERS];
+    struct mn_v4l2_map maps[MAX_BUFFERS];
     uint32_t n_maps;
     uint8_t *y8; /* conversion target for formats other than GREY */
     bool streaming;
     bool warned_stamps; /* said once that the driver has no monotonic time stamps */
 };
-
-static int xioctl(int fd, unsigned long req, void *arg)
-{
-    int rc;
-    do {
-        rc = ioctl(fd, req, arg);
-    } while (rc < 0 && errno == EINTR);
-    return rc;
-}
 
 /* Formats we accept, best first: GREY needs no conversion. */
 static const uint32_t preferred[] = {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y10, V4L2_PIX_FMT_Y16,
@@ -57,7 +43,7 @@ static bool device_offers(int fd, uint32_t fourcc)
         memset(&d, 0, sizeof(d));
         d.index = i;
         d.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-        if (xioctl(fd, VIDIOC_ENUM_FMT, &d) < 0)
+        if (mn_v4l2_ioctl(fd, VIDIOC_ENUM_FMT, &d) < 0)
             return false;
         if (d.pixelformat == fourcc)
             return true;
@@ -74,7 +60,7 @@ static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err
     struct v4l2_format fmt;
     memset(&fmt, 0, sizeof(fmt));
     fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    if (xioctl(v->fd, VIDIOC_G_FMT, &fmt) < 0) {
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_G_FMT, &fmt) < 0) {
         snprintf(err, errlen, "%s: VIDIOC_G_FMT: %s", v->device, strerror(errno));
         return -1;
     }
@@ -93,7 +79,7 @@ static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err
         fmt.fmt.pix.width = want_w;
         fmt.fmt.pix.height = want_h;
     }
-    if (xioctl(v->fd, VIDIOC_S_FMT, &fmt) < 0) {
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_S_FMT, &fmt) < 0) {
         snprintf(err, errlen, "%s: VIDIOC_S_FMT: %s", v->device, strerror(errno));
         return -1;
     }
@@ -123,56 +109,14 @@ static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err
     return 0;
 }
 
-static int map_buffers(struct v4l2 *v, uint32_t count, char *err, size_t errlen)
-{
-    struct v4l2_requestbuffers req;
-    memset(&req, 0, sizeof(req));
-    req.count = count;
-    req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    req.memory = V4L2_MEMORY_MMAP;
-    if (xioctl(v->fd, VIDIOC_REQBUFS, &req) < 0) {
-        snprintf(err, errlen, "%s: VIDIOC_REQBUFS (mmap streaming): %s", v->device,
-                 strerror(errno));
-        return -1;
-    }
-    if (req.count < 2 || req.count > MAX_BUFFERS) {
-        snprintf(err, errlen, "%s: driver granted %u buffers", v->device, req.count);
-        errno = ENOMEM;
-        return -1;
-    }
-    for (uint32_t i = 0; i < req.count; i++) {
-        struct v4l2_buffer buf;
-        memset(&buf, 0, sizeof(buf));
-        buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-        buf.memory = V4L2_MEMORY_MMAP;
-        buf.index = i;
-        if (xioctl(v->fd, VIDIOC_QUERYBUF, &buf) < 0) {
-            snprintf(err, errlen, "%s: VIDIOC_QUERYBUF: %s", v->device, strerror(errno));
-            return -1;
-        }
-        void *p = mmap(NULL, buf.length, PROT_READ | PROT_WRITE, MAP_SHARED, v->fd,
-                       buf.m.offset);
-        if (p == MAP_FAILED) {
-            snprintf(err, errlen, "%s: mmap: %s", v->device, strerror(errno));
-            return -1;
-        }
-        v->maps[i].start = p;
-        v->maps[i].length = buf.length;
-        v->n_maps = i + 1;
-    }
-    return 0;
-}
-
 static void unmap_buffers(struct v4l2 *v)
 {
-    for (uint32_t i = 0; i < v->n_maps; i++)
-        munmap(v->maps[i].start, v->maps[i].length);
-    v->n_maps = 0;
+    mn_v4l2_unmap_buffers(v->maps, &v->n_maps);
     struct v4l2_requestbuffers req;
     memset(&req, 0, sizeof(req));
     req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     req.memory = V4L2_MEMORY_MMAP;
-    xioctl(v->fd, VIDIOC_REQBUFS, &req); /* count 0 frees them; may fail if the device is gone */
+    mn_v4l2_ioctl(v->fd, VIDIOC_REQBUFS, &req); /* count 0 frees them; may fail if the device is gone */
 }
 
 void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,
@@ -193,7 +137,7 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
     }
     struct v4l2_capability cap;
     memset(&cap, 0, sizeof(cap));
-    if (xioctl(v->fd, VIDIOC_QUERYCAP, &cap) < 0) {
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_QUERYCAP, &cap) < 0) {
         e = errno;
         snprintf(err, errlen, "%s: not a V4L2 device (%s)", device, strerror(e));
         goto fail_close;
@@ -217,7 +161,8 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
             goto fail_close;
         }
     }
-    if (map_buffers(v, buffers, err, errlen) < 0) {
+    if (mn_v4l2_map_buffers(v->fd, v->device, V4L2_BUF_TYPE_VIDEO_CAPTURE, buffers, v->maps,
+                            MAX_BUFFERS, &v->n_maps, err, errlen) < 0) {
         e = errno;
         goto fail_unmap;
     }
@@ -240,12 +185,8 @@ fail_free:
 
 static int queue(struct v4l2 *v, uint32_t index)
 {
-    struct v4l2_buffer buf;
-    memset(&buf, 0, sizeof(buf));
-    buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    buf.memory = V4L2_MEMORY_MMAP;
-    buf.index = index;
-    return xioctl(v->fd, VIDIOC_QBUF, &buf);
+    struct v4l2_buffer buf = mn_v4l2_mmap_buffer(V4L2_BUF_TYPE_VIDEO_CAPTURE, index);
+    return mn_v4l2_ioctl(v->fd, VIDIOC_QBUF, &buf);
 }
 
 static int v4l2_start(void *impl)
@@ -255,7 +196,7 @@ static int v4l2_start(void *impl)
         if (queue(v, i) < 0)
             return -1;
     enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    if (xioctl(v->fd, VIDIOC_STREAMON, &type) < 0)
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_STREAMON, &type) < 0)
         return -1;
     v->streaming = true;
     return 0;
@@ -268,7 +209,7 @@ static int v4l2_stop(void *impl)
         return 0;
     v->streaming = false;
     enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    return xioctl(v->fd, VIDIOC_STREAMOFF, &type); /* also dequeues every buffer */
+    return mn_v4l2_ioctl(v->fd, VIDIOC_STREAMOFF, &type); /* also dequeues every buffer */
 }
 
 static int v4l2_fd(void *impl)
@@ -287,11 +228,8 @@ static void convert(const struct v4l2 *v, const uint8_t *src)
 static int v4l2_dequeue(void *impl, struct mn_frame *frame)
 {
     struct v4l2 *v = impl;
-    struct v4l2_buffer buf;
-    memset(&buf, 0, sizeof(buf));
-    buf.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    buf.memory = V4L2_MEMORY_MMAP;
-    if (xioctl(v->fd, VIDIOC_DQBUF, &buf) < 0)
+    struct v4l2_buffer buf = mn_v4l2_mmap_buffer(V4L2_BUF_TYPE_VIDEO_CAPTURE, 0);
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_DQBUF, &buf) < 0)
         return errno == EAGAIN ? 0 : -1;
     if (buf.index >= v->n_maps) {
         errno = EPROTO;
@@ -343,14 +281,14 @@ static int v4l2_release(void *impl, const struct mn_frame *frame)
 static int set_ctrl(struct v4l2 *v, uint32_t id, int32_t value)
 {
     struct v4l2_control c = {.id = id, .value = value};
-    return xioctl(v->fd, VIDIOC_S_CTRL, &c);
+    return mn_v4l2_ioctl(v->fd, VIDIOC_S_CTRL, &c);
 }
 
 static int query_ctrl(struct v4l2 *v, uint32_t id, struct v4l2_queryctrl *q)
 {
     memset(q, 0, sizeof(*q));
     q->id = id;
-    if (xioctl(v->fd, VIDIOC_QUERYCTRL, q) < 0 || (q->flags & V4L2_CTRL_FLAG_DISABLED))
+    if (mn_v4l2_ioctl(v->fd, VIDIOC_QUERYCTRL, q) < 0 || (q->flags & V4L2_CTRL_FLAG_DISABLED))
         return -1;
     return 0;
 }

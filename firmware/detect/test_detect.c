@@ -15,36 +15,9 @@
 
 #include "detect/detect.h"
 #include "test_spots.h"
+#include "testing/alloc_counting.h"
 
 #define BG 16.0
-
-/* Every allocation of the code under test goes through these (linked with --wrap), so a test
- * can check that running the detector allocates nothing. */
-static unsigned long alloc_count;
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-
-void *__wrap_malloc(size_t n)
-{
-    alloc_count++;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    alloc_count++;
-    return __real_calloc(n, size);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    alloc_count++;
-    return __real_realloc(p, n);
-}
 
 struct truth {
     double x, y;
@@ -75,6 +48,22 @@ static struct mn_detector *make_detector(uint8_t threshold, uint8_t radius, uint
     struct mn_detector *det = mn_detector_new(&cfg, w, h);
     assert_non_null(det);
     return det;
+}
+
+/* Sets the rw x rh rectangle at (x, y) of a w-wide frame to value. */
+static void fill_rect(uint8_t *px, uint32_t w, uint32_t x, uint32_t y, uint32_t rw, uint32_t rh,
+                      uint8_t value)
+{
+    for (uint32_t row = y; row < y + rh; row++)
+        memset(px + (size_t)row * w + x, value, rw);
+}
+
+/* A w x h checkerboard of 200 and 0: one 8-connected region of single-pixel runs. */
+static void fill_checkerboard(uint8_t *px, uint32_t w, uint32_t h)
+{
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+            px[(size_t)y * w + x] = ((x + y) & 1) ? 200 : 0;
 }
 
 /* Spots on a jittered grid with noise: every one found, centroid within 0.02 px. */
@@ -319,10 +308,8 @@ static void test_opening_splits_stepped_neck(void **state)
     const uint32_t w = 24, h = 16;
     uint8_t px[24 * 16];
     memset(px, 10, sizeof px);
-    for (uint32_t y = 2; y <= 7; y++)
-        memset(px + y * w + 2, 200, 6);
-    for (uint32_t y = 8; y <= 13; y++)
-        memset(px + y * w + 12, 200, 6);
+    fill_rect(px, w, 2, 2, 6, 6, 200);
+    fill_rect(px, w, 12, 8, 6, 6, 200);
     px[7 * w + 8] = px[7 * w + 9] = px[7 * w + 10] = px[8 * w + 11] = 200;
     struct mn_blob b[8];
     size_t n = 0;
@@ -345,9 +332,7 @@ static void test_closing_and_specks(void **state)
     const uint32_t w = 30, h = 30;
     uint8_t px[30 * 30];
     memset(px, 10, sizeof px);
-    for (int y = 5; y < 12; y++)
-        for (int x = 5; x < 12; x++)
-            px[y * w + x] = 180;
+    fill_rect(px, w, 5, 5, 7, 7, 180);
     px[8 * w + 8] = 10;       /* hole */
     px[20 * w + 20] = 250;    /* speck */
     struct mn_detect_config cfg;
@@ -537,9 +522,7 @@ static void test_pathological_frame(void **state)
     (void)state;
     const uint32_t w = 512, h = 512;
     uint8_t *px = malloc((size_t)w * h);
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
-            px[y * w + x] = ((x + y) & 1) ? 200 : 0;
+    fill_checkerboard(px, w, h);
     struct mn_detector *det = make_detector(100, 1, w, h);
     struct mn_blob b[64];
     size_t n = 0;
@@ -550,8 +533,7 @@ static void test_pathological_frame(void **state)
         assert_true(b[i].bbox_w <= 128 && b[i].bbox_h <= 128);
     /* The detector is clean afterwards. */
     memset(px, 0, (size_t)w * h);
-    for (uint32_t y = 100; y < 104; y++)
-        memset(px + y * w + 100, 200, 4);
+    fill_rect(px, w, 100, 100, 4, 4, 200);
     assert_int_equal(mn_detector_run(det, px, w, h, w, b, 64, &n), 0);
     assert_int_equal(n, 1);
     assert_true(fabs(b[0].x - 101.5) < 1e-9 && fabs(b[0].y - 101.5) < 1e-9);
@@ -570,8 +552,7 @@ static void test_filters(void **state)
     static const uint32_t boxes[][4] = {{2, 2, 2, 2}, {8, 2, 4, 4}, {16, 2, 6, 6},
                                         {26, 2, 10, 10}, {40, 2, 12, 1}, {56, 2, 12, 3}};
     for (size_t i = 0; i < 6; i++)
-        for (uint32_t y = boxes[i][1]; y < boxes[i][1] + boxes[i][3]; y++)
-            memset(px + y * w + boxes[i][0], 150, boxes[i][2]);
+        fill_rect(px, w, boxes[i][0], boxes[i][1], boxes[i][2], boxes[i][3], 150);
     struct mn_detect_config cfg;
     mn_detect_config_default(&cfg);
     cfg.threshold = 100;
@@ -610,9 +591,7 @@ static void test_saturation_flag(void **state)
     (void)state;
     uint8_t px[16 * 16];
     memset(px, 0, sizeof px);
-    for (int y = 4; y < 8; y++)
-        for (int x = 4; x < 8; x++)
-            px[y * 16 + x] = 255;
+    fill_rect(px, 16, 4, 4, 4, 4, 255);
     struct mn_detector *det = make_detector(50, 0, 16, 16);
     struct mn_blob b[2];
     size_t n = 0;
@@ -662,21 +641,20 @@ static void test_no_allocation_per_frame(void **state)
     const uint32_t w = 640, h = 256;
     uint8_t *grid = malloc((size_t)w * h), *checker = malloc((size_t)w * h);
     render_grid(grid, w, h, 12, 9);
-    for (uint32_t i = 0; i < w * h; i++)
-        checker[i] = ((i % w + i / w) & 1) ? 200 : 0;
+    fill_checkerboard(checker, w, h);
     struct mn_detect_config cfg;
     mn_detect_config_default(&cfg);
     cfg.threshold = 40;
     cfg.max_blobs = 4096;
-    unsigned long at_start = alloc_count;
+    unsigned long at_start = mn_alloc_count();
     struct mn_detector *det = mn_detector_new(&cfg, w, h);
     assert_non_null(det);
-    assert_true(alloc_count > at_start); /* the counting wrappers are in effect */
+    assert_true(mn_alloc_count() > at_start); /* the counting wrappers are in effect */
     struct mn_blob *b = malloc(4096 * sizeof *b);
     struct mn_rect rect = {100, 100, 50, 50};
     assert_int_equal(mn_detector_set_mask_rects(det, &rect, 1), 0);
     size_t n = 0;
-    unsigned long before = alloc_count;
+    unsigned long before = mn_alloc_count();
     for (int pass = 0; pass < 3; pass++) {
         assert_int_equal(mn_detector_run(det, grid, w, h, w, b, 4096, &n), 0);
         assert_true(n > 1000);
@@ -685,7 +663,7 @@ static void test_no_allocation_per_frame(void **state)
         assert_int_equal(mn_detector_run(det, grid, w - 3, h - 5, w, b, 4096, &n), 0);
         assert_int_equal(mn_detector_set_threshold(det, MN_THRESHOLD_FIXED, 40), 0);
     }
-    assert_int_equal(alloc_count, before);
+    assert_int_equal(mn_alloc_count(), before);
     mn_detector_free(det);
     free(b);
     free(grid);

@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "framefile/framefile.h"
+#include "testing/alloc_counting.h"
 
 #define W 100
 #define H 37
@@ -24,25 +25,6 @@
 
 static char tmpdir[64];
 
-/* The reader's own allocations go through these (linked with --wrap), so a test can check
- * that reading frames allocates nothing. */
-static unsigned long alloc_count;
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-
-void *__wrap_malloc(size_t n)
-{
-    alloc_count++;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    alloc_count++;
-    return __real_calloc(n, size);
-}
 
 static int make_tmp(void **state)
 {
@@ -350,12 +332,12 @@ static void test_no_allocation_per_frame(void **state)
     (void)state;
     size_t written;
     char *dir = write_file(6, &written);
-    unsigned long at_open = alloc_count;
+    unsigned long at_open = mn_alloc_count();
     struct mn_ff_reader *rd = mn_ff_reader_open(dir, NULL);
     assert_non_null(rd);
-    assert_true(alloc_count > at_open); /* the counting wrappers are in effect */
+    assert_true(mn_alloc_count() > at_open); /* the counting wrappers are in effect */
     uint8_t px[W * H];
-    unsigned long before = alloc_count;
+    unsigned long before = mn_alloc_count();
     for (int pass = 0; pass < 3; pass++) {
         int n = 0;
         while (mn_ff_reader_next(rd, px, W, NULL) == 1)
@@ -363,7 +345,7 @@ static void test_no_allocation_per_frame(void **state)
         assert_int_equal(n, FRAMES);
         assert_int_equal(mn_ff_reader_rewind(rd), 0);
     }
-    assert_int_equal(alloc_count, before);
+    assert_int_equal(mn_alloc_count(), before);
     mn_ff_reader_close(rd);
 }
 

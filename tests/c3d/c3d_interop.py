@@ -10,7 +10,6 @@ usage: c3d_interop.py BIN_DIR WORK_DIR"""
 import math
 import os
 import shutil
-import subprocess
 import sys
 import unittest
 import warnings
@@ -19,14 +18,14 @@ import c3d
 import ezc3d
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
+from live_rig import run  # noqa: E402
+
 BIN = WORK = None
 
 
 def hub(*args):
-    out = subprocess.run([os.path.join(BIN, "mocap-hub"), *args], capture_output=True, text=True, timeout=120)
-    if out.returncode != 0:
-        raise AssertionError(f"mocap-hub {' '.join(args)}: {out.stderr}")
-    return out.stdout
+    return run(BIN, *args, timeout=120).stdout
 
 
 def read_trc(path):

@@ -14,21 +14,17 @@ usage: dense_e2e.py BIN_DIR WORK_DIR DENSE_TRC
 import json
 import os
 import shutil
-import subprocess
 import sys
 import unittest
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
+from live_rig import SIM_FAULTS, run  # noqa: E402
+
 BIN, WORK, MOTION = sys.argv[1:4]
-HUB = os.path.join(BIN, "mocap-hub")
-FAULTS = ["--noise-px", "0.2", "--occlusion", "0.05", "--occlusion-frames", "5", "--spurious", "2",
-          "--drop-frames", "0.002"]
 
 
 def hub(*args):
-    done = subprocess.run([HUB, *args], capture_output=True, text=True, timeout=900)
-    if done.returncode != 0:
-        raise AssertionError(f"mocap-hub {' '.join(args)} exited {done.returncode}:\n{done.stderr}")
-    return done.stdout
+    return run(BIN, *args, timeout=900).stdout
 
 
 def reconstruct(session, rig, name, *options):
@@ -50,7 +46,7 @@ class DenseMarkers(unittest.TestCase):
         cls.rig = os.path.join(WORK, "rig.json")
         cls.session = os.path.join(WORK, "session")
         hub("sim", "rig", "--motion", MOTION, "--cameras", "10", "-o", cls.rig)
-        hub("sim", "project", "--motion", MOTION, "--rig", cls.rig, "-o", cls.session, *FAULTS)
+        hub("sim", "project", "--motion", MOTION, "--rig", cls.rig, "-o", cls.session, *SIM_FAULTS)
         truth = os.path.join(cls.session, "truth.trc")
         cls.floor = evaluate(cls.session, reconstruct(cls.session, cls.rig, "floor", "--known-correspondences", truth))
         cls.markers = cls.floor["truth_markers"]

@@ -1,7 +1,8 @@
 """The live rig the serve, stream and fault tests share: `mocap-hub serve` with one real
 `mocap-node` process per camera on loopback replaying rendered frames, a systemd notify socket
 the test owns, small clients (HTTP, WebSocket, PNG) and the wire as a test writes it (protobuf
-fields by hand, the sealed envelope, raw-log records), with the Python standard library only.
+fields by hand, the sealed envelope, raw-log records), and what the e2e tests around it also take
+from here (run for mocap-hub, SIM_FAULTS, percentiles), with the Python standard library only.
 
 Every wait is bounded; stop() kills every process the rig started."""
 
@@ -39,6 +40,12 @@ def wait_for(what, predicate, timeout=10.0, step=0.05):
             return value
         time.sleep(step)
     raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+
+def percentiles(values):
+    """(p50, p99, max) of the values: the middle element, element int(0.99 (n - 1)), the last."""
+    values = sorted(values)
+    return values[len(values) // 2], values[int(0.99 * (len(values) - 1))], values[-1]
 
 
 # The faults of the hub issue's accuracy runs (`sim project` options).

@@ -26,7 +26,7 @@ import unittest
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, render_scene, wait_for, websocket_messages  # noqa: E402
+from live_rig import Rig, percentiles, render_scene, wait_for, websocket_messages  # noqa: E402
 
 import qtm_rt  # noqa: E402
 from qtm_rt.packet import QRTComponentType, QRTEvent, QRTPacket  # noqa: E402
@@ -34,11 +34,6 @@ from qtm_rt.packet import QRTComponentType, QRTEvent, QRTPacket  # noqa: E402
 BIN = WORK = None
 CAMERAS = 4
 RATE = 100
-
-
-def percentiles(values):
-    values = sorted(values)
-    return values[len(values) // 2], values[int(0.99 * (len(values) - 1))], values[-1]
 
 
 def packet(kind, text):

@@ -19,7 +19,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, render_scene, wait_for, websocket_messages  # noqa: E402
+from live_rig import Rig, percentiles, render_scene, wait_for, websocket_messages  # noqa: E402
 
 import mocap_stream  # noqa: E402  (installed from clients/python)
 from pythonosc import dispatcher as osc_dispatcher  # noqa: E402
@@ -29,11 +29,6 @@ BIN = WORK = PROTO = None
 CAMERAS = 4
 RATE = 100
 GROUP, GROUP_PORT = "239.255.42.1", 17803  # the test's own namespace: no one else hears it
-
-
-def percentiles(values):
-    values = sorted(values)
-    return values[len(values) // 2], values[int(0.99 * (len(values) - 1))], values[-1]
 
 
 class StreamTest(unittest.TestCase):

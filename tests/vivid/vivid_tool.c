@@ -22,13 +22,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/ioctl.h>
-#include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "capture/v4l2_buffers.h"
 #include "wire/wire.h"
 
 #define N_SPOTS 5
@@ -95,23 +94,13 @@ static void render_spots(uint8_t *img, uint32_t w, uint32_t h, uint32_t stride)
     }
 }
 
-static int xioctl(int fd, unsigned long req, void *arg)
-{
-    int rc;
-    do {
-        rc = ioctl(fd, req, arg);
-    } while (rc < 0 && errno == EINTR);
-    return rc;
-}
-
 /* ---- feed ---------------------------------------------------------------------------------- */
 
 struct feed {
     const char *cap_path, *out_path;
     int out_fd;
     uint32_t w, h, stride, sizeimage;
-    void *maps[OUT_BUFFERS];
-    size_t lengths[OUT_BUFFERS];
+    struct mn_v4l2_map maps[OUT_BUFFERS];
     uint32_t n_maps;
     char err[256];
 };
@@ -121,7 +110,7 @@ static int find_ctrl(int fd, const char *name, struct v4l2_queryctrl *q)
 {
     memset(q, 0, sizeof(*q));
     q->id = V4L2_CTRL_FLAG_NEXT_CTRL;
-    while (xioctl(fd, VIDIOC_QUERYCTRL, q) == 0) {
+    while (mn_v4l2_ioctl(fd, VIDIOC_QUERYCTRL, q) == 0) {
         if (strcmp((const char *)q->name, name) == 0)
             return 0;
         q->id |= V4L2_CTRL_FLAG_NEXT_CTRL;
@@ -141,7 +130,7 @@ static int set_ctrl_by_name(struct feed *f, int fd, const char *name, const char
         value = -1;
         for (int32_t i = q.minimum; i <= q.maximum; i++) {
             struct v4l2_querymenu m = {.id = q.id, .index = (uint32_t)i};
-            if (xioctl(fd, VIDIOC_QUERYMENU, &m) == 0 && strcmp((const char *)m.name, menu_item) == 0)
+            if (mn_v4l2_ioctl(fd, VIDIOC_QUERYMENU, &m) == 0 && strcmp((const char *)m.name, menu_item) == 0)
                 value = i;
         }
         if (value < 0) {
@@ -150,7 +139,7 @@ static int set_ctrl_by_name(struct feed *f, int fd, const char *name, const char
         }
     }
     struct v4l2_control c = {.id = q.id, .value = value};
-    if (xioctl(fd, VIDIOC_S_CTRL, &c) < 0) {
+    if (mn_v4l2_ioctl(fd, VIDIOC_S_CTRL, &c) < 0) {
         snprintf(f->err, sizeof(f->err), "set \"%s\": %s", name, strerror(errno));
         return -1;
     }
@@ -170,17 +159,17 @@ static int setup_capture(struct feed *f)
     memset(&fmt, 0, sizeof(fmt));
     fmt.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     int rc = -1;
-    if (xioctl(fd, VIDIOC_G_FMT, &fmt) < 0) {
+    if (mn_v4l2_ioctl(fd, VIDIOC_G_FMT, &fmt) < 0) {
         snprintf(f->err, sizeof(f->err), "%s: G_FMT: %s", f->cap_path, strerror(errno));
         goto out;
     }
     fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_GREY;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
-    if (xioctl(fd, VIDIOC_S_FMT, &fmt) < 0 && errno != EBUSY) {
+    if (mn_v4l2_ioctl(fd, VIDIOC_S_FMT, &fmt) < 0 && errno != EBUSY) {
         snprintf(f->err, sizeof(f->err), "%s: S_FMT GREY: %s", f->cap_path, strerror(errno));
         goto out;
     }
-    if (xioctl(fd, VIDIOC_G_FMT, &fmt) < 0 || fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_GREY ||
+    if (mn_v4l2_ioctl(fd, VIDIOC_G_FMT, &fmt) < 0 || fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_GREY ||
         fmt.fmt.pix.field != V4L2_FIELD_NONE) {
         snprintf(f->err, sizeof(f->err), "%s: capture is %ux%u %.4s field %u, not progressive GREY",
                  f->cap_path, fmt.fmt.pix.width, fmt.fmt.pix.height,
@@ -200,9 +189,7 @@ out:
 
 static void feed_teardown(struct feed *f)
 {
-    for (uint32_t i = 0; i < f->n_maps; i++)
-        munmap(f->maps[i], f->lengths[i]);
-    f->n_maps = 0;
+    mn_v4l2_unmap_buffers(f->maps, &f->n_maps);
     if (f->out_fd >= 0)
         close(f->out_fd); /* also stops streaming and frees the buffers */
     f->out_fd = -1;
@@ -210,14 +197,10 @@ static void feed_teardown(struct feed *f)
 
 static int queue_out(struct feed *f, uint32_t index)
 {
-    struct v4l2_buffer b;
-    memset(&b, 0, sizeof(b));
-    b.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-    b.memory = V4L2_MEMORY_MMAP;
-    b.index = index;
+    struct v4l2_buffer b = mn_v4l2_mmap_buffer(V4L2_BUF_TYPE_VIDEO_OUTPUT, index);
     b.bytesused = f->sizeimage;
     b.field = V4L2_FIELD_NONE;
-    return xioctl(f->out_fd, VIDIOC_QBUF, &b);
+    return mn_v4l2_ioctl(f->out_fd, VIDIOC_QBUF, &b);
 }
 
 static int setup_output(struct feed *f)
@@ -234,7 +217,7 @@ static int setup_output(struct feed *f)
     fmt.fmt.pix.height = f->h;
     fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_GREY;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
-    if (xioctl(f->out_fd, VIDIOC_S_FMT, &fmt) < 0) {
+    if (mn_v4l2_ioctl(f->out_fd, VIDIOC_S_FMT, &fmt) < 0) {
         snprintf(f->err, sizeof(f->err), "%s: S_FMT: %s", f->out_path, strerror(errno));
         return -1;
     }
@@ -247,42 +230,18 @@ static int setup_output(struct feed *f)
     }
     f->stride = fmt.fmt.pix.bytesperline;
     f->sizeimage = fmt.fmt.pix.sizeimage;
-    struct v4l2_requestbuffers req;
-    memset(&req, 0, sizeof(req));
-    req.count = OUT_BUFFERS;
-    req.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-    req.memory = V4L2_MEMORY_MMAP;
-    if (xioctl(f->out_fd, VIDIOC_REQBUFS, &req) < 0 || req.count < 2 || req.count > OUT_BUFFERS) {
-        snprintf(f->err, sizeof(f->err), "%s: REQBUFS gave %u buffers (%s)", f->out_path,
-                 req.count, strerror(errno));
+    if (mn_v4l2_map_buffers(f->out_fd, f->out_path, V4L2_BUF_TYPE_VIDEO_OUTPUT, OUT_BUFFERS,
+                            f->maps, OUT_BUFFERS, &f->n_maps, f->err, sizeof(f->err)) < 0)
         return -1;
-    }
-    for (uint32_t i = 0; i < req.count; i++) {
-        struct v4l2_buffer b;
-        memset(&b, 0, sizeof(b));
-        b.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-        b.memory = V4L2_MEMORY_MMAP;
-        b.index = i;
-        if (xioctl(f->out_fd, VIDIOC_QUERYBUF, &b) < 0) {
-            snprintf(f->err, sizeof(f->err), "%s: QUERYBUF: %s", f->out_path, strerror(errno));
-            return -1;
-        }
-        void *p = mmap(NULL, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, f->out_fd, b.m.offset);
-        if (p == MAP_FAILED) {
-            snprintf(f->err, sizeof(f->err), "%s: mmap: %s", f->out_path, strerror(errno));
-            return -1;
-        }
-        f->maps[i] = p;
-        f->lengths[i] = b.length;
-        f->n_maps = i + 1;
-        render_spots(p, f->w, f->h, f->stride);
+    for (uint32_t i = 0; i < f->n_maps; i++) {
+        render_spots(f->maps[i].start, f->w, f->h, f->stride);
         if (queue_out(f, i) < 0) {
             snprintf(f->err, sizeof(f->err), "%s: QBUF: %s", f->out_path, strerror(errno));
             return -1;
         }
     }
     enum v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-    if (xioctl(f->out_fd, VIDIOC_STREAMON, &type) < 0) {
+    if (mn_v4l2_ioctl(f->out_fd, VIDIOC_STREAMON, &type) < 0) {
         snprintf(f->err, sizeof(f->err), "%s: STREAMON: %s", f->out_path, strerror(errno));
         return -1;
     }
@@ -301,11 +260,8 @@ static int feed_stream(struct feed *f)
         }
         if (rc <= 0)
             continue;
-        struct v4l2_buffer b;
-        memset(&b, 0, sizeof(b));
-        b.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-        b.memory = V4L2_MEMORY_MMAP;
-        if (xioctl(f->out_fd, VIDIOC_DQBUF, &b) < 0) {
+        struct v4l2_buffer b = mn_v4l2_mmap_buffer(V4L2_BUF_TYPE_VIDEO_OUTPUT, 0);
+        if (mn_v4l2_ioctl(f->out_fd, VIDIOC_DQBUF, &b) < 0) {
             if (errno == EAGAIN)
                 continue;
             snprintf(f->err, sizeof(f->err), "%s: DQBUF: %s", f->out_path, strerror(errno));

@@ -18,44 +18,21 @@ set -euo pipefail
 cameras="8 16 32" markers=60 rate=240 seconds=4 bin=build/bin out=serve-bench width=1280 height=800
 serve_args=""
 realtime=$([ "$(id -u)" = 0 ] && echo 10 || echo 0)
+here=$(cd "$(dirname "$0")/../.." && pwd)
+. "$here/tools/sim_bench_common.sh"
 while [ $# -gt 0 ]; do
     case "$1" in
-        --cameras) cameras=${2:?}; shift 2 ;;
-        --markers) markers=${2:?}; shift 2 ;;
-        --rate) rate=${2:?}; shift 2 ;;
-        --seconds) seconds=${2:?}; shift 2 ;;
-        --width) width=${2:?}; shift 2 ;;
-        --height) height=${2:?}; shift 2 ;;
         --serve-args) serve_args=${2?}; shift 2 ;;
-        --realtime-priority) realtime=${2:?}; shift 2 ;;
-        --bin) bin=${2:?}; shift 2 ;;
-        --out) out=${2:?}; shift 2 ;;
         -h|--help) sed -n 2,16p "$0"; exit 0 ;;
-        *) echo "serve-bench: unknown argument '$1'" >&2; exit 1 ;;
+        *) sim_bench_option "$@" || { echo "serve-bench: unknown argument '$1'" >&2; exit 1; }; shift 2 ;;
     esac
 done
-here=$(cd "$(dirname "$0")/../.." && pwd)
-mkdir -p "$out"
-frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
-"$bin/mocap-hub" sim motion -o "$out/motion.trc" --markers "$markers" --frames "$frames" --rate "$rate" --seed 7 \
-    > /dev/null
+sim_bench_motion
 printf "%7s %7s %6s %10s %11s %11s %11s %11s %11s %11s %13s %12s\n" cameras markers rate "sets" "incomplete" \
     "hub p50" "hub p99" "hub max" "proc p50" "proc p99" "live missing" "live ghosts"
-cpus=$(nproc)
-# As deploy/mocap-hub.service runs it (Nice=-5), when this user may.
-hub_nice=()
-[ "$(id -u)" != 0 ] || hub_nice=(--hub-nice -5)
-node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
 for n in $cameras; do
-    mkdir -p "$out/c$n"
-    "$bin/mocap-hub" sim rig --motion "$out/motion.trc" --cameras "$n" --width "$width" --height "$height" \
-        -o "$out/c$n/rig.json" > /dev/null
-    rm -rf "$out/c$n/frames"
-    "$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/c$n/rig.json" -o "$out/c$n/frames" \
-        --occlusion 0.02 --noise 1.5 > /dev/null
-    "$here/deploy/sim-session.sh" --frames-dir "$out/c$n/frames" --out "$out/c$n" --bin "$bin" \
-        --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --serve-args "--max-ray-distance-mm 3 --realtime-priority $realtime $serve_args" --json \
-        > "$out/c$n.json" 2> "$out/c$n.log"
+    sim_bench_render "$out/c$n" "$n"
+    sim_bench_session "$out/c$n/frames" "$out/c$n" "$serve_args" > "$out/c$n.json" 2> "$out/c$n.log"
     python3 - "$out/c$n.json" "$n" "$markers" "$rate" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))

@@ -12,10 +12,11 @@ import time
 
 from pythonosc import dispatcher, osc_server
 
+from probe_report import arguments, report
+
 
 def main():
-    port, frames = int(sys.argv[1]), int(sys.argv[2])
-    wait_s = float(sys.argv[3]) if len(sys.argv) > 3 else 30.0
+    port, frames, wait_s = arguments()
     latency = []
     last = [time.monotonic()]
     done = threading.Event()
@@ -36,14 +37,7 @@ def main():
         if time.monotonic() - last[0] > wait_s:
             break
     server.shutdown()
-    if not latency:
-        print("no OSC frames", file=sys.stderr)
-        return 1
-    latency.sort()
-    print("trigger_to_receive_ms %.3f %.3f %.3f" % (latency[len(latency) // 2],
-                                                    latency[int(0.99 * (len(latency) - 1))], latency[-1]))
-    print(f"frames {len(latency)}")
-    return 0
+    return report(latency, "no OSC frames")
 
 
 if __name__ == "__main__":

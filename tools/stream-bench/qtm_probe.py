@@ -12,6 +12,8 @@ import time
 
 import qtm_rt
 
+from probe_report import arguments, report
+
 
 async def probe(port, frames, wait_s):
     deadline = time.monotonic() + wait_s
@@ -41,16 +43,8 @@ async def probe(port, frames, wait_s):
 
 
 def main():
-    port, frames = int(sys.argv[1]), int(sys.argv[2])
-    wait_s = float(sys.argv[3]) if len(sys.argv) > 3 else 30.0
-    latency = sorted(asyncio.run(probe(port, frames, wait_s)))
-    if not latency:
-        print("no Qualisys RT frames", file=sys.stderr)
-        return 1
-    print("trigger_to_receive_ms %.3f %.3f %.3f" % (latency[len(latency) // 2],
-                                                    latency[int(0.99 * (len(latency) - 1))], latency[-1]))
-    print(f"frames {len(latency)}")
-    return 0
+    port, frames, wait_s = arguments()
+    return report(asyncio.run(probe(port, frames, wait_s)), "no Qualisys RT frames")
 
 
 if __name__ == "__main__":

@@ -17,34 +17,19 @@
 set -euo pipefail
 cameras=16 markers=60 rate=240 seconds=4 bin=build/bin out=stream-bench width=640 height=400
 realtime=$([ "$(id -u)" = 0 ] && echo 10 || echo 0)
+here=$(cd "$(dirname "$0")/../.." && pwd)
+. "$here/tools/sim_bench_common.sh"
 while [ $# -gt 0 ]; do
     case "$1" in
-        --cameras) cameras=${2:?}; shift 2 ;;
-        --markers) markers=${2:?}; shift 2 ;;
-        --rate) rate=${2:?}; shift 2 ;;
-        --seconds) seconds=${2:?}; shift 2 ;;
-        --width) width=${2:?}; shift 2 ;;
-        --height) height=${2:?}; shift 2 ;;
-        --realtime-priority) realtime=${2:?}; shift 2 ;;
-        --bin) bin=${2:?}; shift 2 ;;
-        --out) out=${2:?}; shift 2 ;;
         -h|--help) sed -n 2,16p "$0"; exit 0 ;;
-        *) echo "stream-bench: unknown argument '$1'" >&2; exit 1 ;;
+        *) sim_bench_option "$@" || { echo "stream-bench: unknown argument '$1'" >&2; exit 1; }; shift 2 ;;
     esac
 done
-here=$(cd "$(dirname "$0")/../.." && pwd)
 python=$here/.venv/bin/python
 [ -x "$python" ] || { echo "stream-bench: $python missing (tests/run.sh creates it)" >&2; exit 1; }
-mkdir -p "$out"
-frames=$(awk -v s="$seconds" -v r="$rate" 'BEGIN { printf "%d", s * r }')
+sim_bench_motion
 probe_frames=$((frames - rate / 2))  # what arrives once every node is up
-"$bin/mocap-hub" sim motion -o "$out/motion.trc" --markers "$markers" --frames "$frames" --rate "$rate" --seed 7 \
-    > /dev/null
-"$bin/mocap-hub" sim rig --motion "$out/motion.trc" --cameras "$cameras" --width "$width" --height "$height" \
-    -o "$out/rig.json" > /dev/null
-rm -rf "$out/frames"
-"$bin/mocap-hub" sim render --motion "$out/motion.trc" --rig "$out/rig.json" -o "$out/frames" \
-    --occlusion 0.02 --noise 1.5 > /dev/null
+sim_bench_render "$out" "$cameras"
 
 stream_port=17802 osc_port=17810 qtm_port=17822
 pids=()
@@ -57,14 +42,8 @@ pids+=($!)
 pids+=($!)
 "$python" "$here/tools/stream-bench/qtm_probe.py" "$qtm_port" "$probe_frames" 30 > "$out/qtm.txt" 2> "$out/qtm.err" &
 pids+=($!)
-cpus=$(nproc)
-# As deploy/mocap-hub.service runs it (Nice=-5), when this user may.
-hub_nice=()
-[ "$(id -u)" != 0 ] || hub_nice=(--hub-nice -5)
-node_cpus=$([ "$cpus" -gt 1 ] && echo "1-$((cpus - 1))" || echo 0)
-"$here/deploy/sim-session.sh" --frames-dir "$out/frames" --out "$out/session" --bin "$bin" \
-    --hub-cpus 0 "${hub_nice[@]}" --node-cpus "$node_cpus" --json \
-    --serve-args "--max-ray-distance-mm 3 --realtime-priority $realtime --stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
+sim_bench_session "$out/frames" "$out/session" \
+    "--stream 127.0.0.1:$stream_port --osc 127.0.0.1:$osc_port --qtm-rt 127.0.0.1:$qtm_port" \
     > "$out/session.json" 2> "$out/session.log"
 for p in "${pids[@]}"; do wait "$p" || true; done
 trap - EXIT

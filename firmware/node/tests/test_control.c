@@ -35,6 +35,16 @@ static mocap_v1_Packet control_packet(uint32_t node_id, pb_size_t which)
     return p;
 }
 
+/* A HubAnnounce naming the hub's port (epoch and rate zero for the test to fill in). */
+static mocap_v1_Packet announce_packet(uint32_t port)
+{
+    mocap_v1_Packet p = mocap_v1_Packet_init_zero;
+    p.version = 1;
+    p.which_body = mocap_v1_Packet_hub_announce_tag;
+    p.body.hub_announce.port = port;
+    return p;
+}
+
 static enum mn_control_result handle(struct mn_control *ctl, const mocap_v1_Packet *p,
                                      bool announce, struct mn_command *cmd, const char **why)
 {
@@ -112,10 +122,7 @@ static void commands(void **state)
     p = control_packet(6, mocap_v1_Control_stop_tag);
     assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_IGNORED);
 
-    mocap_v1_Packet a = mocap_v1_Packet_init_zero;
-    a.version = 1;
-    a.which_body = mocap_v1_Packet_hub_announce_tag;
-    a.body.hub_announce.port = 7001;
+    mocap_v1_Packet a = announce_packet(7001);
     a.body.hub_announce.epoch_ns = 1700000000000000000ull;
     a.body.hub_announce.rate_millihz = 100000;
     assert_int_equal(handle(ctl, &a, true, &cmd, &why), MN_CONTROL_ACCEPTED);
@@ -273,10 +280,7 @@ static void acknowledgements(void **state)
     assert_int_equal(mn_control_handle(ctl, garbage, sizeof(garbage), false, &cmd, &why),
                      MN_CONTROL_REJECTED);
     assert_false(cmd.acknowledge);
-    mocap_v1_Packet a = mocap_v1_Packet_init_zero;
-    a.version = 1;
-    a.which_body = mocap_v1_Packet_hub_announce_tag;
-    a.body.hub_announce.port = 7001;
+    mocap_v1_Packet a = announce_packet(7001);
     assert_int_equal(handle(ctl, &a, true, &cmd, &why), MN_CONTROL_ACCEPTED);
     assert_false(cmd.acknowledge);
     mn_control_free(ctl);
@@ -338,10 +342,7 @@ static void rejections(void **state)
     /* Right bytes, wrong socket or wrong kind. */
     p = control_packet(5, mocap_v1_Control_stop_tag);
     expect_rejected(ctl, &p, true, "not a HubAnnounce");
-    mocap_v1_Packet a = mocap_v1_Packet_init_zero;
-    a.version = 1;
-    a.which_body = mocap_v1_Packet_hub_announce_tag;
-    a.body.hub_announce.port = 7001;
+    mocap_v1_Packet a = announce_packet(7001);
     expect_rejected(ctl, &a, false, "not a Control");
     mocap_v1_Packet f = mocap_v1_Packet_init_zero;
     f.version = 1;

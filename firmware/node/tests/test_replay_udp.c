@@ -110,6 +110,53 @@ static void replay_as_fast_as_possible(void **state)
     test_remove_tree(dir);
 }
 
+/* A Control to node_id (0: every node) with its sequence number and command tag, the command's
+ * fields zero for the test to fill in. */
+static mocap_v1_Control control(uint32_t node_id, uint32_t sequence, pb_size_t which_command)
+{
+    mocap_v1_Control c = mocap_v1_Control_init_zero;
+    c.node_id = node_id;
+    c.sequence = sequence;
+    c.which_command = which_command;
+    return c;
+}
+
+/* A node replaying a 320x200 recording in a loop to a test "hub" socket on loopback. */
+struct looped_node {
+    const char *dir;
+    int hub;
+    uint16_t hub_port;
+    struct mn_config cfg;
+    struct mn_node *node;
+    uint16_t node_port;
+};
+
+/* Writes the recording (`frames` frames of `spots` spots) into a fresh directory, opens the hub
+ * socket and fills cfg for a looping replay to it; the test may change cfg before starting. */
+static void looped_node_prepare(struct looped_node *t, uint32_t frames, uint32_t spots)
+{
+    t->dir = test_temp_dir();
+    test_write_recording(t->dir, 320, 200, frames, spots);
+    t->hub = test_hub_socket(&t->hub_port);
+    test_node_config(&t->cfg, t->dir, t->hub_port);
+    t->cfg.replay_loop = true;
+}
+
+/* Makes the node from cfg and clears what the hub received. */
+static void looped_node_start(struct looped_node *t)
+{
+    t->node = test_node_new(&t->cfg);
+    t->node_port = mn_node_local_port(t->node);
+    memset(&rx, 0, sizeof(rx));
+}
+
+static void looped_node_finish(struct looped_node *t)
+{
+    mn_node_free(t->node);
+    close(t->hub);
+    test_remove_tree(t->dir);
+}
+
 static void send_to_node(int hub, uint16_t node_port, const uint8_t *data, size_t len)
 {
     struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons(node_port),
@@ -133,63 +180,56 @@ static size_t encode_control(const mocap_v1_Control *c, uint8_t *buf, size_t cap
 
 /* A Control as the hub sends it: sealed under the node's key with the hub's next counter. The
  * datagram stays in *sent (when not NULL) for a replay. */
-static size_t send_control_kept(int hub, uint16_t node_port, mocap_v1_Control *c, uint8_t *sent)
+static size_t send_control_kept(const struct looped_node *t, mocap_v1_Control *c, uint8_t *sent)
 {
     uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
     size_t n = encode_control(c, payload, sizeof(payload));
     size_t len = test_seal_to_node(payload, n, test_hub_counter(), buf, sizeof(buf));
-    send_to_node(hub, node_port, buf, len);
+    send_to_node(t->hub, t->node_port, buf, len);
     if (sent != NULL)
         memcpy(sent, buf, len);
     return len;
 }
 
-static void send_control(int hub, uint16_t node_port, mocap_v1_Control *c)
+static void send_control(const struct looped_node *t, mocap_v1_Control *c)
 {
-    send_control_kept(hub, node_port, c, NULL);
+    send_control_kept(t, c, NULL);
 }
 
 /* Steps the node for ms milliseconds, draining the hub socket as it goes. */
-static void run_for(struct mn_node *node, int hub, int ms)
+static void run_for(const struct looped_node *t, int ms)
 {
     int64_t end = mn_clock_mono_ns() + (int64_t)ms * 1000000;
     while (mn_clock_mono_ns() < end) {
-        assert_int_equal(mn_node_step(node, 5), 1);
-        test_drain(hub, &rx);
+        assert_int_equal(mn_node_step(t->node, 5), 1);
+        test_drain(t->hub, &rx);
     }
 }
 
 static void paced_replay_with_control(void **state)
 {
     (void)state;
-    const char *dir = test_temp_dir();
     enum { RECORDED = 20, SPOTS = 5 };
-    test_write_recording(dir, 320, 200, RECORDED, SPOTS);
-    uint16_t port;
-    int hub = test_hub_socket(&port);
-    struct mn_config cfg;
-    test_node_config(&cfg, dir, port);
-    cfg.sync_kind = MN_SYNC_SIM;
-    cfg.rate_hz = 200.0;
-    cfg.replay_loop = true;
-    cfg.wait_for_start = true;
-    struct mn_node *node = test_node_new(&cfg);
-    uint16_t node_port = mn_node_local_port(node);
-    memset(&rx, 0, sizeof(rx));
+    struct looped_node t;
+    looped_node_prepare(&t, RECORDED, SPOTS);
+    t.cfg.sync_kind = MN_SYNC_SIM;
+    t.cfg.rate_hz = 200.0;
+    t.cfg.wait_for_start = true;
+    looped_node_start(&t);
 
     /* Idle: frames are captured but nothing is sent; status says IDLE. */
-    run_for(node, hub, 250);
+    run_for(&t, 250);
     assert_int_equal(rx.marker_datagrams, 0);
     assert_true(rx.status_datagrams >= 1);
     assert_int_equal(rx.last_state, mocap_v1_NodeState_NODE_STATE_IDLE);
 
     /* Malformed datagrams are rejected by the envelope and counted, and reported in status. */
     const uint8_t garbage[] = {0x08, 0x01, 0x62, 0xff, 0xff};
-    send_to_node(hub, node_port, garbage, sizeof(garbage));
-    send_to_node(hub, node_port, (const uint8_t *)"hello", 5);
-    run_for(node, hub, 150);
+    send_to_node(t.hub, t.node_port, garbage, sizeof(garbage));
+    send_to_node(t.hub, t.node_port, (const uint8_t *)"hello", 5);
+    run_for(&t, 150);
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_int_equal(st.auth_rejected, 2);
     assert_int_equal(rx.last_auth_rejected, 2);
     assert_int_equal(st.control_rejected, 0);
@@ -198,14 +238,11 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.ack_datagrams, 0);
 
     /* A raw preview at half size shows the spots where they are. */
-    mocap_v1_Control c = mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.sequence = 1;
-    c.which_command = mocap_v1_Control_preview_request_tag;
+    mocap_v1_Control c = control(7, 1, mocap_v1_Control_preview_request_tag);
     c.command.preview_request.mode = mocap_v1_PreviewMode_PREVIEW_MODE_RAW;
     c.command.preview_request.downscale = 2;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 200);
+    send_control(&t, &c);
+    run_for(&t, 200);
     assert_int_equal(rx.preview_w, 160);
     assert_int_equal(rx.preview_h, 100);
     assert_int_equal(rx.preview_datagrams, rx.preview_chunks);
@@ -228,23 +265,17 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[1].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
 
     /* Another node's command is ignored, not rejected, and not answered. */
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 8;
-    c.sequence = 2;
-    c.which_command = mocap_v1_Control_stop_tag;
-    send_control(hub, node_port, &c);
+    c = control(8, 2, mocap_v1_Control_stop_tag);
+    send_control(&t, &c);
     /* Start a session 200 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. (The
      * margin covers a slow qemu run; a node that hears Start after the epoch skips to the
      * current slot, as a late camera would.) */
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 0;
-    c.sequence = 3;
-    c.which_command = mocap_v1_Control_start_tag;
+    c = control(0, 3, mocap_v1_Control_start_tag);
     c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 200000000;
     c.command.start.rate_millihz = 200000;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 600);
-    mn_node_get_stats(node, &st);
+    send_control(&t, &c);
+    run_for(&t, 600);
+    mn_node_get_stats(t.node, &st);
     assert_int_equal(st.control_ignored, 1);
     assert_true(st.running);
     assert_true(st.frames_sent >= 20);
@@ -266,19 +297,13 @@ static void paced_replay_with_control(void **state)
 
     /* Refused requests are answered with the node's reason: one out of the node's range, one
      * the camera cannot apply (a recording's exposure is fixed). */
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.sequence = 4;
-    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c = control(7, 4, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 0;
-    send_control(hub, node_port, &c);
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.sequence = 5;
-    c.which_command = mocap_v1_Control_set_exposure_tag;
+    send_control(&t, &c);
+    c = control(7, 5, mocap_v1_Control_set_exposure_tag);
     c.command.set_exposure.exposure_us = 800;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 50);
+    send_control(&t, &c);
+    run_for(&t, 50);
     assert_int_equal(rx.acks[4].count, 1);
     assert_int_equal(rx.acks[4].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
     assert_string_equal(rx.acks[4].reason, "control: threshold outside 1..255");
@@ -288,16 +313,13 @@ static void paced_replay_with_control(void **state)
         fail_msg("exposure ack reason: '%s'", rx.acks[5].reason);
 
     /* Stop: nothing more is sent. */
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.sequence = 6;
-    c.which_command = mocap_v1_Control_stop_tag;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 50);
+    c = control(7, 6, mocap_v1_Control_stop_tag);
+    send_control(&t, &c);
+    run_for(&t, 50);
     uint32_t after_stop = rx.marker_datagrams;
-    run_for(node, hub, 100);
+    run_for(&t, 100);
     assert_int_equal(rx.marker_datagrams, after_stop);
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_false(st.running);
     assert_int_equal(st.control_rejected, 2); /* threshold, exposure */
     assert_int_equal(st.auth_rejected, 2);    /* the two garbage datagrams */
@@ -309,9 +331,7 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.unauthentic_datagrams, 0);
     assert_int_equal(rx.counter_regressions, 0);
 
-    mn_node_free(node);
-    close(hub);
-    test_remove_tree(dir);
+    looped_node_finish(&t);
 }
 
 static int64_t newest_frame(void)
@@ -351,88 +371,69 @@ static void read_file(const char *path, char *buf, size_t cap)
 static void control_reaches_detector(void **state)
 {
     (void)state;
-    const char *dir = test_temp_dir();
     enum { SPOTS = 5 };
-    test_write_recording(dir, 320, 200, 20, SPOTS);
+    struct looped_node t;
+    looped_node_prepare(&t, 20, SPOTS);
     char led[128];
-    snprintf(led, sizeof(led), "%s/led", dir);
+    snprintf(led, sizeof(led), "%s/led", t.dir);
     FILE *lf = fopen(led, "w");
     assert_non_null(lf);
     fclose(lf);
-    uint16_t port;
-    int hub = test_hub_socket(&port);
-    struct mn_config cfg;
-    test_node_config(&cfg, dir, port);
-    cfg.rate_hz = 200.0;
-    cfg.replay_loop = true;
-    snprintf(cfg.identify_led, sizeof(cfg.identify_led), "%s", led);
-    struct mn_node *node = test_node_new(&cfg);
-    uint16_t node_port = mn_node_local_port(node);
-    memset(&rx, 0, sizeof(rx));
-    run_for(node, hub, 150);
+    t.cfg.rate_hz = 200.0;
+    snprintf(t.cfg.identify_led, sizeof(t.cfg.identify_led), "%s", led);
+    looped_node_start(&t);
+    run_for(&t, 150);
     int64_t before = newest_frame();
     assert_true(before >= 5);
     assert_int_equal(rx.frames[before].marker_total, SPOTS);
 
     /* Spot 0 wanders within x 20..24, y 20..23 over the recording: mask it. */
-    mocap_v1_Control c = mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.which_command = mocap_v1_Control_set_mask_tag;
+    mocap_v1_Control c = control(7, 0, mocap_v1_Control_set_mask_tag);
     c.command.set_mask.rects_count = 1;
     c.command.set_mask.rects[0] = (mocap_v1_Rect){10, 10, 25, 25};
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 150);
+    send_control(&t, &c);
+    run_for(&t, 150);
     expect_markers_after(before, SPOTS - 1);
 
     /* A threshold above the spots' peak: nothing is found. */
     before = newest_frame();
     memset(&rx, 0, sizeof(rx));
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.which_command = mocap_v1_Control_set_threshold_tag;
+    c = control(7, 0, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 250;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 150);
+    send_control(&t, &c);
+    run_for(&t, 150);
     expect_markers_after(before, 0);
 
     /* Clear the mask and go back to the old threshold: every spot again. */
     before = newest_frame();
     memset(&rx, 0, sizeof(rx));
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.which_command = mocap_v1_Control_set_mask_tag;
+    c = control(7, 0, mocap_v1_Control_set_mask_tag);
     c.command.set_mask.clear = true;
-    send_control(hub, node_port, &c);
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.which_command = mocap_v1_Control_set_threshold_tag;
+    send_control(&t, &c);
+    c = control(7, 0, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 60;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 150);
+    send_control(&t, &c);
+    run_for(&t, 150);
     expect_markers_after(before, SPOTS);
 
     /* Identify: the LED file goes to 1, and back to 0 after the duration. */
-    c = (mocap_v1_Control)mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.which_command = mocap_v1_Control_identify_tag;
+    c = control(7, 0, mocap_v1_Control_identify_tag);
     c.command.identify.duration_ms = 100;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 30);
+    send_control(&t, &c);
+    run_for(&t, 30);
     char text[8];
     read_file(led, text, sizeof(text));
     assert_string_equal(text, "1\n");
-    run_for(node, hub, 150);
+    run_for(&t, 150);
     read_file(led, text, sizeof(text));
     assert_string_equal(text, "0\n");
 
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_int_equal(st.control_rejected, 0);
     assert_int_equal(st.control_accepted, 5);
     assert_int_equal(st.frames_dropped, 0);
-    mn_node_free(node);
-    close(hub);
-    test_remove_tree(dir);
+    looped_node_finish(&t);
 }
 
 /* Forged, plain, reflected, stale, future, unknown-key and replayed Controls: every one refused
@@ -441,32 +442,20 @@ static void control_reaches_detector(void **state)
 static void forged_and_replayed_control_steers_nothing(void **state)
 {
     (void)state;
-    const char *dir = test_temp_dir();
     enum { SPOTS = 5 };
-    test_write_recording(dir, 320, 200, 20, SPOTS);
-    uint16_t port;
-    int hub = test_hub_socket(&port);
-    struct mn_config cfg;
-    test_node_config(&cfg, dir, port);
-    cfg.rate_hz = 200.0;
-    cfg.replay_loop = true;
-    struct mn_node *node = test_node_new(&cfg);
-    uint16_t node_port = mn_node_local_port(node);
-    memset(&rx, 0, sizeof(rx));
-    run_for(node, hub, 150);
+    struct looped_node t;
+    looped_node_prepare(&t, 20, SPOTS);
+    t.cfg.rate_hz = 200.0;
+    looped_node_start(&t);
+    run_for(&t, 150);
 
     uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
     uint8_t wrong_key[MN_ENVELOPE_KEY_BYTES];
     memset(wrong_key, 0x42, sizeof(wrong_key));
     const char *why;
     size_t len;
-    mocap_v1_Control stop = mocap_v1_Control_init_zero, blind = mocap_v1_Control_init_zero;
-    stop.node_id = 7;
-    stop.sequence = 9;
-    stop.which_command = mocap_v1_Control_stop_tag;
-    blind.node_id = 7;
-    blind.sequence = 10;
-    blind.which_command = mocap_v1_Control_set_threshold_tag;
+    mocap_v1_Control stop = control(7, 9, mocap_v1_Control_stop_tag);
+    mocap_v1_Control blind = control(7, 10, mocap_v1_Control_set_threshold_tag);
     blind.command.set_threshold.value = 255;
     int64_t now = mn_clock_real_ns();
     struct {
@@ -492,14 +481,14 @@ static void forged_and_replayed_control_steers_nothing(void **state)
                                   .counter = attacks[i].counter ? attacks[i].counter
                                                                 : test_hub_counter()};
         assert_int_equal(mn_envelope_seal(&env, attacks[i].key, buf, sizeof(buf), &len, &why), 0);
-        send_to_node(hub, node_port, buf, len);
+        send_to_node(t.hub, t.node_port, buf, len);
     }
     /* And the plain, unauthenticated Stop the probe used to stop a node with. */
-    send_to_node(hub, node_port, payload, encode_control(&stop, payload, sizeof(payload)));
+    send_to_node(t.hub, t.node_port, payload, encode_control(&stop, payload, sizeof(payload)));
     int64_t before = newest_frame();
-    run_for(node, hub, 150);
+    run_for(&t, 150);
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_int_equal(st.auth_rejected, ATTACKS + 1);
     assert_int_equal(st.control_accepted + st.control_rejected + st.control_ignored, 0);
     assert_true(st.running);
@@ -508,27 +497,24 @@ static void forged_and_replayed_control_steers_nothing(void **state)
 
     /* The real hub raises the threshold (kept for a replay), then lowers it again. */
     uint8_t kept[MN_ENVELOPE_MAX_DATAGRAM];
-    mocap_v1_Control c = mocap_v1_Control_init_zero;
-    c.node_id = 7;
-    c.sequence = 1;
-    c.which_command = mocap_v1_Control_set_threshold_tag;
+    mocap_v1_Control c = control(7, 1, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 250;
-    size_t kept_len = send_control_kept(hub, node_port, &c, kept);
-    run_for(node, hub, 100);
+    size_t kept_len = send_control_kept(&t, &c, kept);
+    run_for(&t, 100);
     before = newest_frame();
-    run_for(node, hub, 100);
+    run_for(&t, 100);
     expect_markers_after(before, 0);
     c.sequence = 2;
     c.command.set_threshold.value = 60;
-    send_control(hub, node_port, &c);
-    run_for(node, hub, 100);
+    send_control(&t, &c);
+    run_for(&t, 100);
     /* The recorded "threshold 250" replayed five times: refused, the threshold stays 60. */
     for (int i = 0; i < 5; i++)
-        send_to_node(hub, node_port, kept, kept_len);
+        send_to_node(t.hub, t.node_port, kept, kept_len);
     before = newest_frame();
-    run_for(node, hub, 150);
+    run_for(&t, 150);
     expect_markers_after(before, SPOTS);
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_int_equal(st.auth_rejected, ATTACKS + 1 + 5);
     assert_int_equal(rx.last_auth_rejected, ATTACKS + 1 + 5);
     assert_int_equal(st.control_accepted, 2);
@@ -536,9 +522,7 @@ static void forged_and_replayed_control_steers_nothing(void **state)
     assert_int_equal(rx.acks[2].count, 1);
     assert_int_equal(rx.acks[9].count + rx.acks[10].count, 0);
     assert_true(st.running);
-    mn_node_free(node);
-    close(hub);
-    test_remove_tree(dir);
+    looped_node_finish(&t);
 }
 
 /* No hub configured: the node finds it by the HubAnnounce broadcast (sent here straight to the
@@ -546,22 +530,17 @@ static void forged_and_replayed_control_steers_nothing(void **state)
 static void hub_found_by_announce(void **state)
 {
     (void)state;
-    const char *dir = test_temp_dir();
-    test_write_recording(dir, 320, 200, 10, 3);
-    uint16_t port, announce_port;
-    int hub = test_hub_socket(&port);
+    struct looped_node t;
+    looped_node_prepare(&t, 10, 3);
+    uint16_t announce_port;
     int probe = test_hub_socket(&announce_port); /* a free port for the node to listen on */
     close(probe);
-    struct mn_config cfg;
-    test_node_config(&cfg, dir, 0);
-    cfg.hub_host[0] = '\0';
-    cfg.announce_port = announce_port;
-    cfg.replay_loop = true;
-    struct mn_node *node = test_node_new(&cfg);
-    memset(&rx, 0, sizeof(rx));
-    run_for(node, hub, 100);
+    t.cfg.hub_host[0] = '\0'; /* no hub: its port is not used */
+    t.cfg.announce_port = announce_port;
+    looped_node_start(&t);
+    run_for(&t, 100);
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
+    mn_node_get_stats(t.node, &st);
     assert_false(st.hub_known);
     assert_int_equal(rx.marker_datagrams, 0);
 
@@ -569,7 +548,7 @@ static void hub_found_by_announce(void **state)
     p = (mocap_v1_Packet)mocap_v1_Packet_init_zero;
     p.version = 1;
     p.which_body = mocap_v1_Packet_hub_announce_tag;
-    p.body.hub_announce.port = port;
+    p.body.hub_announce.port = t.hub_port;
     p.body.hub_announce.epoch_ns = (uint64_t)mn_clock_real_ns() + 30000000;
     p.body.hub_announce.rate_millihz = 100000;
     uint8_t payload[MN_WIRE_MAX_PACKET], buf[MN_ENVELOPE_MAX_DATAGRAM];
@@ -587,28 +566,28 @@ static void hub_found_by_announce(void **state)
     struct mn_envelope env = {.direction = MN_ENVELOPE_TO_NODE, .key_id = 1, .node_id = 7,
                               .counter = test_hub_counter(), .payload = payload, .payload_len = n};
     assert_int_equal(mn_envelope_seal(&env, wrong_key, buf, sizeof(buf), &len, &why), 0);
-    send_to_node(hub, announce_port, buf, len);
-    send_to_node(hub, announce_port, payload, n);
+    send_to_node(t.hub, announce_port, buf, len);
+    send_to_node(t.hub, announce_port, payload, n);
     /* An authentic announce for another node (broadcasts carry one per node) is ignored. */
     env.node_id = 8;
     env.counter = test_hub_counter();
     assert_int_equal(mn_envelope_seal(&env, test_node_key(), buf, sizeof(buf), &len, &why), 0);
-    send_to_node(hub, announce_port, buf, len);
-    run_for(node, hub, 150);
-    mn_node_get_stats(node, &st);
+    send_to_node(t.hub, announce_port, buf, len);
+    run_for(&t, 150);
+    mn_node_get_stats(t.node, &st);
     assert_false(st.hub_known);
     assert_int_equal(st.auth_rejected, 2);
     assert_int_equal(st.auth_other_node, 1);
     assert_int_equal(recv(attacker, buf, sizeof(buf), MSG_DONTWAIT), -1);
     close(attacker);
 
-    p.body.hub_announce.port = port;
+    p.body.hub_announce.port = t.hub_port;
     p.body.hub_announce.epoch_ns = (uint64_t)mn_clock_real_ns() + 30000000;
     assert_int_equal(mn_wire_encode(&p, payload, sizeof(payload), &n, &why), 0);
     len = test_seal_to_node(payload, n, test_hub_counter(), buf, sizeof(buf));
-    send_to_node(hub, announce_port, buf, len);
-    run_for(node, hub, 300);
-    mn_node_get_stats(node, &st);
+    send_to_node(t.hub, announce_port, buf, len);
+    run_for(&t, 300);
+    mn_node_get_stats(t.node, &st);
     assert_true(st.hub_known);
     assert_int_equal(st.control_rejected, 0);
     /* Frames since the announced epoch, numbered from 0 on its grid. */
@@ -616,9 +595,7 @@ static void hub_found_by_announce(void **state)
     for (uint32_t k = 0; k < 10; k++)
         assert_true(rx.frames[k].seen);
     assert_true(rx.status_datagrams >= 1);
-    mn_node_free(node);
-    close(hub);
-    test_remove_tree(dir);
+    looped_node_finish(&t);
 }
 
 static void bad_sources_refuse_to_start(void **state)

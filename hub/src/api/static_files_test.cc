@@ -2,12 +2,12 @@
 // hidden files, links out of the mount, unknown types) reaches anything else.
 #include "api/static_files.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
+
+#include "util/temporary_directory_testing.h"
 
 namespace mocap::api {
 namespace {
@@ -16,8 +16,6 @@ namespace fs = std::filesystem;
 class StaticFilesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("mocap_static_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
     fs::create_directories(dir_ / "web" / "js");
     fs::create_directories(dir_ / "three" / "build");
     std::ofstream(dir_ / "web" / "index.html") << "<html>";
@@ -30,9 +28,8 @@ class StaticFilesTest : public ::testing::Test {
     fs::create_symlink("../three.module.js", dir_ / "three" / "build" / "three.module.js");
     mounts_ = ConsoleMounts((dir_ / "web").string(), (dir_ / "three").string());
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path dir_;
+  const testing::TemporaryDirectory temp_{"static_files_test"};
+  const fs::path dir_ = temp_.path();
   std::vector<StaticMount> mounts_;
 };
 

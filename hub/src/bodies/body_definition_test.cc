@@ -1,13 +1,12 @@
 // Body definitions: centred frames, refusals with reasons, the ambiguity check, the bodies file.
 #include "bodies/body_definition.h"
 
-#include <unistd.h>
-
-#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -63,8 +62,8 @@ TEST(BodyDefinition, AmbiguousBodiesAreRefusedWithTheirDistances) {
 }
 
 TEST(BodyDefinition, FileRoundTripAndBadFiles) {
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("mocap_bodies_" + std::to_string(::getpid()) + ".json")).string();
+  const testing::TemporaryDirectory temp("body_definition_test");
+  const std::string path = temp.File("bodies.json");
   std::vector<RigidBodyDefinition> bodies = {DefineBody("wand", kWand)};
   bodies[0].pivot = {0, 0, -100};
   WriteBodiesFile(bodies, path);
@@ -94,7 +93,6 @@ TEST(BodyDefinition, FileRoundTripAndBadFiles) {
   const std::string wand = "{\"name\": \"w\", \"markers\": [[0,0,0],[100,0,0],[0,60,0],[0,0,40]]}";
   EXPECT_NE(write("{\"version\": 1, \"bodies\": [" + wand + ", " + wand + "]}").find("body 2: the name 'w' is body 1's"),
             std::string::npos);
-  std::filesystem::remove(path);
 }
 
 // A 4 x 4 x 4 grid of markers `spacing` mm apart.

@@ -1,13 +1,13 @@
 // Body pose files: what WriteBodyPoses writes, ParseBodyPoses reads back; anything else is
 // refused with the line and the reason.
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 
 #include "bodies/body_trajectories.h"
 #include "util/special_file_testing.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -25,10 +25,10 @@ TEST(BodyPoses, RoundTrip) {
   pose.mean_error_mm = 0.25;
   pose.markers = 3;
   row.poses = {pose};
-  const std::string path = (std::filesystem::temp_directory_path() / "body_poses_round_trip.tsv").string();
+  const testing::TemporaryDirectory temp("body_trajectories_test");
+  const std::string path = temp.File("body_poses_round_trip.tsv");
   WriteBodyPoses(path, {body}, {row}, 100.0);
   const std::vector<BodyPoseRecord> read = ReadBodyPoses(path);
-  std::filesystem::remove(path);
   ASSERT_EQ(read.size(), 1u);
   EXPECT_EQ(read[0].frame, 42u);
   EXPECT_EQ(read[0].body, "wand");

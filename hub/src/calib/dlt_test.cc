@@ -14,6 +14,7 @@
 
 #include "simcore/test_scenes.h"
 #include "util/bounded_line.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -98,7 +99,8 @@ TEST(DltTest, RefusesDegenerateInput) {
 }
 
 TEST(DltTest, ReadsControlPointFiles) {
-  const std::string path = (std::filesystem::temp_directory_path() / "mocap_dlt_points_test.txt").string();
+  const testing::TemporaryDirectory temp("dlt_test");
+  const std::string path = temp.File("points.txt");
   {
     std::ofstream out(path);
     out << "# x y z u v\n10 20 30 100.5 200.25\n\n  -1 0 5e2 3 4   # comment\n";

@@ -10,21 +10,17 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/hub_process_testing.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 
-class CalibrateCliTest : public testing::Test {
+class CalibrateCliTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = testing::TempDir() + "/calibrate_cli";
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-
   HubRun Hub(const std::string& args) const { return RunHub(dir_, args); }
 
-  std::string dir_;
+  const testing::TemporaryDirectory temp_{"calibrate_cli"};
+  const std::string dir_ = temp_.path().string();
 };
 
 TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {

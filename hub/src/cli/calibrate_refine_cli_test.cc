@@ -13,22 +13,17 @@
 #include "cli/hub_process_testing.h"
 #include "io/calibration_json.h"
 #include "simcore/look_at.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 
-class CalibrateRefineCliTest : public testing::Test {
+class CalibrateRefineCliTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = testing::TempDir() + "/calibrate_refine_cli_" +
-           testing::UnitTest::GetInstance()->current_test_info()->name();
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-
   HubRun Hub(const std::string& args) const { return RunHub(dir_, args); }
 
-  std::string dir_;
+  const testing::TemporaryDirectory temp_{"calibrate_refine_cli"};
+  const std::string dir_ = temp_.path().string();
 };
 
 TEST_F(CalibrateRefineCliTest, BumpedCameraIsSolvedBackOntoItsTruePose) {

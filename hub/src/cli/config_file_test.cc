@@ -2,26 +2,26 @@
 // naming only real options of serve.
 #include "cli/config_file.h"
 
-#include <unistd.h>
-
-#include <cstdio>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
 #include "cli/commands.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 
-std::string WriteTemp(const std::string& text) {
-  const std::string path = "/tmp/mocap_config_test_" + std::to_string(::getpid()) + ".conf";
+// Writes text to a file in dir; returns its path.
+std::string WriteTemp(const testing::TemporaryDirectory& dir, const std::string& text) {
+  const std::string path = dir.File("hub.conf");
   std::ofstream(path) << text;
   return path;
 }
 
 TEST(ConfigFile, KeysValuesCommentsAndQuotes) {
-  const std::string path = WriteTemp("# comment\n\n  rate = 120 \nname = \"a b\"\nempty =\n");
+  const testing::TemporaryDirectory temp("config_file_test");
+  const std::string path = WriteTemp(temp, "# comment\n\n  rate = 120 \nname = \"a b\"\nempty =\n");
   const std::vector<ConfigEntry> entries = ReadConfigFile(path);
   ASSERT_EQ(entries.size(), 3u);
   EXPECT_EQ(entries[0].line, 3);
@@ -29,18 +29,17 @@ TEST(ConfigFile, KeysValuesCommentsAndQuotes) {
   EXPECT_EQ(entries[0].value, "120");
   EXPECT_EQ(entries[1].value, "a b");
   EXPECT_EQ(entries[2].value, "");
-  std::remove(path.c_str());
 }
 
 TEST(ConfigFile, ErrorsNameTheLine) {
-  const std::string path = WriteTemp("rate = 1\nno equals sign\n");
+  const testing::TemporaryDirectory temp("config_file_test");
+  const std::string path = WriteTemp(temp, "rate = 1\nno equals sign\n");
   try {
     ReadConfigFile(path);
     FAIL() << "accepted a line without '='";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
   }
-  std::remove(path.c_str());
   EXPECT_THROW(ReadConfigFile("/nonexistent/hub.conf"), std::runtime_error);
 }
 
@@ -51,7 +50,8 @@ TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
   std::string listen;
   command->add_option("--rate", rate);
   command->add_option("--listen", listen);
-  const std::string path = WriteTemp("rate = 120\nlisten = 1.2.3.4:5\n");
+  const testing::TemporaryDirectory temp("config_file_test");
+  const std::string path = WriteTemp(temp, "rate = 120\nlisten = 1.2.3.4:5\n");
   app.parse("serve --listen 9.9.9.9:1", false);
   ApplyConfigFile(*command, path);
   EXPECT_EQ(rate, 120.0);
@@ -63,7 +63,6 @@ TEST(ConfigFile, CommandLineWinsAndUnknownKeysAreUsageErrors) {
   other->add_option("--rate", rate);
   std::ofstream(path) << "rate = fast\n";
   EXPECT_THROW(ApplyConfigFile(*other, path), UsageError);
-  std::remove(path.c_str());
 }
 
 // The file is read whole and bounded first: /dev/zero (an existing file to --config's check) made
@@ -75,7 +74,8 @@ TEST(ConfigFile, OnlyRegularFilesUpTo64KiBAreRead) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/zero: not a regular file"), std::string::npos) << e.what();
   }
-  const std::string path = WriteTemp(std::string(64 * 1024 + 1, '#'));
+  const testing::TemporaryDirectory temp("config_file_test");
+  const std::string path = WriteTemp(temp, std::string(64 * 1024 + 1, '#'));
   try {
     ReadConfigFile(path);
     FAIL() << "read a file over 64 KiB";
@@ -86,7 +86,6 @@ TEST(ConfigFile, OnlyRegularFilesUpTo64KiBAreRead) {
   for (int i = 0; i < 1023; ++i) comments += std::string(63, '#') + "\n";
   std::ofstream(path) << comments << "rate = 1\n";  // 65481 bytes
   EXPECT_EQ(ReadConfigFile(path).size(), 1u);
-  std::remove(path.c_str());
 }
 
 // A key on two lines was applied from the first and the second dropped without a word (the
@@ -96,14 +95,14 @@ TEST(ConfigFile, AKeyOnTwoLinesIsRefusedNamingBoth) {
   CLI::App* command = app.add_subcommand("serve");
   double rate = 0;
   command->add_option("--rate", rate);
-  const std::string path = WriteTemp("rate = 100\n# later\nrate = 200\n");
+  const testing::TemporaryDirectory temp("config_file_test");
+  const std::string path = WriteTemp(temp, "rate = 100\n# later\nrate = 200\n");
   try {
     ApplyConfigFile(*command, path);
     FAIL() << "applied a key given twice";
   } catch (const UsageError& e) {
     EXPECT_NE(std::string(e.what()).find(":3: 'rate' is set already on line 1"), std::string::npos) << e.what();
   }
-  std::remove(path.c_str());
 }
 
 TEST(ConfigFile, TheShippedExampleNamesOnlyServeOptions) {

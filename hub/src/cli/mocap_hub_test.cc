@@ -10,25 +10,24 @@
 #include "cli/hub_process_testing.h"
 #include "io/trc.h"
 #include "simcore/synthetic_motion.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
 
-HubRun Hub(const std::string& args) { return RunHub(testing::TempDir(), args); }
+HubRun Hub(const std::string& args) { return RunHub(::testing::TempDir(), args); }
 
-class MocapHubTest : public testing::Test {
+class MocapHubTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir = testing::TempDir() + "/hub_cli";
-    std::filesystem::remove_all(dir);
-    std::filesystem::create_directories(dir);
     SyntheticMotionOptions options;
     options.frames = 60;
     options.markers = 12;
     options.up_axis = 1;
     WriteTrc(MakeSyntheticMotion(options), dir + "/motion.trc");
   }
-  std::string dir;
+  const testing::TemporaryDirectory temp{"hub_cli"};
+  const std::string dir = temp.path().string();
 };
 
 TEST_F(MocapHubTest, SimRigProjectAndEval) {

@@ -9,30 +9,15 @@
 
 #include <gtest/gtest.h>
 
+#include "ingest/camera_frame_testing.h"
 #include "ingest/frame_codec.h"
 #include "wire/datagram_envelope.h"
+#include "util/temporary_directory_testing.h"
 #include "wire/key_file.h"
 
 namespace mocap {
 namespace {
 namespace fs = std::filesystem;
-
-CameraFrame Frame(uint32_t cam, uint64_t number, int blobs) {
-  CameraFrame f;
-  f.camera_id = cam;
-  f.frame_number = number;
-  f.width = 1280;
-  f.height = 800;
-  for (int i = 0; i < blobs; ++i) {
-    Blob b;
-    b.pixel = Eigen::Vector2d(5.0 + i, 6.0 + number);
-    b.area = 9;
-    b.peak = 200;
-    b.mean = 120;
-    f.blobs.push_back(b);
-  }
-  return f;
-}
 
 // The nodes' side of the wire: one key per node, written into the hub's keys directory.
 class Nodes {
@@ -59,8 +44,8 @@ class Nodes {
 };
 
 TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
-  const fs::path dir = fs::temp_directory_path() / ("mocap_recorder_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const testing::TemporaryDirectory temp("recorder_test");
+  const fs::path& dir = temp.path();
   Nodes nodes(dir / "keys");
   RecorderOptions o;
   o.auth.keys_dir = (dir / "keys").string();
@@ -87,7 +72,7 @@ TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
     for (uint64_t n = 0; n < 10; ++n) {
       for (uint32_t cam : {1u, 2u}) {
         if (cam == 2 && n == 4) continue;  // lost frame
-        auto packets = EncodeCameraFrame(Frame(cam, n, 60));  // two chunks each
+        auto packets = EncodeCameraFrame(testing::FrameOfBlobs(cam, n, 60));  // two chunks each
         std::vector<uint8_t> first;
         for (const auto& p : packets) {
           const std::vector<uint8_t> d = nodes.Seal(cam, p);
@@ -103,8 +88,8 @@ TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
       out.SendTo(hub, junk);                 // plain: unauthenticated
       out.SendTo(hub, nodes.Seal(1, junk));  // authentic, but not a packet: malformed
       const wire::WireKey forged{};          // frames for node 2 under a key the attacker made up
-      out.SendTo(hub, nodes.Seal(2, EncodeCameraFrame(Frame(2, n, 3))[0], &forged));
-      out.SendTo(hub, nodes.Seal(9, EncodeCameraFrame(Frame(9, n, 1))[0]));  // not in the calibration
+      out.SendTo(hub, nodes.Seal(2, EncodeCameraFrame(testing::FrameOfBlobs(2, n, 3))[0], &forged));
+      out.SendTo(hub, nodes.Seal(9, EncodeCameraFrame(testing::FrameOfBlobs(9, n, 1))[0]));  // not in the calibration
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
   });
@@ -144,7 +129,6 @@ TEST(Recorder, AssemblesLogsAndCountsOverLoopback) {
   while (reader.Next(&set)) ++replayed;
   EXPECT_EQ(replayed, 10);
   EXPECT_EQ(reader.stats().duplicate_chunks, 1u);
-  fs::remove_all(dir);
 }
 
 TEST(Recorder, RefusesBadOptions) {

@@ -5,7 +5,6 @@
 #include "io/c3d.h"
 
 #include <cmath>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
@@ -17,13 +16,10 @@
 
 #include "io/trajectory_file.h"
 #include "util/special_file_testing.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
-
-std::string TempPath(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("mocap_c3d_test_" + std::to_string(::getpid()) + "_" + name)).string();
-}
 
 std::vector<uint8_t> Bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -56,7 +52,8 @@ void ExpectSame(const MarkerTrajectories& a, const MarkerTrajectories& b) {
 }
 
 TEST(C3d, RoundTrip) {
-  const std::string path = TempPath("round.c3d");
+  const testing::TemporaryDirectory temp("c3d_test");
+  const std::string path = temp.File("round.c3d");
   const MarkerTrajectories t = Sample(5, 50, 1000);
   WriteC3d(t, path);
   ExpectSame(t, ReadC3d(path));
@@ -76,11 +73,11 @@ TEST(C3d, RoundTrip) {
   EXPECT_EQ(b[512 + 3], 84);
   const size_t data_start = b[16] | (b[17] << 8);
   EXPECT_EQ(b.size(), (data_start - 1) * 512 + 50 * 5 * 16);
-  std::filesystem::remove(path);
 }
 
 TEST(C3d, SkippedFramesBecomeGapsAndManyLabelsSplit) {
-  const std::string path = TempPath("many.c3d");
+  const testing::TemporaryDirectory temp("c3d_test");
+  const std::string path = temp.File("many.c3d");
   MarkerTrajectories t = Sample(300, 4, 0);
   C3dWriter w;
   w.Open(path, t.names, t.rate_hz);
@@ -97,26 +94,25 @@ TEST(C3d, SkippedFramesBecomeGapsAndManyLabelsSplit) {
     EXPECT_FALSE(r.Has(2, m));
     EXPECT_EQ(r.Has(3, m), t.Has(1, m));
   }
-  std::filesystem::remove(path);
 }
 
 TEST(C3d, CutShortKeepsWholeFrames) {
-  const std::string path = TempPath("cut.c3d");
+  const testing::TemporaryDirectory temp("c3d_test");
+  const std::string path = temp.File("cut.c3d");
   WriteC3d(Sample(3, 20, 0), path);
   std::vector<uint8_t> b = Bytes(path);
   b.resize(b.size() - 3 * 16 * 5 - 7);  // five and a bit frames lost
   const MarkerTrajectories r = ParseC3d(b, "cut");
   EXPECT_EQ(r.NumFrames(), 14u);
-  std::filesystem::remove(path);
 }
 
 // POINT:LONG_FRAMES is a float: a damaged one past any count (4e20) is a promise like any
 // other, and the file keeps the frames it holds (converting it to a count was undefined).
 TEST(C3d, AFrameCountPastAnyIntegerKeepsTheFramesHeld) {
-  const std::string path = TempPath("long_frames.c3d");
+  const testing::TemporaryDirectory temp("c3d_test");
+  const std::string path = temp.File("long_frames.c3d");
   WriteC3d(Sample(3, 20, 0), path);
   std::vector<uint8_t> b = Bytes(path);
-  std::filesystem::remove(path);
   const std::string name = "LONG_FRAMES";
   const auto at = std::search(b.begin(), b.end(), name.begin(), name.end());
   ASSERT_NE(at, b.end());
@@ -172,6 +168,7 @@ TEST(C3d, ReadsIntegerDataWithAnalogChannels) {
 }
 
 TEST(C3d, BrokenFilesGetReasons) {
+  const testing::TemporaryDirectory temp("c3d_test");
   auto error = [](const std::vector<uint8_t>& bytes) {
     try {
       ParseC3d(bytes, "bad.c3d");
@@ -182,7 +179,7 @@ TEST(C3d, BrokenFilesGetReasons) {
   };
   EXPECT_NE(error({1, 2, 3}).find("too short"), std::string::npos);
   EXPECT_NE(error(std::vector<uint8_t>(600, 0)).find("not a C3D"), std::string::npos);
-  const std::string path = TempPath("dec.c3d");
+  const std::string path = temp.File("dec.c3d");
   WriteC3d(Sample(2, 3, 0), path);
   std::vector<uint8_t> b = Bytes(path);
   b[512 + 3] = 85;
@@ -190,11 +187,10 @@ TEST(C3d, BrokenFilesGetReasons) {
   b[512 + 3] = 84;
   b[0] = 200;  // parameters past the end
   EXPECT_NE(error(b).find("past the end"), std::string::npos);
-  std::filesystem::remove(path);
-  EXPECT_THROW(ReadC3d(TempPath("missing.c3d")), std::runtime_error);
+  EXPECT_THROW(ReadC3d(temp.File("missing.c3d")), std::runtime_error);
   C3dWriter w;
-  EXPECT_THROW(w.Open(TempPath("x.c3d"), {}, 100.0), std::runtime_error);
-  EXPECT_THROW(w.Open(TempPath("x.c3d"), {"A"}, 0.0), std::runtime_error);
+  EXPECT_THROW(w.Open(temp.File("x.c3d"), {}, 100.0), std::runtime_error);
+  EXPECT_THROW(w.Open(temp.File("x.c3d"), {"A"}, 0.0), std::runtime_error);
 }
 
 // A C3D file is read whole: a FIFO was waited on (and /dev/zero grew without end: not tried
@@ -206,16 +202,15 @@ TEST(C3d, ReadsOnlyRegularFiles) {
 }
 
 TEST(TrajectoryFile, ByExtension) {
+  const testing::TemporaryDirectory temp("c3d_test");
   EXPECT_EQ(TrajectoryFormatOf("a/b.TRC"), TrajectoryFormat::kTrc);
   EXPECT_EQ(TrajectoryFormatOf("x.c3d"), TrajectoryFormat::kC3d);
   EXPECT_THROW(TrajectoryFormatOf("x.csv"), std::invalid_argument);
   const MarkerTrajectories t = Sample(3, 10, 5);
-  const std::string trc = TempPath("t.trc"), c3d = TempPath("t.c3d");
+  const std::string trc = temp.File("t.trc"), c3d = temp.File("t.c3d");
   WriteTrajectories(t, trc);
   WriteTrajectories(ReadTrajectories(trc), c3d);
   ExpectSame(ReadTrajectories(trc), ReadTrajectories(c3d));
-  std::filesystem::remove(trc);
-  std::filesystem::remove(c3d);
 }
 
 }  // namespace

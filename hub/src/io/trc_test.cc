@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "util/temporary_directory_testing.h"
+
 namespace mocap {
 namespace {
 
@@ -48,7 +50,8 @@ TEST(TrcTest, DefaultNames) {
 }
 
 TEST(TrcTest, WriterLayoutMatchesOpenSim) {
-  const std::string path = testing::TempDir() + "/layout.trc";
+  const testing::TemporaryDirectory temp("trc_test");
+  const std::string path = temp.File("layout.trc");
   WriteTrc(SmallMotion(), path);
   const std::vector<std::string> lines = Lines(ReadAll(path));
   ASSERT_EQ(lines.size(), 6u + 10u);
@@ -69,7 +72,8 @@ TEST(TrcTest, WriterLayoutMatchesOpenSim) {
 
 TEST(TrcTest, RoundTrip) {
   const MarkerTrajectories motion = SmallMotion();
-  const std::string path = testing::TempDir() + "/round_trip.trc";
+  const testing::TemporaryDirectory temp("trc_test");
+  const std::string path = temp.File("round_trip.trc");
   WriteTrc(motion, path);
   const MarkerTrajectories read = ReadTrc(path);
   EXPECT_EQ(read.rate_hz, motion.rate_hz);
@@ -86,7 +90,8 @@ TEST(TrcTest, RoundTrip) {
 
 TEST(TrcTest, StreamingWriterFlushesEveryFrame) {
   const MarkerTrajectories motion = SmallMotion();
-  const std::string path = testing::TempDir() + "/streaming.trc";
+  const testing::TemporaryDirectory temp("trc_test");
+  const std::string path = temp.File("streaming.trc");
   TrcWriter writer;
   writer.Open(path, motion.names, motion.rate_hz);
   for (size_t f = 0; f < 4; ++f) {
@@ -193,10 +198,10 @@ TEST(TrcTest, AnEndlessLineIsRefusedNamingItInsteadOfReadWhole) {
 
 TEST(TrcTest, AFileCutInsideItsLastRowIsRefusedNamingTheRow) {
   // The probe: a TRC cut mid-row was read as a frame whose last markers were gaps, silently.
-  const std::string path = (std::filesystem::temp_directory_path() / "mocap_trc_cut.trc").string();
+  const testing::TemporaryDirectory temp("trc_test");
+  const std::string path = temp.File("cut.trc");
   WriteTrc(SmallMotion(), path);
   const std::string whole = ReadAll(path);
-  std::filesystem::remove(path);
   const size_t last_row = whole.rfind('\n', whole.size() - 2) + 1;
   const size_t columns = 2 + 3 * 3;
   const std::string line = "line " + std::to_string(1 + std::count(whole.begin(), whole.begin() + last_row, '\n'));
@@ -234,6 +239,7 @@ TEST(TrcTest, SharedRealMotions) {
   if (!std::filesystem::exists(dir)) {
     GTEST_SKIP() << "no shared data at " << dir;
   }
+  const testing::TemporaryDirectory temp("trc_test");
   struct Expected {
     const char* file;
     size_t markers;
@@ -255,7 +261,7 @@ TEST(TrcTest, SharedRealMotions) {
     for (const Eigen::Vector3d& p : motion.points) gaps += MarkerTrajectories::IsGap(p) ? 1 : 0;
     EXPECT_EQ(gaps > 0, e.gaps);
     // Re-written files read back identically (to the written precision).
-    const std::string copy = testing::TempDir() + "/copy_" + e.file;
+    const std::string copy = temp.File(std::string("copy_") + e.file);
     WriteTrc(motion, copy);
     const MarkerTrajectories again = ReadTrc(copy);
     ASSERT_EQ(again.points.size(), motion.points.size());

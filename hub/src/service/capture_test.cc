@@ -2,8 +2,6 @@
 // that survive a killed service as "interrupted" and stay readable.
 #include "service/capture.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +13,7 @@
 
 #include "io/live_points.h"
 #include "service/api_error.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap::service {
 namespace {
@@ -23,14 +22,11 @@ namespace fs = std::filesystem;
 class CaptureTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("mocap_capture_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
     fs::create_directories(dir_ / "sessions");
     std::ofstream(dir_ / "cal.json") << "{}";
     base_.rate_hz = 100;
     base_.camera_ids = {1, 2};
   }
-  void TearDown() override { fs::remove_all(dir_); }
   Captures Make() { return Captures((dir_ / "sessions").string(), (dir_ / "cal.json").string(), base_); }
   int StatusOf(const std::function<void()>& f) {
     try {
@@ -41,7 +37,8 @@ class CaptureTest : public ::testing::Test {
     return 0;
   }
 
-  fs::path dir_;
+  const testing::TemporaryDirectory temp_{"capture_test"};
+  const fs::path dir_ = temp_.path();
   SessionInfo base_;
 };
 

@@ -4,7 +4,6 @@
 #include "sim/frame_render.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -20,6 +19,7 @@
 #include "simcore/motion_volume.h"
 #include "simcore/ring_rig.h"
 #include "simcore/synthetic_motion.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -27,11 +27,6 @@ namespace {
 class FrameRenderTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (std::filesystem::temp_directory_path() /
-            ("frame_render_test_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name()))
-               .string();
-    std::filesystem::remove_all(dir_);
     SyntheticMotionOptions m;
     m.markers = 12;
     m.frames = 6;
@@ -44,9 +39,9 @@ class FrameRenderTest : public ::testing::Test {
     r.height = 400;
     rig_ = MakeRingRig(ComputeMotionVolume(motion_, m.up_axis), r);
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::string dir_;
+  const testing::TemporaryDirectory temp_{"frame_render_test"};
+  const std::string dir_ = temp_.path().string();
   MarkerTrajectories motion_;
   Rig rig_;
 };

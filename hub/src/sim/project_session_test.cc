@@ -14,6 +14,7 @@
 #include "io/visibility.h"
 #include "simcore/ring_rig.h"
 #include "simcore/synthetic_motion.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -62,7 +63,7 @@ Readback ReadBack(const std::string& dir, const MarkerTrajectories& motion, cons
   return result;
 }
 
-class ProjectSessionTest : public testing::Test {
+class ProjectSessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
     SyntheticMotionOptions motion_options;
@@ -73,13 +74,12 @@ class ProjectSessionTest : public testing::Test {
     RingRigOptions rig_options;
     rig_options.cameras = 5;
     rig = MakeRingRig(ComputeMotionVolume(motion), rig_options);
-    dir = testing::TempDir() + "/sim_session_" + testing::UnitTest::GetInstance()->current_test_info()->name();
-    std::filesystem::remove_all(dir);
   }
 
   MarkerTrajectories motion;
   Rig rig;
-  std::string dir;
+  const testing::TemporaryDirectory temp{"sim_session"};
+  const std::string dir = temp.File("session");  // made by ProjectSession
 };
 
 TEST_F(ProjectSessionTest, BlobsReadBackAsProjections) {

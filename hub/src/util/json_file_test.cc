@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "util/special_file_testing.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -20,16 +21,7 @@ namespace fs = std::filesystem;
 
 class JsonFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("json_file_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add);
-    fs::remove_all(dir_);
-  }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string Path(const std::string& name) const { return dir_.File(name); }
   static std::string Slurp(const std::string& path) {
     std::ifstream in(path);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -42,7 +34,7 @@ class JsonFileTest : public ::testing::Test {
     }
     return "";
   }
-  fs::path dir_;
+  const testing::TemporaryDirectory dir_{"json_file_test"};
 };
 
 TEST_F(JsonFileTest, RoundTripsAndReplacesTheTarget) {
@@ -76,8 +68,8 @@ TEST_F(JsonFileTest, UnwritableDirectoryIsAnErrorNamingTheFile) {
     EXPECT_FALSE(fs::exists(path));
     return;
   }
-  fs::create_directories(dir_ / "locked");
-  fs::permissions(dir_ / "locked", fs::perms::owner_read | fs::perms::owner_exec);
+  fs::create_directories(dir_.path() / "locked");
+  fs::permissions(dir_.path() / "locked", fs::perms::owner_read | fs::perms::owner_exec);
   const std::string path = Path("locked/doc.json");
   const std::string error = ErrorOf([&] { WriteJsonFile({{"a", 1}}, path); });
   EXPECT_NE(error.find(path), std::string::npos) << error;

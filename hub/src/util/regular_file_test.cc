@@ -2,8 +2,6 @@
 // /dev/zero, a FIFO and a directory are refused at once, naming the path and what it is.
 #include "util/regular_file.h"
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -11,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "util/special_file_testing.h"
+#include "util/temporary_directory_testing.h"
 
 namespace mocap {
 namespace {
@@ -19,21 +18,15 @@ namespace fs = std::filesystem;
 
 class RegularFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("regular_file_test_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string Write(const std::string& name, const std::string& bytes) const {
-    const std::string path = (dir_ / name).string();
+    const std::string path = dir_.File(name);
     std::ofstream(path, std::ios::binary) << bytes;
     return path;
   }
   static std::function<void(const std::string&)> Reader(size_t max_bytes) {
     return [max_bytes](const std::string& path) { ReadRegularFile(path, max_bytes, "a test file"); };
   }
-  fs::path dir_;
+  const testing::TemporaryDirectory dir_{"regular_file_test"};
 };
 
 TEST_F(RegularFileTest, ReadsAFileWholeUpToTheBound) {
@@ -61,9 +54,9 @@ TEST_F(RegularFileTest, RefusesAFifoWithoutWaitingForAWriter) {
 }
 
 TEST_F(RegularFileTest, RefusesADirectoryAndAMissingFile) {
-  EXPECT_NE(testing::ErrorOfReading(Reader(100), dir_.string()).find(dir_.string() + ": not a regular file (a directory)"),
+  EXPECT_NE(testing::ErrorOfReading(Reader(100), dir_.path().string()).find(dir_.path().string() + ": not a regular file (a directory)"),
             std::string::npos);
-  const std::string missing = (dir_ / "missing").string();
+  const std::string missing = dir_.File("missing");
   EXPECT_EQ(testing::ErrorOfReading(Reader(100), missing), missing + ": cannot open: No such file or directory");
 }
 

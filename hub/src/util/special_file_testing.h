@@ -10,11 +10,12 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <filesystem>
 #include <functional>
 #include <future>
 #include <stdexcept>
 #include <string>
+
+#include "util/temporary_directory_testing.h"
 
 namespace mocap::testing {
 
@@ -32,26 +33,17 @@ inline std::string ErrorOfReading(const std::function<void(const std::string&)>&
 // beginning "waited" if it did not give one within `patience`.
 inline std::string ErrorOfReadingAFifo(const std::function<void(const std::string&)>& read, const std::string& name,
                                        std::chrono::seconds patience = std::chrono::seconds(5)) {
-  namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("mocap_fifo_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const std::string path = (dir / name).string();
+  const TemporaryDirectory dir("fifo_test");
+  const std::string path = dir.File(name);
   if (::mkfifo(path.c_str(), 0600) != 0) throw std::runtime_error("cannot make the FIFO " + path);
   std::future<std::string> error = std::async(std::launch::async, [&] { return ErrorOfReading(read, path); });
-  if (error.wait_for(patience) == std::future_status::ready) {
-    fs::remove_all(dir);
-    return error.get();
-  }
+  if (error.wait_for(patience) == std::future_status::ready) return error.get();
   // The reader waits in open (which a writer's open releases: O_NONBLOCK succeeds as a reader is
   // there) or, had it opened another way, in a read (which the last writer's close ends).
   int writer = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
   if (writer < 0) writer = ::open(path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (writer >= 0) ::close(writer);
-  const std::string result =
-      "waited on the FIFO for " + std::to_string(patience.count()) + " s (then: " + error.get() + ")";
-  fs::remove_all(dir);
-  return result;
+  return "waited on the FIFO for " + std::to_string(patience.count()) + " s (then: " + error.get() + ")";
 }
 
 }  // namespace mocap::testing

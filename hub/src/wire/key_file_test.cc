@@ -3,14 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
-#include <unistd.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "util/special_file_testing.h"
+#include "util/temporary_directory_testing.h"
 #include "wire/key_file.h"
 
 namespace mocap::wire {
@@ -59,9 +56,8 @@ TEST(KeyFile, RefusalsNameTheLine) {
 }
 
 TEST(KeyFile, WrittenPrivateAndRefusedWhenOthersMayRead) {
-  char dir_template[] = "/tmp/mocap_keyfile_XXXXXX";
-  ASSERT_NE(mkdtemp(dir_template), nullptr);
-  const std::string path = std::string(dir_template) + "/" + KeyFileName(5);
+  const testing::TemporaryDirectory temp("key_file_test");
+  const std::string path = temp.File(KeyFileName(5));
   EXPECT_EQ(KeyFileName(5), "node-5.key");
   KeyFile f;
   f.node_id = 5;
@@ -81,8 +77,7 @@ TEST(KeyFile, WrittenPrivateAndRefusedWhenOthersMayRead) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("mode 640 lets others read it"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(ReadKeyFile(std::string(dir_template) + "/none.key"), std::runtime_error);
-  std::filesystem::remove_all(dir_template);
+  EXPECT_THROW(ReadKeyFile(temp.File("none.key")), std::runtime_error);
 }
 
 // The key file is checked to be a regular file once opened; a FIFO's open waited for a writer
