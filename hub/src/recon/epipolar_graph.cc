@@ -125,14 +125,20 @@ std::vector<std::vector<int>> EpipolarGraph::CandidateCliques(const RigModel& ri
   std::vector<int> best_in_camera(num_cameras);
   std::vector<double> best_distance(num_cameras);
   // neighbour_of_b[k] == b marks k adjacent to the current b: an O(1) test instead of a search.
-  std::vector<int> neighbour_of_b(n, -1);
+  // Only active nodes have edges, so only their marks are read, and reset here.
+  std::vector<int>& neighbour_of_b = neighbour_of_b_;
+  if (neighbour_of_b.size() < static_cast<size_t>(n)) neighbour_of_b.resize(n);
+  for (int node : active_nodes_) neighbour_of_b[node] = -1;
   std::vector<std::pair<double, int>> order;
   // Cliques each node already belongs to: an edge whose ends share one grows the same clique
   // again (a marker seen by k cameras has k(k-1)/2 edges), so it is skipped. Only active nodes
   // have edges: they get a slot each.
-  std::vector<int> slot_of(n, -1);
+  std::vector<int>& slot_of = slot_of_;
+  if (slot_of.size() < static_cast<size_t>(n)) slot_of.resize(n);
   for (size_t k = 0; k < active_nodes_.size(); ++k) slot_of[active_nodes_[k]] = static_cast<int>(k);
-  std::vector<std::vector<int>> clique_lists(active_nodes_.size());
+  std::vector<std::vector<int>>& clique_lists = clique_lists_;
+  if (clique_lists.size() < active_nodes_.size()) clique_lists.resize(active_nodes_.size());
+  for (size_t k = 0; k < active_nodes_.size(); ++k) clique_lists[k].clear();
   const auto cliques_of = [&](int node) -> std::vector<int>& { return clique_lists[slot_of[node]]; };
   RayPair pair;
   // active_nodes_ is in increasing index order (cameras in order, their observations in order).

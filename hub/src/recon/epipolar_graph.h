@@ -54,6 +54,10 @@ class EpipolarGraph {
   // blobs leaves a few dozen active, and per-frame work must follow those, not all nodes.
   std::vector<int> active_nodes_;
   std::vector<std::vector<int>> active_of_camera_;
+  // CandidateCliques' scratch, kept from frame to frame: only the active nodes' entries are read,
+  // and they are set (or reset) at the start of each call.
+  mutable std::vector<int> neighbour_of_b_, slot_of_;
+  mutable std::vector<std::vector<int>> clique_lists_;
   int num_edges_ = 0;
 };
 
