@@ -9,30 +9,38 @@ namespace mocap {
 
 namespace {
 
-// One label of one node: member `slot` of clique `clique`.
+// One label of one node: it is member `member` (numbered clique after clique) of its clique.
 struct NodeLabel {
   int node = 0;
-  int clique = 0;
-  int slot = 0;
+  int member = 0;
 };
 
 // The labels of every node that has any, grouped by node in increasing node order and, within a
-// node, by clique: the order of the normalising sums. A frame's cliques touch a few dozen of its
-// ~1000 observations, so the iterations follow these lists rather than every node of the graph.
-void GroupLabelsByNode(const std::vector<std::vector<int>>& cliques, std::vector<NodeLabel>* labels,
+// node, by clique: the order of the normalising sums. A counting sort on the node of labels made
+// clique after clique. A frame's cliques touch a few dozen of its ~1000 observations (all of them
+// in a dense set), so the iterations follow these lists rather than every node of the graph.
+void GroupLabelsByNode(const std::vector<std::vector<int>>& cliques, size_t members, std::vector<NodeLabel>* labels,
                        std::vector<int>* node_begin) {
-  labels->clear();
-  for (int k = 0; k < static_cast<int>(cliques.size()); ++k) {
-    for (int m = 0; m < static_cast<int>(cliques[k].size()); ++m) labels->push_back({cliques[k][m], k, m});
+  thread_local std::vector<int> count;
+  int last_node = -1;
+  for (const std::vector<int>& clique : cliques) {
+    for (int node : clique) last_node = std::max(last_node, node);
   }
-  std::sort(labels->begin(), labels->end(), [](const NodeLabel& a, const NodeLabel& b) {
-    return a.node != b.node ? a.node < b.node : a.clique < b.clique;
-  });
+  count.assign(static_cast<size_t>(last_node) + 2, 0);
+  for (const std::vector<int>& clique : cliques) {
+    for (int node : clique) ++count[node + 1];
+  }
+  for (size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
+  labels->resize(members);
   node_begin->clear();
-  for (size_t i = 0; i < labels->size(); ++i) {
-    if (i == 0 || (*labels)[i].node != (*labels)[i - 1].node) node_begin->push_back(static_cast<int>(i));
+  for (int node = 0; node <= last_node; ++node) {
+    if (count[node + 1] > count[node]) node_begin->push_back(count[node]);
   }
-  node_begin->push_back(static_cast<int>(labels->size()));
+  node_begin->push_back(static_cast<int>(members));
+  int member = 0;
+  for (const std::vector<int>& clique : cliques) {
+    for (int node : clique) (*labels)[count[node]++] = {node, member++};
+  }
 }
 
 }  // namespace
@@ -41,15 +49,11 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
                              double threshold_mm, const RelaxationOptions& options) {
   RelaxationResult result;
   const int num_cliques = static_cast<int>(cliques.size());
-  // Per-thread scratch: the matcher runs every frame.
-  thread_local std::vector<NodeLabel> labels;
-  thread_local std::vector<int> node_begin;
-  GroupLabelsByNode(cliques, &labels, &node_begin);
-  const size_t num_labelled = node_begin.size() - 1;
   // Edge strengths inside each clique, c_ij = 1 - d_ij / threshold (eq. 4); a tiny floor keeps
   // an edge right at the threshold from zeroing a whole clique's support. Clique k's size x size
-  // block starts at strength_begin[k]; its members' supports at member_begin[k].
-  thread_local std::vector<double> strength;
+  // block starts at strength_begin[k]; its members are numbered from member_begin[k] in the flat
+  // per-member arrays (probabilities, supports). Per-thread scratch: the matcher runs every frame.
+  thread_local std::vector<double> strength, probability, support;
   thread_local std::vector<size_t> strength_begin, member_begin;
   strength.clear();
   strength_begin.clear();
@@ -72,28 +76,29 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
       }
     }
   }
+  member_begin.push_back(members);
+  thread_local std::vector<NodeLabel> labels;
+  thread_local std::vector<int> node_begin;
+  GroupLabelsByNode(cliques, members, &labels, &node_begin);
+  const size_t num_labelled = node_begin.size() - 1;
   // Initial weights 1/R_i (eq. 1).
-  result.probability.resize(num_cliques);
-  for (int k = 0; k < num_cliques; ++k) result.probability[k].resize(cliques[k].size());
+  probability.resize(members);
   for (size_t n = 0; n < num_labelled; ++n) {
     const double count = static_cast<double>(node_begin[n + 1] - node_begin[n]);
-    for (int i = node_begin[n]; i < node_begin[n + 1]; ++i) {
-      result.probability[labels[i].clique][labels[i].slot] = 1.0 / count;
-    }
+    for (int i = node_begin[n]; i < node_begin[n + 1]; ++i) probability[labels[i].member] = 1.0 / count;
   }
-  thread_local std::vector<double> support;
   support.resize(members);
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     // Q(i, k) = sum_j c_ij P(j, k) over the other members j of clique k (eqs. 2-3).
     for (int k = 0; k < num_cliques; ++k) {
-      const size_t size = cliques[k].size();
+      const size_t size = member_begin[k + 1] - member_begin[k];
       const double* block = strength.data() + strength_begin[k];
-      const std::vector<double>& probability = result.probability[k];
+      const double* clique_probability = probability.data() + member_begin[k];
       double* clique_support = support.data() + member_begin[k];
       for (size_t a = 0; a < size; ++a) {
         double q = 0.0;
         for (size_t b = 0; b < size; ++b) {
-          if (b != a) q += block[a * size + b] * probability[b];
+          if (b != a) q += block[a * size + b] * clique_probability[b];
         }
         clique_support[a] = q;
       }
@@ -105,20 +110,23 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
       if (end - begin < 2) continue;  // a single label keeps probability 1
       double normaliser = 0.0;
       for (int i = begin; i < end; ++i) {
-        const NodeLabel& label = labels[i];
-        normaliser += result.probability[label.clique][label.slot] * support[member_begin[label.clique] + label.slot];
+        const int m = labels[i].member;
+        normaliser += probability[m] * support[m];
       }
       if (normaliser <= 0.0) continue;
       for (int i = begin; i < end; ++i) {
-        const NodeLabel& label = labels[i];
-        double& probability = result.probability[label.clique][label.slot];
-        const double updated = probability * support[member_begin[label.clique] + label.slot] / normaliser;
-        max_change = std::max(max_change, std::abs(updated - probability));
-        probability = updated;
+        const int m = labels[i].member;
+        const double updated = probability[m] * support[m] / normaliser;
+        max_change = std::max(max_change, std::abs(updated - probability[m]));
+        probability[m] = updated;
       }
     }
     result.iterations = iteration + 1;
     if (max_change < options.tolerance) break;
+  }
+  result.probability.resize(num_cliques);
+  for (int k = 0; k < num_cliques; ++k) {
+    result.probability[k].assign(probability.begin() + member_begin[k], probability.begin() + member_begin[k + 1]);
   }
   return result;
 }
