@@ -95,11 +95,11 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
       const double* block = strength.data() + strength_begin[k];
       const double* clique_probability = probability.data() + member_begin[k];
       double* clique_support = support.data() + member_begin[k];
+      // The block's diagonal is zero: a member's own term adds +0, which leaves the sum as the
+      // sum over the others (no branch on b != a).
       for (size_t a = 0; a < size; ++a) {
         double q = 0.0;
-        for (size_t b = 0; b < size; ++b) {
-          if (b != a) q += block[a * size + b] * clique_probability[b];
-        }
+        for (size_t b = 0; b < size; ++b) q += block[a * size + b] * clique_probability[b];
         clique_support[a] = q;
       }
     }
