@@ -32,18 +32,19 @@ bool ClosestPointsOfRays(const Eigen::Vector3d& center_a, const Eigen::Vector3d&
 namespace {
 
 // True when the lines of two rays certainly pass farther apart than max_distance_mm: their
-// distance |w0 . n| / |n| (n = a x b) against the limit with a 0.1 % margin, without the
-// divisions and the square root of ClosestPointsOfRays. Most pairs of leftover blobs (spurious
-// ones, markers no prediction took) are this far apart. Nearly parallel rays (|n| under 1e-4,
-// where rounding in n grows) are never ruled out here; elsewhere rounding moves either
-// distance by far less than the margin, so every pair ruled out would fail the exact test too.
-bool RaysCertainlyApart(const Eigen::Vector3d& center_a, const Eigen::Vector3d& direction_a,
-                        const Eigen::Vector3d& center_b, const Eigen::Vector3d& direction_b,
-                        double max_distance_mm) {
-  const Eigen::Vector3d n = direction_a.cross(direction_b);
-  const double n2 = n.squaredNorm();
+// distance |w . n| / |n| (w = centre_a - centre_b, n = a x b) against the limit with a 0.1 %
+// margin, without the divisions and the square root of ClosestPointsOfRays. Most pairs of leftover
+// blobs (spurious ones, markers no prediction took) are this far apart. The caller gives
+// w_cross_a = w x a, computed once per ray of camera a, so that w . n = (w x a) . b, and for unit
+// rays |n|^2 = 1 - (a . b)^2. Nearly parallel rays (|n| under 1e-4, where rounding in n grows) are
+// never ruled out here; elsewhere rounding moves either distance by far less than the margin, so
+// every pair ruled out would fail the exact test too.
+bool RaysCertainlyApart(const Eigen::Vector3d& direction_a, const Eigen::Vector3d& w_cross_a,
+                        const Eigen::Vector3d& direction_b, double max_distance_mm) {
+  const double cosine = direction_a.dot(direction_b);
+  const double n2 = 1.0 - cosine * cosine;
   if (!(n2 > 1e-8)) return false;
-  const double along_n = (center_a - center_b).dot(n);
+  const double along_n = w_cross_a.dot(direction_b);
   const double limit = 1.001 * max_distance_mm;
   return along_n * along_n > limit * limit * n2;
 }
@@ -63,12 +64,17 @@ void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
   const int num_cameras = rig.NumCameras();
   // Active observations per camera first: after the prediction pass only a few blobs per
   // camera are left, and the pair loops must not walk all the others.
+  // Their rays beside them, one after another: the pair loops read every ray of the second camera
+  // once per blob of the first.
   active_of_camera_.resize(num_cameras);
+  active_rays_.resize(num_cameras);
   for (int c = 0; c < num_cameras; ++c) {
     active_of_camera_[c].clear();
+    active_rays_[c].clear();
     for (int i = views.camera_begin[c]; i < views.camera_begin[c + 1]; ++i) {
       if (active.empty() || active[i] != 0) {
         active_of_camera_[c].push_back(i);
+        active_rays_[c].push_back(views.observations[i].ray_in_world);
         active_nodes_.push_back(i);
       }
     }
@@ -80,11 +86,15 @@ void EpipolarGraph::Build(const RigModel& rig, const FrameViews& views,
     const Eigen::Vector3d& center_a = rig.camera(ca).center_in_world;
     for (int cb = ca + 1; cb < num_cameras; ++cb) {
       const Eigen::Vector3d& center_b = rig.camera(cb).center_in_world;
+      const Eigen::Vector3d baseline = center_a - center_b;
+      const std::vector<Eigen::Vector3d>& rays_b = active_rays_[cb];
       for (int i : active_of_camera[ca]) {
         const Eigen::Vector3d& ray_a = views.observations[i].ray_in_world;
-        for (int j : active_of_camera[cb]) {
-          const Eigen::Vector3d& ray_b = views.observations[j].ray_in_world;
-          if (RaysCertainlyApart(center_a, ray_a, center_b, ray_b, options.max_ray_distance_mm)) continue;
+        const Eigen::Vector3d baseline_cross_a = baseline.cross(ray_a);
+        for (size_t jb = 0; jb < rays_b.size(); ++jb) {
+          const Eigen::Vector3d& ray_b = rays_b[jb];
+          if (RaysCertainlyApart(ray_a, baseline_cross_a, ray_b, options.max_ray_distance_mm)) continue;
+          const int j = active_of_camera[cb][jb];
           if (!ClosestPointsOfRays(center_a, ray_a, center_b, ray_b, &pair)) {
             continue;
           }

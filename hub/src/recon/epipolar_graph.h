@@ -54,6 +54,7 @@ class EpipolarGraph {
   // blobs leaves a few dozen active, and per-frame work must follow those, not all nodes.
   std::vector<int> active_nodes_;
   std::vector<std::vector<int>> active_of_camera_;
+  std::vector<std::vector<Eigen::Vector3d>> active_rays_;  // their rays, in the same order
   // CandidateCliques' scratch, kept from frame to frame: only the active nodes' entries are read,
   // and they are set (or reset) at the start of each call.
   mutable std::vector<int> neighbour_of_b_, slot_of_;
