@@ -96,7 +96,13 @@ RelaxationResult RelaxLabels(const EpipolarGraph& graph, const std::vector<std::
       const double* clique_probability = probability.data() + member_begin[k];
       double* clique_support = support.data() + member_begin[k];
       // The block's diagonal is zero: a member's own term adds +0, which leaves the sum as the
-      // sum over the others (no branch on b != a).
+      // sum over the others (no branch on b != a). Pairs, most cliques of a dense set, written out:
+      // the same products.
+      if (size == 2) {
+        clique_support[0] = block[1] * clique_probability[1];
+        clique_support[1] = block[2] * clique_probability[0];
+        continue;
+      }
       for (size_t a = 0; a < size; ++a) {
         double q = 0.0;
         for (size_t b = 0; b < size; ++b) q += block[a * size + b] * clique_probability[b];
