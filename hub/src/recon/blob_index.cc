@@ -6,6 +6,8 @@
 #include <limits>
 #include <numeric>
 
+#include "util/counting_sort.h"
+
 namespace mocap {
 
 void BlobIndex::Resize(const RigModel& rig) { grids_.resize(rig.NumCameras()); }
@@ -40,23 +42,17 @@ void BlobIndex::BuildCamera(const RigModel& rig, const FrameViews& views, int ca
   grid.cols = static_cast<int>((high.x() - low.x()) * grid.inverse_cell) + 1;
   grid.rows = static_cast<int>((high.y() - low.y()) * grid.inverse_cell) + 1;
   const int cells = grid.cols * grid.rows;
-  // Counting sort into cells; within a cell, observations keep their order. Cell k's count goes
-  // to begin[k + 2], the running sum makes begin[k + 1] its first slot, and placing each blob
-  // there advances it to the next cell's first: begin[k] ends as cell k's first entry.
-  grid.begin.assign(static_cast<size_t>(cells) + 2, 0);
+  // Grouped by cell, observations in their order within a cell.
   grid.cell_of.resize(count);
   for (int o = begin; o < end; ++o) {
     const Eigen::Vector2d& p = views.observations[o].normalized;
     const int col = std::min(grid.cols - 1, static_cast<int>((p.x() - grid.min_x) * grid.inverse_cell));
     const int row = std::min(grid.rows - 1, static_cast<int>((p.y() - grid.min_y) * grid.inverse_cell));
-    const int k = row * grid.cols + col;
-    grid.cell_of[o - begin] = k;
-    ++grid.begin[k + 2];
+    grid.cell_of[o - begin] = row * grid.cols + col;
   }
-  for (int k = 2; k < cells + 2; ++k) grid.begin[k] += grid.begin[k - 1];
-  for (int i = 0; i < count; ++i) {
-    grid.entries[grid.begin[grid.cell_of[i] + 1]++] = {views.observations[begin + i].normalized, begin + i};
-  }
+  CountingSort(
+      count, cells, [&](int i) { return grid.cell_of[i]; }, &grid.begin,
+      [&](int i, int slot) { grid.entries[slot] = {views.observations[begin + i].normalized, begin + i}; });
 }
 
 int BlobIndex::NearestOfAll(int camera, const Eigen::Vector2d& normalized, double radius) const {

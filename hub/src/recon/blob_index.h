@@ -33,9 +33,10 @@ class BlobIndex {
   template <typename Accept>
   int Nearest(const FrameViews& views, int camera, const Eigen::Vector2d& normalized, double radius,
               Accept available) const;
-  // Nearest(views, camera, normalized, radius, accept every observation), without branches on
-  // the blobs met (which cell, how many, which is nearer): the prediction search asks this of
-  // every prediction in every camera, and those branches went every which way.
+  // Nearest(views, camera, normalized, radius, accept every observation), comparing a short run
+  // of blobs in full instead of branching on how many it holds and which is nearer: the
+  // prediction search asks this of every prediction in every camera, and those branches went
+  // every which way.
   int NearestOfAll(int camera, const Eigen::Vector2d& normalized, double radius) const;
   // Calls visit(observation, distance) for every observation of `camera` within `radius`.
   template <typename Visit>
@@ -53,7 +54,7 @@ class BlobIndex {
   struct Grid {
     double min_x = 0.0, min_y = 0.0, inverse_cell = 1.0;
     int cols = 0, rows = 0;
-    std::vector<int> begin;  // rows * cols + 2: cell k's entries are [begin[k], begin[k + 1])
+    std::vector<int> begin;  // rows * cols + 1: cell k's entries are [begin[k], begin[k + 1])
     std::vector<Entry> entries;  // then kWindow entries at infinity, read past the last run
     std::vector<int> cell_of;  // Build's scratch, per camera so cameras build in parallel
   };

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <numeric>
 
+#include "util/counting_sort.h"
+
 namespace mocap {
 
 void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
@@ -32,15 +34,13 @@ void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, co
 void GhostFilter::OrderByViews(const std::vector<TriangulatedPoint>& points) {
   // Counting sort on the number of views, most first: stable (equal counts keep their order, the
   // predictions of the oldest tracks first) without the merge buffer of std::stable_sort.
-  size_t most = 0;
-  for (const TriangulatedPoint& point : points) most = std::max(most, point.observations.size());
-  by_views_begin_.assign(most + 2, 0);
-  for (const TriangulatedPoint& point : points) ++by_views_begin_[most - point.observations.size() + 1];
-  for (size_t k = 1; k < by_views_begin_.size(); ++k) by_views_begin_[k] += by_views_begin_[k - 1];
+  int most = 0;
+  for (const TriangulatedPoint& point : points) most = std::max(most, static_cast<int>(point.observations.size()));
   order_.resize(points.size());
-  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
-    order_[by_views_begin_[most - points[i].observations.size()]++] = i;
-  }
+  CountingSort(
+      static_cast<int>(points.size()), most + 1,
+      [&](int i) { return most - static_cast<int>(points[i].observations.size()); }, &by_views_begin_,
+      [&](int i, int slot) { order_[slot] = i; });
 }
 
 int GhostFilter::Apply(const RigModel& rig, const FrameViews& views, const BlobIndex& index,

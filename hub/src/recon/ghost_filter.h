@@ -37,7 +37,7 @@ class GhostFilter {
   TriangulationOptions triangulation_;
   std::vector<int> order_;
   std::vector<char> explained_;  // per observation: near a kept point's reprojection
-  std::vector<size_t> by_views_begin_;  // OrderByViews' buckets
+  std::vector<int> by_views_begin_;  // OrderByViews' buckets
   std::vector<Eigen::Vector3d> kept_positions_;  // contiguous: every point is compared with them all
   std::vector<char> has_view_;  // per camera, of the point being marked
 };

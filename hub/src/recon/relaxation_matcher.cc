@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "util/counting_sort.h"
+
 namespace mocap {
 
 namespace {
@@ -21,26 +23,24 @@ struct NodeLabel {
 // in a dense set), so the iterations follow these lists rather than every node of the graph.
 void GroupLabelsByNode(const std::vector<std::vector<int>>& cliques, size_t members, std::vector<NodeLabel>* labels,
                        std::vector<int>* node_begin) {
-  thread_local std::vector<int> count;
+  thread_local std::vector<int> node_of_member, first_of_node;
+  node_of_member.clear();
   int last_node = -1;
   for (const std::vector<int>& clique : cliques) {
-    for (int node : clique) last_node = std::max(last_node, node);
+    for (int node : clique) {
+      node_of_member.push_back(node);
+      last_node = std::max(last_node, node);
+    }
   }
-  count.assign(static_cast<size_t>(last_node) + 2, 0);
-  for (const std::vector<int>& clique : cliques) {
-    for (int node : clique) ++count[node + 1];
-  }
-  for (size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
   labels->resize(members);
+  CountingSort(
+      static_cast<int>(members), last_node + 1, [&](int m) { return node_of_member[m]; }, &first_of_node,
+      [&](int m, int slot) { (*labels)[slot] = {node_of_member[m], m}; });
   node_begin->clear();
   for (int node = 0; node <= last_node; ++node) {
-    if (count[node + 1] > count[node]) node_begin->push_back(count[node]);
+    if (first_of_node[node + 1] > first_of_node[node]) node_begin->push_back(first_of_node[node]);
   }
   node_begin->push_back(static_cast<int>(members));
-  int member = 0;
-  for (const std::vector<int>& clique : cliques) {
-    for (int node : clique) (*labels)[count[node]++] = {node, member++};
-  }
 }
 
 }  // namespace

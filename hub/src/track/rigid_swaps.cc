@@ -6,6 +6,7 @@
 #include <functional>
 #include <numeric>
 
+#include "util/counting_sort.h"
 #include "util/union_find.h"
 
 namespace mocap {
@@ -41,15 +42,12 @@ int RigidSwapResolver::Resolve(const RigidModel& rigid, const std::vector<char>&
   if (!any) return 0;
   // The clusters by root, in the order of their roots, each member's slot in measured order: a
   // counting sort on the root (kept buffers instead of a map of vectors allocated every frame).
-  cluster_begin_.assign(static_cast<size_t>(n) + 2, 0);
   root_of_.resize(n);
-  for (int i = 0; i < n; ++i) {
-    root_of_[i] = FindRoot(parent_, i);
-    ++cluster_begin_[root_of_[i] + 2];
-  }
-  for (int r = 2; r < n + 2; ++r) cluster_begin_[r] += cluster_begin_[r - 1];
+  for (int i = 0; i < n; ++i) root_of_[i] = FindRoot(parent_, i);
   cluster_members_.resize(n);
-  for (int i = 0; i < n; ++i) cluster_members_[cluster_begin_[root_of_[i] + 1]++] = measured_[i];
+  CountingSort(
+      n, n, [&](int i) { return root_of_[i]; }, &cluster_begin_,
+      [&](int i, int slot) { cluster_members_[slot] = measured_[i]; });
   int repaired = 0;
   for (int root = 0; root < n; ++root) {
     const int size = cluster_begin_[root + 1] - cluster_begin_[root];
