@@ -72,7 +72,9 @@ int BlobIndex::NearestOfAll(int camera, const Eigen::Vector2d& normalized, doubl
   };
   // A short run is compared kWindow entries long: those past it are other cells' blobs (or the
   // sentinels at infinity), and any of them within the radius lies in a touched cell anyway, so
-  // meeting it changes nothing; nor does meeting a blob twice.
+  // meeting it changes nothing; nor does meeting a blob twice. (Up to rounding: a blob exactly at
+  // the radius whose cell the rounded square just misses is then found, as a scan of every blob
+  // finds it, where Nearest's walk over the cells does not.)
   const Entry* entries = grid.entries.data();
   const auto scan_row = [&](int r) {
     const int* row = grid.begin.data() + r * grid.cols;

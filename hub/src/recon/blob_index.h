@@ -74,16 +74,19 @@ class BlobIndex {
 };
 
 inline bool BlobIndex::TouchedCells(const Grid& grid, const Eigen::Vector2d& at, double radius, CellRange* range) {
-  if (grid.rows == 0) return false;
+  // A negative or NaN radius reaches nothing.
+  if (grid.rows == 0 || !(radius >= 0.0)) return false;
   const double x0 = (at.x() - radius - grid.min_x) * grid.inverse_cell;
   const double x1 = (at.x() + radius - grid.min_x) * grid.inverse_cell;
   const double y0 = (at.y() - radius - grid.min_y) * grid.inverse_cell;
   const double y1 = (at.y() + radius - grid.min_y) * grid.inverse_cell;
   if (!(x1 >= 0.0 && y1 >= 0.0 && x0 < grid.cols && y0 < grid.rows)) return false;
-  range->c0 = std::max(0, static_cast<int>(x0));
-  range->c1 = std::min(grid.cols - 1, static_cast<int>(x1));
-  range->r0 = std::max(0, static_cast<int>(y0));
-  range->r1 = std::min(grid.rows - 1, static_cast<int>(y1));
+  // Clamped before the conversion: a huge (or infinite) radius gives corners far outside what an
+  // int holds.
+  range->c0 = static_cast<int>(std::max(0.0, x0));
+  range->c1 = static_cast<int>(std::min(grid.cols - 1.0, x1));
+  range->r0 = static_cast<int>(std::max(0.0, y0));
+  range->r1 = static_cast<int>(std::min(grid.rows - 1.0, y1));
   return true;
 }
 

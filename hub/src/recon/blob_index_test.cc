@@ -4,6 +4,8 @@
 #include "recon/blob_index.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -115,6 +117,42 @@ TEST(BlobIndex, AnswersWhatAScanOfEveryBlobAnswers) {
   EXPECT_GT(found, queries / 3);
   EXPECT_LT(found, queries);
   EXPECT_GT(within, queries);
+}
+
+TEST(BlobIndex, RadiiBeyondTheGridOrBelowZero) {
+  const Rig rig = testing::MakeRingRig(kCameras, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
+  const RigModel model(rig);
+  std::mt19937 random(11);
+  const FrameViews views = RandomViews(&random, {40, 1, 0, 90});
+  BlobIndex index;
+  index.Build(model, views);
+  const std::vector<char> none(views.observations.size(), 0);
+  const double infinity = std::numeric_limits<double>::infinity();
+  for (int camera = 0; camera < kCameras; ++camera) {
+    const int size = views.camera_begin[camera + 1] - views.camera_begin[camera];
+    // Corners far past what an int holds (from the middle every blob is within reach).
+    for (const double radius : {1e9, 1e300, infinity}) {
+      for (const Eigen::Vector2d& at : {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(-1e9 + 0.2, 3e8)}) {
+        const int nearest = ScanNearest(views, camera, at, radius, none);
+        if (at.norm() < 1.0) {
+          EXPECT_EQ(nearest >= 0, size > 0);
+        }
+        EXPECT_EQ(index.NearestOfAll(camera, at, radius), nearest) << radius;
+        EXPECT_EQ(index.Nearest(views, camera, at, radius, [](int) { return true; }), nearest) << radius;
+        int visited = 0;
+        index.ForEachWithin(views, camera, at, radius, [&](int, double) { ++visited; });
+        EXPECT_EQ(visited, static_cast<int>(ScanWithin(views, camera, at, radius).size())) << radius;
+      }
+    }
+    // A negative or NaN radius reaches nothing, even from on top of a blob.
+    if (size == 0) continue;
+    const Eigen::Vector2d on_blob = views.observations[views.camera_begin[camera]].normalized;
+    for (const double radius : {-0.005, -infinity, std::numeric_limits<double>::quiet_NaN()}) {
+      EXPECT_EQ(index.NearestOfAll(camera, on_blob, radius), -1);
+      EXPECT_EQ(index.Nearest(views, camera, on_blob, radius, [](int) { return true; }), -1);
+      index.ForEachWithin(views, camera, on_blob, radius, [&](int o, double) { ADD_FAILURE() << "visited " << o; });
+    }
+  }
 }
 
 }  // namespace

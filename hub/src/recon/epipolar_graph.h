@@ -56,7 +56,8 @@ class EpipolarGraph {
   std::vector<std::vector<int>> active_of_camera_;
   std::vector<std::vector<Eigen::Vector3d>> active_rays_;  // their rays, in the same order
   // CandidateCliques' scratch, kept from frame to frame: only the active nodes' entries are read,
-  // and they are set (or reset) at the start of each call.
+  // and they are set (or reset) at the start of each call. So CandidateCliques, though const, must
+  // not run on two threads at once on one graph (each matcher owns its graph).
   mutable std::vector<int> neighbour_of_b_, slot_of_;
   mutable std::vector<std::vector<int>> clique_lists_;
   int num_edges_ = 0;

@@ -13,19 +13,27 @@ void MarkContested(const std::vector<PointPrediction>& predictions, double facto
   // Sweep along x: a pair can only be contested while their x distance is under the factor
   // times their gates, so each prediction meets only its neighbours along x.
   // Last call's order, sorted again by insertion: tracks move little from frame to frame, so it
-  // is nearly sorted already. A count that changed is sorted from scratch.
+  // is nearly sorted already. But a prediction's index is its track's rank by age, and one track
+  // ending shifts every younger one: past a budget of moves (or with a count that changed) it is
+  // sorted from scratch instead.
   thread_local std::vector<size_t> by_x;
   const auto x_of = [&](size_t i) { return predictions[i].point_in_world.x(); };
-  if (by_x.size() != predictions.size()) {
+  const auto sort_from_scratch = [&] {
     by_x.resize(predictions.size());
     for (size_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
     std::sort(by_x.begin(), by_x.end(), [&](size_t a, size_t b) { return x_of(a) < x_of(b); });
-  }
+  };
+  if (by_x.size() != predictions.size()) sort_from_scratch();
+  size_t budget = 4 * by_x.size();
   for (size_t i = 1; i < by_x.size(); ++i) {
     const size_t moving = by_x[i];
     size_t j = i;
-    for (; j > 0 && x_of(by_x[j - 1]) > x_of(moving); --j) by_x[j] = by_x[j - 1];
+    for (; j > 0 && x_of(by_x[j - 1]) > x_of(moving) && budget > 0; --j, --budget) by_x[j] = by_x[j - 1];
     by_x[j] = moving;
+    if (budget == 0) {
+      sort_from_scratch();
+      break;
+    }
   }
   const auto gate_of = [&](const PointPrediction& p) { return std::min(p.gate_mm, gate_cap_mm); };
   double max_gate = 0.0;
