@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <utility>
 
@@ -116,6 +117,7 @@ void ServeOptions::Check() const {
   recon.Check();
   body_filter.Check();
   auth.Check();
+  if (const std::string error = disk.Check(); !error.empty()) throw std::invalid_argument(error);
 }
 
 struct HubService::PreviewWait {
@@ -153,13 +155,12 @@ HubService::HubService(ServeOptions options)
       bodies_(options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file)),
       labels_(options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
       live_(MakeLive()),
-      captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
+      captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_)),
+                options_.disk) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
   if (options_.calibration_monitor)
     calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
-  std::error_code ec;
-  std::filesystem::create_directories(options_.sessions_dir, ec);
-  if (ec) throw std::runtime_error(options_.sessions_dir + ": cannot create: " + ec.message());
+  captures_.Lock();
   if (options_.auth.insecure_dev)
     log::Warn("INSECURE WIRE: --insecure-dev-wire is set: datagrams are not authenticated, anyone on the network "
               "can forge frames and steer the nodes; for development only (/api/status says so too)");
@@ -234,9 +235,13 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
   }
   RunTasks();  // requests queued meanwhile are answered, later ones refused
   if (captures_.running()) {
-    const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
-    log::Info("capture {} finished at shutdown: {} frame sets", summary.value("name", ""),
-              summary.value("frame_sets", 0));
+    try {
+      const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
+      log::Info("capture {} finished at shutdown: {} frame sets", summary.value("name", ""),
+                summary.value("frame_sets", 0));
+    } catch (const ApiError& e) {
+      log::Error("capture at shutdown: {}", e.what());
+    }
   }
 }
 
@@ -337,7 +342,7 @@ void HubService::Publish(const FrameSet& set) {
 }
 
 void HubService::Tick(uint64_t now) {
-  captures_.MaybeFlush(now);
+  captures_.Tick(ingest_.stats(), now);
   Announce(now);
   ingest_.auth().ReloadIfChanged(now);
   OnRegistryEvents(registry_.Tick(now));
@@ -608,6 +613,8 @@ nlohmann::json HubService::Status() {
           {"max", trigger_to_send_ms_.max()},
           {"definition", "trigger (mid-exposure) -> the node sent the frame's datagrams, node clocks"}}},
         {"capture", captures_.Current(now)},
+        {"last_capture", captures_.last()},
+        {"sessions_disk", captures_.Disk()},
         {"masks", masks_.size()},
         {"requests_pending", controls_.pending()},
         {"calibration_monitor", calibration_monitor_ ? calibration_monitor_->StatusJson() : nlohmann::json(nullptr)},
@@ -988,6 +995,17 @@ nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
   });
 }
 
+std::string DatedCopyName(const std::string& path, uint64_t now_ns) {
+  const std::time_t seconds = static_cast<std::time_t>(now_ns / 1'000'000'000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H%M%SZ", &utc);
+  std::string name = path + "." + stamp;
+  for (int n = 2; std::filesystem::exists(name); ++n) name = path + "." + stamp + "-" + std::to_string(n);
+  return name;
+}
+
 nlohmann::json HubService::ApplyWandCalibration(bool save) {
   return OnLoop([this, save] {
     PollWandSolve();
@@ -1003,11 +1021,12 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     }
     std::string source = o.calibration_file;
     if (save) {
-      // The old file stays beside the new one, so that an operator can go back.
+      // Every old file stays beside the new one, named by when it was replaced, so that an
+      // operator can go back to any of them (and an unwanted apply overwrites none).
+      const std::string kept = DatedCopyName(options_.calibration, RealtimeNowNs());
       std::error_code ec;
-      std::filesystem::copy_file(options_.calibration, options_.calibration + ".previous",
-                                 std::filesystem::copy_options::overwrite_existing, ec);
-      if (ec) throw ApiError(500, options_.calibration + ".previous: cannot keep the old calibration: " + ec.message());
+      std::filesystem::copy_file(options_.calibration, kept, std::filesystem::copy_options::none, ec);
+      if (ec) throw ApiError(500, kept + ": cannot keep the old calibration: " + ec.message());
       try {
         WriteJsonFile(o.calibration, options_.calibration);
       } catch (const std::exception& e) {

@@ -75,10 +75,15 @@ struct ServeOptions {
   ReconstructorOptions recon;             // as `reconstruct` takes them
   bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
   WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
+  CaptureDiskOptions disk;                // the sessions disk's free space (capture.h)
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
 };
+
+// PATH.2026-11-27T230704Z (UTC at now_ns; -2, -3, ... when that exists): where an applied
+// calibration keeps the file it replaces.
+std::string DatedCopyName(const std::string& path, uint64_t now_ns);
 
 class HubService : public ServiceApi {
  public:
