@@ -3,9 +3,12 @@
 
 #include <civetweb.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <stdexcept>
 
+#include "api/api_tokens.h"
 #include "ingest/udp_socket.h"
 
 namespace mocap {
@@ -13,6 +16,14 @@ namespace {
 
 constexpr int kAnswerTimeoutMs = 30000;  // the longest request (an automatic mask) answers in seconds
 constexpr size_t kMaxAnswer = 64u << 20;
+
+constexpr const char* kDefaultTokenFiles[] = {"api-auth/operator.token",
+                                              "/var/lib/mocap-hub/api-auth/operator.token"};
+
+std::string& TokenFileOption() {
+  static std::string file;
+  return file;
+}
 
 struct Connection {
   mg_connection* c = nullptr;
@@ -34,10 +45,14 @@ ApiAnswer CallApi(const std::string& address, const std::string& method, const s
   if (!connection.c)
     throw std::runtime_error("cannot reach mocap-hub serve at " + host + ":" + std::to_string(hp.port) + " (" +
                              error + "); is it running? (--api or MOCAP_HUB_API give its address)");
+  const std::string token = ApiToken();
+  const std::string authorization = token.empty() ? "" : "Authorization: Bearer " + token + "\r\n";
+  const std::string host_header = host.find(':') != std::string::npos ? "[" + host + "]" : host;
   mg_printf(connection.c,
-            "%s %s HTTP/1.1\r\nHost: %s\r\nContent-Type: application/json\r\nContent-Length: %zu\r\n"
-            "Connection: close\r\n\r\n",
-            method.c_str(), path.c_str(), host.c_str(), body.size());
+            "%s %s HTTP/1.1\r\nHost: %s:%u\r\nContent-Type: application/json\r\nContent-Length: %zu\r\n"
+            "%sConnection: close\r\n\r\n",
+            method.c_str(), path.c_str(), host_header.c_str(), static_cast<unsigned>(hp.port), body.size(),
+            authorization.c_str());
   if (!body.empty()) mg_write(connection.c, body.data(), body.size());
   if (mg_get_response(connection.c, error, sizeof(error), kAnswerTimeoutMs) < 0)
     throw std::runtime_error("mocap-hub serve at " + address + " gave no answer: " + error);
@@ -64,7 +79,11 @@ nlohmann::json CallApiJson(const std::string& address, const std::string& method
     const std::string reason = document.is_object() && document.contains("error") && document["error"].is_string()
                                    ? document["error"].get<std::string>()
                                    : answer.body.substr(0, 200);
-    throw std::runtime_error(reason + " (HTTP " + std::to_string(answer.status) + ")");
+    const std::string hint = answer.status == 401 && ApiToken().empty()
+                                 ? "; no token found: set MOCAP_HUB_TOKEN_FILE or --token-file (serve writes "
+                                   "api-auth/operator.token beside its sessions directory)"
+                                 : "";
+    throw std::runtime_error(reason + " (HTTP " + std::to_string(answer.status) + ")" + hint);
   }
   if (document.is_discarded()) throw std::runtime_error("mocap-hub serve answered with something that is not JSON");
   return document;
@@ -74,6 +93,22 @@ void AddApiOption(CLI::App& command, std::string* address) {
   const char* env = std::getenv("MOCAP_HUB_API");
   *address = env && *env ? env : kDefaultApiAddress;
   command.add_option("--api", *address, "HOST:PORT of mocap-hub serve's API (default $MOCAP_HUB_API or 127.0.0.1:7801)");
+  command.add_option("--token-file", TokenFileOption(),
+                     "The API token's file (default $MOCAP_HUB_TOKEN_FILE, or serve's api-auth/operator.token)");
+}
+
+std::string ApiToken() {
+  static const std::string token = [] {
+    if (const char* env = std::getenv("MOCAP_HUB_TOKEN"); env && *env) return std::string(env);
+    std::string file = TokenFileOption();
+    if (file.empty())
+      if (const char* env = std::getenv("MOCAP_HUB_TOKEN_FILE"); env && *env) file = env;
+    if (!file.empty()) return api::ReadTokenFile(file);
+    for (const char* candidate : kDefaultTokenFiles)
+      if (::access(candidate, R_OK) == 0) return api::ReadTokenFile(candidate);
+    return std::string();
+  }();
+  return token;
 }
 
 }  // namespace mocap

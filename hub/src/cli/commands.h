@@ -78,6 +78,8 @@ void AddCalibrateImportMcdCommand(CLI::App& app);
 void AddServeCommand(CLI::App& app);
 // cmd_keys.cc (keys new, rotate, retire, list).
 void AddKeysCommands(CLI::App& app);
+// cmd_tokens.cc (tokens new, revoke, list: the API's tokens).
+void AddTokensCommands(CLI::App& app);
 void AddServiceClientCommands(CLI::App& app);
 
 }  // namespace mocap

@@ -18,6 +18,7 @@ const AddCommand kCommands[] = {
     mocap::AddServiceClientCommands,
     mocap::AddRecordCommand,
     mocap::AddKeysCommands,
+    mocap::AddTokensCommands,
     mocap::AddSimRigCommand,
     mocap::AddSimProjectCommand,
     mocap::AddSimRenderCommand,

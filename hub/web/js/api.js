@@ -1,6 +1,12 @@
 // The hub's HTTP API as the console uses it: JSON in and out, errors as ApiError with the hub's
-// reason, and a count of the bytes each client receives (the console's traffic figure).
+// reason, and a count of the bytes each client receives (the console's traffic figure). The hub
+// wants a login (its session cookie, HttpOnly: this code never sees it): any 401 calls the
+// handler main.js sets, which shows the login form. State changes go as JSON with the
+// X-Mocap-Request header, which a page elsewhere cannot send without the hub's consent.
 export const traffic = { httpBytes: 0, wsBytes: 0, requests: 0 };
+
+let unauthorized = () => {};
+export function onUnauthorized(handler) { unauthorized = handler; }
 
 export class ApiError extends Error {
   constructor(status, message) {
@@ -19,6 +25,7 @@ async function answer(response) {
   } catch (e) {
     throw new ApiError(response.status, `not JSON: ${text.slice(0, 80)}`);
   }
+  if (response.status === 401) unauthorized();
   if (!response.ok) throw new ApiError(response.status, (body && body.error) || response.statusText);
   return body;
 }
@@ -29,7 +36,7 @@ async function send(method, path, body) {
     response = await fetch(path, {
       method,
       cache: 'no-store',
-      headers: body === undefined ? {} : { 'Content-Type': 'application/json' },
+      headers: method === 'GET' ? {} : { 'Content-Type': 'application/json', 'X-Mocap-Request': '1' },
       body: body === undefined ? undefined : JSON.stringify(body),
     });
   } catch (e) {
@@ -41,6 +48,8 @@ async function send(method, path, body) {
 export const getJson = (path) => send('GET', path);
 export const postJson = (path, body) => send('POST', path, body === undefined ? {} : body);
 export const deleteJson = (path) => send('DELETE', path);
+export const login = (token) => send('POST', '/api/login', { token });
+export const logout = () => send('POST', '/api/logout', {});
 
 // A file's text (session files for playback).
 export async function getText(path) {
@@ -48,6 +57,7 @@ export async function getText(path) {
   const text = await response.text();
   traffic.httpBytes += text.length;
   traffic.requests += 1;
+  if (response.status === 401) unauthorized();
   if (!response.ok) {
     let reason = response.statusText;
     try { reason = JSON.parse(text).error || reason; } catch (e) { /* not JSON: keep the status text */ }
@@ -62,6 +72,7 @@ export async function getImage(path) {
   const blob = await response.blob();
   traffic.httpBytes += blob.size;
   traffic.requests += 1;
+  if (response.status === 401) unauthorized();
   if (!response.ok) {
     let reason = response.statusText;
     try { reason = JSON.parse(await blob.text()).error || reason; } catch (e) { /* keep the status */ }
