@@ -35,6 +35,7 @@ struct mn_capture *mn_capture_open(const struct mn_config *cfg, const struct mn_
     case MN_SOURCE_V4L2:
         c->ops = &mn_capture_v4l2_ops;
         c->impl = mn_capture_v4l2_new(cfg->source_arg, cfg->width, cfg->height, cfg->buffers,
+                                      cfg->pixel_format,
                                       &c->width, &c->height, err, errlen);
         break;
     case MN_SOURCE_LIBCAMERA:

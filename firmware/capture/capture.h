@@ -75,8 +75,9 @@ void mn_capture_register_libcamera(const struct mn_capture_ops *ops,
                                    mn_capture_libcamera_new_fn fn);
 extern const struct mn_capture_ops mn_capture_v4l2_ops;
 extern const struct mn_capture_ops mn_capture_replay_ops;
+/* pixel_format: a V4L2 fourcc name ("NV12", "MJPG"), or "" for the best the device offers. */
 void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,
-                          uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen);
+                          const char *pixel_format, uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen);
 void *mn_capture_replay_new(const struct mn_replay_params *params, uint32_t *out_width,
                             uint32_t *out_height, char *err, size_t errlen);
 

@@ -1,12 +1,19 @@
 // libcamera capture behind the C capture interface. libcamera completes requests on its own
 // thread; this shim queues them under a mutex and signals an eventfd, so the node's single poll
 // loop sees libcamera like any other descriptor and all processing stays on the loop's thread.
+// Formats whose first plane is 8-bit luma are handed out in place; packed RGB (vimc, ISPs
+// without a YUV output) is converted to luma into one buffer allocated at open.
 #include "capture/capture_libcamera.h"
+
+extern "C" {
+#include "capture/pixfmt.h"
+}
 
 #include <sys/eventfd.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -37,11 +44,16 @@ struct LibcameraCapture {
     std::vector<std::unique_ptr<Request>> requests;
     std::vector<Mapped> maps; // by request index
     uint32_t width = 0, height = 0, stride = 0;
+    bool convert = false;       // packed RGB: luma into y8
+    enum mn_pixfmt pixfmt = MN_PIXFMT_RGB24;
+    uint32_t bytes_per_pixel = 1;
+    std::vector<uint8_t> y8;
     int event_fd = -1;
     bool acquired = false;
     bool running = false;
     std::mutex lock;
     std::deque<Request *> completed; // guarded by lock
+    bool disconnected = false;       // guarded by lock: the camera was unplugged
     // Control values waiting for the next requeued request (set from the loop thread only).
     bool exposure_pending = false, gain_pending = false;
     int32_t exposure_us = 0;
@@ -53,6 +65,21 @@ struct LibcameraCapture {
             std::lock_guard<std::mutex> guard(lock);
             completed.push_back(request);
         }
+        signal();
+    }
+
+    // The pipeline handler's devices went away (hot-unplug seen by libcamera's udev monitor).
+    void onDisconnect()
+    {
+        {
+            std::lock_guard<std::mutex> guard(lock);
+            disconnected = true;
+        }
+        signal();
+    }
+
+    void signal()
+    {
         uint64_t one = 1;
         // A full eventfd counter still wakes the loop, so a failed write loses nothing.
         ssize_t rc = write(event_fd, &one, sizeof(one));
@@ -63,8 +90,10 @@ struct LibcameraCapture {
     {
         if (running && camera)
             camera->stop();
-        if (camera)
+        if (camera) {
             camera->requestCompleted.disconnect(this, &LibcameraCapture::onComplete);
+            camera->disconnected.disconnect(this, &LibcameraCapture::onDisconnect);
+        }
         for (Mapped &m : maps)
             if (m.start != MAP_FAILED)
                 munmap(m.start, m.length);
@@ -86,24 +115,43 @@ void fail(char *err, size_t errlen, const char *what, int e)
     errno = e;
 }
 
-// Prefer R8 (mono sensors deliver it directly); YUV420's first plane is 8-bit luma too.
+// What the node reads from a libcamera format: its first plane in place (8-bit luma), or packed
+// RGB converted. libcamera names packed RGB by the 32-bit word, so RGB888 is B, G, R in memory.
+struct FormatUse {
+    PixelFormat format;
+    bool convert;
+    enum mn_pixfmt pixfmt;
+    uint32_t bytes_per_pixel;
+};
+
+const FormatUse kFormats[] = {
+    {formats::R8, false, MN_PIXFMT_RGB24, 1},
+    {formats::YUV420, false, MN_PIXFMT_RGB24, 1},
+    {formats::YVU420, false, MN_PIXFMT_RGB24, 1},
+    {formats::NV12, false, MN_PIXFMT_RGB24, 1},
+    {formats::NV21, false, MN_PIXFMT_RGB24, 1},
+    {formats::RGB888, true, MN_PIXFMT_BGR24, 3},
+    {formats::BGR888, true, MN_PIXFMT_RGB24, 3},
+    {formats::XRGB8888, true, MN_PIXFMT_XBGR32, 4},
+};
+
+// The first format of kFormats the camera accepts unchanged at the requested size.
 bool configure(LibcameraCapture *c, uint32_t width, uint32_t height, uint32_t buffers)
 {
-    const PixelFormat wanted[] = {formats::R8, formats::YUV420};
-    for (const PixelFormat &fmt : wanted) {
+    for (const FormatUse &use : kFormats) {
         c->config = c->camera->generateConfiguration({StreamRole::Raw});
         if (!c->config || c->config->size() != 1)
             c->config = c->camera->generateConfiguration({StreamRole::VideoRecording});
         if (!c->config || c->config->size() != 1)
             return false;
         StreamConfiguration &sc = c->config->at(0);
-        sc.pixelFormat = fmt;
+        sc.pixelFormat = use.format;
         sc.bufferCount = buffers;
         if (width != 0)
             sc.size = Size(width, height);
         if (c->config->validate() == CameraConfiguration::Invalid)
             continue;
-        if (sc.pixelFormat != fmt)
+        if (sc.pixelFormat != use.format)
             continue;
         if (c->camera->configure(c->config.get()) < 0)
             return false;
@@ -111,6 +159,13 @@ bool configure(LibcameraCapture *c, uint32_t width, uint32_t height, uint32_t bu
         c->width = sc.size.width;
         c->height = sc.size.height;
         c->stride = sc.stride;
+        c->convert = use.convert;
+        c->pixfmt = use.pixfmt;
+        c->bytes_per_pixel = use.bytes_per_pixel;
+        if (c->stride < c->width * c->bytes_per_pixel)
+            return false;
+        if (c->convert)
+            c->y8.resize(static_cast<size_t>(c->width) * c->height);
         return true;
     }
     return false;
@@ -137,7 +192,8 @@ bool map_and_request(LibcameraCapture *c, char *err, size_t errlen)
             fail(err, errlen, "cannot mmap a frame buffer", errno);
             return false;
         }
-        if (static_cast<size_t>(c->stride) * (c->height - 1) + c->width > plane.length) {
+        if (static_cast<size_t>(c->stride) * (c->height - 1) + c->width * c->bytes_per_pixel >
+            plane.length) {
             munmap(m.start, m.length);
             fail(err, errlen, "frame buffer smaller than the configured frame", EPROTO);
             return false;
@@ -210,20 +266,42 @@ int lc_fd(void *impl)
     return impl_of(impl)->event_fd;
 }
 
+// The next completed request, or nullptr. The eventfd is read only once the queue is seen
+// empty, and the queue checked again after it: a completion always pushes before it signals, so
+// no frame is left queued without a wake-up, however few frames the loop takes per wake-up.
+Request *next_completed(LibcameraCapture *c, bool *disconnected)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        {
+            std::lock_guard<std::mutex> guard(c->lock);
+            *disconnected = c->disconnected;
+            if (!c->completed.empty()) {
+                Request *request = c->completed.front();
+                c->completed.pop_front();
+                return request;
+            }
+        }
+        if (pass == 0) {
+            uint64_t counter;
+            ssize_t rc = read(c->event_fd, &counter, sizeof(counter)); // EAGAIN: not signalled
+            (void)rc;
+        }
+    }
+    return nullptr;
+}
+
 int lc_dequeue(void *impl, struct mn_frame *frame)
 {
     LibcameraCapture *c = impl_of(impl);
-    uint64_t counter;
-    ssize_t rc = read(c->event_fd, &counter, sizeof(counter)); // EAGAIN: nothing signalled
-    (void)rc;
     for (;;) {
-        Request *request;
-        {
-            std::lock_guard<std::mutex> guard(c->lock);
-            if (c->completed.empty())
-                return 0;
-            request = c->completed.front();
-            c->completed.pop_front();
+        bool disconnected = false;
+        Request *request = next_completed(c, &disconnected);
+        if (request == nullptr) {
+            if (disconnected) {
+                errno = ENODEV;
+                return -1;
+            }
+            return 0;
         }
         if (request->status() != Request::RequestComplete) {
             if (!c->running)
@@ -243,10 +321,18 @@ int lc_dequeue(void *impl, struct mn_frame *frame)
             continue;
         }
         const Mapped &m = c->maps[request->cookie()];
-        frame->pixels = static_cast<const uint8_t *>(m.start) + m.offset;
+        const uint8_t *plane = static_cast<const uint8_t *>(m.start) + m.offset;
+        if (c->convert) {
+            mn_pixfmt_to_y8(c->pixfmt, plane, c->stride, c->width, c->height, c->y8.data(),
+                            c->width);
+            frame->pixels = c->y8.data();
+            frame->stride = c->width;
+        } else {
+            frame->pixels = plane;
+            frame->stride = c->stride;
+        }
         frame->width = c->width;
         frame->height = c->height;
-        frame->stride = c->stride;
         frame->capture_mono_ns = static_cast<int64_t>(meta.timestamp); // CLOCK_MONOTONIC
         frame->sequence = meta.sequence;
         frame->slot = static_cast<int>(request->cookie());
@@ -271,10 +357,27 @@ int lc_release(void *impl, const struct mn_frame *frame)
     return 0;
 }
 
+// A control the camera does not list would be dropped by libcamera with only a log line (vimc
+// has neither exposure nor gain): refuse it here so that the hub's ack says so.
+const ControlInfo *control_info(LibcameraCapture *c, const ControlId &id)
+{
+    const ControlInfoMap &info = c->camera->controls();
+    auto it = info.find(&id);
+    return it == info.end() ? nullptr : &it->second;
+}
+
 int lc_set_exposure(void *impl, uint32_t exposure_us)
 {
     LibcameraCapture *c = impl_of(impl);
-    c->exposure_us = static_cast<int32_t>(exposure_us);
+    const ControlInfo *info = control_info(c, controls::ExposureTime);
+    if (info == nullptr) {
+        errno = ENOTSUP;
+        return -1;
+    }
+    int32_t value = static_cast<int32_t>(exposure_us);
+    value = std::max(value, info->min().get<int32_t>());
+    value = std::min(value, info->max().get<int32_t>());
+    c->exposure_us = value;
     c->exposure_pending = true;
     return 0;
 }
@@ -282,7 +385,15 @@ int lc_set_exposure(void *impl, uint32_t exposure_us)
 int lc_set_gain(void *impl, uint32_t gain_milli)
 {
     LibcameraCapture *c = impl_of(impl);
-    c->gain = static_cast<float>(gain_milli) / 1000.0f;
+    const ControlInfo *info = control_info(c, controls::AnalogueGain);
+    if (info == nullptr) {
+        errno = ENOTSUP;
+        return -1;
+    }
+    float value = static_cast<float>(gain_milli) / 1000.0f;
+    value = std::max(value, info->min().get<float>());
+    value = std::min(value, info->max().get<float>());
+    c->gain = value;
     c->gain_pending = true;
     return 0;
 }
@@ -336,13 +447,16 @@ extern "C" void *mn_capture_libcamera_new(unsigned index, uint32_t width, uint32
         }
         c->acquired = true;
         if (!configure(c, width, height, buffers)) {
-            fail(err, errlen, "camera offers neither R8 nor YUV420 at the requested size",
+            fail(err, errlen,
+                 "camera offers none of R8, YUV420, YVU420, NV12, NV21, RGB888, BGR888, XRGB8888 "
+                 "at the requested size",
                  ENOTSUP);
             goto fail;
         }
         if (!map_and_request(c, err, errlen))
             goto fail;
         c->camera->requestCompleted.connect(c, &LibcameraCapture::onComplete);
+        c->camera->disconnected.connect(c, &LibcameraCapture::onDisconnect);
     } catch (const std::bad_alloc &) {
         fail(err, errlen, "out of memory", ENOMEM);
         goto fail;

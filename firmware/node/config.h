@@ -51,6 +51,7 @@ struct mn_config {
 
     uint32_t width, height;        /* requested capture size; 0 = the source's default */
     uint32_t buffers;              /* V4L2 mmap buffers */
+    char pixel_format[5];          /* V4L2 fourcc name ("NV12"); "" = the best the camera offers */
     uint32_t exposure_us;          /* 0 = leave the camera's setting */
     uint32_t gain_milli;           /* 0 = leave the camera's setting */
     uint32_t threshold;
