@@ -28,7 +28,9 @@ struct mn_capture_ops {
     /* Pollable descriptor (POLLIN = a frame may be ready); -1: always ready (unpaced replay). */
     int (*fd)(void *impl);
     /* 1: *frame filled; 0: no frame yet (EAGAIN); -1: error, errno set (device gone ...);
-     * -1 with errno ENODATA: a recording ended (not an error: the run is over). */
+     * -1 with errno ENODATA: a recording ended (not an error: the run is over);
+     * -1 with errno ENOTRECOVERABLE: the device is gone and this process cannot open it again
+     * (libcamera after an unplug): close still works, and the process should exit. */
     int (*dequeue)(void *impl, struct mn_frame *frame);
     int (*release)(void *impl, const struct mn_frame *frame);
     /* Controls: -1 with errno ENOTSUP where the device has no such control. */

@@ -3,19 +3,32 @@
 // loop sees libcamera like any other descriptor and all processing stays on the loop's thread.
 // Formats whose first plane is 8-bit luma are handed out in place; packed RGB (vimc, ISPs
 // without a YUV output) is converted to luma into one buffer allocated at open.
-#include "capture/capture_libcamera.h"
-
+// An unplugged camera: libcamera (0.0.3) signals Camera::disconnected only for pipelines that
+// ask for hot-unplug events (UVC); for the others (vimc, the boards' CSI pipelines) requests
+// just stop completing, and stopping the camera then trips an assertion in libcamera's
+// PipelineHandler::stop() (abort). So while running, a timer checks twice a second whether the
+// V4L2 device nodes libcamera opened for this camera still exist. When one was removed, the
+// camera cannot be torn down either (without stop(), destroying it ends the process through a
+// still-running IPA thread): dequeue reports ENOTRECOVERABLE, close leaves libcamera's objects
+// alone, and the node exits with "hardware missing" for systemd to start it afresh.
+// The C headers of the node (capture_libcamera.h declares only its own functions extern "C").
 extern "C" {
 #include "capture/pixfmt.h"
+#include "common/log.h"
 }
+#include "capture/capture_libcamera.h"
 
+#include <dirent.h>
+#include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <sys/mman.h>
+#include <sys/timerfd.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <memory>
@@ -49,6 +62,10 @@ struct LibcameraCapture {
     uint32_t bytes_per_pixel = 1;
     std::vector<uint8_t> y8;
     int event_fd = -1;
+    int check_fd = -1;            // timerfd: the unplug check while running
+    int poll_fd = -1;             // epoll over event_fd and check_fd, what the loop polls
+    std::vector<int> device_fds;  // libcamera's descriptors of this camera's /dev/video* nodes
+    bool gone = false;            // a device node was removed: no stop() (see above)
     bool acquired = false;
     bool running = false;
     std::mutex lock;
@@ -106,6 +123,10 @@ struct LibcameraCapture {
             manager->stop();
         if (event_fd >= 0)
             close(event_fd);
+        if (check_fd >= 0)
+            close(check_fd);
+        if (poll_fd >= 0)
+            close(poll_fd);
     }
 };
 
@@ -209,6 +230,52 @@ bool map_and_request(LibcameraCapture *c, char *err, size_t errlen)
     return true;
 }
 
+// The descriptors libcamera holds open on /dev/video* nodes once the camera is configured and
+// its buffers allocated: the nodes of this camera (the node's process opens no other camera).
+void record_device_fds(LibcameraCapture *c)
+{
+    DIR *dir = opendir("/proc/self/fd");
+    if (dir == nullptr)
+        return;
+    while (struct dirent *e = readdir(dir)) {
+        char path[300], target[256];
+        std::snprintf(path, sizeof(path), "/proc/self/fd/%s", e->d_name);
+        ssize_t n = readlink(path, target, sizeof(target) - 1);
+        if (n <= 0)
+            continue;
+        target[n] = '\0';
+        if (std::strncmp(target, "/dev/video", 10) == 0)
+            c->device_fds.push_back(std::atoi(e->d_name));
+    }
+    closedir(dir);
+}
+
+// True when one of the camera's device nodes was removed (its link reads "... (deleted)").
+bool device_removed(const LibcameraCapture *c)
+{
+    for (int fd : c->device_fds) {
+        char path[64], target[256];
+        std::snprintf(path, sizeof(path), "/proc/self/fd/%d", fd);
+        ssize_t n = readlink(path, target, sizeof(target) - 1);
+        if (n <= 0)
+            return true;
+        target[n] = '\0';
+        if (std::strstr(target, " (deleted)") != nullptr)
+            return true;
+    }
+    return false;
+}
+
+void arm_check(LibcameraCapture *c, bool on)
+{
+    struct itimerspec its = {};
+    if (on) {
+        its.it_value.tv_nsec = 500000000;
+        its.it_interval.tv_nsec = 500000000;
+    }
+    timerfd_settime(c->check_fd, 0, &its, nullptr);
+}
+
 LibcameraCapture *impl_of(void *impl)
 {
     return static_cast<LibcameraCapture *>(impl);
@@ -234,6 +301,7 @@ int lc_start(void *impl)
         return -1;
     }
     c->running = true;
+    arm_check(c, true);
     for (std::unique_ptr<Request> &r : c->requests) {
         r->reuse(Request::ReuseBuffers); // requests cancelled by a previous stop
         apply_pending_controls(c, r.get());
@@ -251,6 +319,9 @@ int lc_stop(void *impl)
     if (!c->running)
         return 0;
     c->running = false;
+    arm_check(c, false);
+    if (c->gone)
+        return 0; // see the top of this file: stop() would abort
     int rc = c->camera->stop(); // completes (cancels) every queued request
     std::lock_guard<std::mutex> guard(c->lock);
     c->completed.clear();
@@ -263,7 +334,7 @@ int lc_stop(void *impl)
 
 int lc_fd(void *impl)
 {
-    return impl_of(impl)->event_fd;
+    return impl_of(impl)->poll_fd;
 }
 
 // The next completed request, or nullptr. The eventfd is read only once the queue is seen
@@ -293,6 +364,12 @@ Request *next_completed(LibcameraCapture *c, bool *disconnected)
 int lc_dequeue(void *impl, struct mn_frame *frame)
 {
     LibcameraCapture *c = impl_of(impl);
+    uint64_t expirations;
+    if (read(c->check_fd, &expirations, sizeof(expirations)) > 0 && device_removed(c)) {
+        c->gone = true;
+        errno = ENOTRECOVERABLE;
+        return -1;
+    }
     for (;;) {
         bool disconnected = false;
         Request *request = next_completed(c, &disconnected);
@@ -400,7 +477,15 @@ int lc_set_gain(void *impl, uint32_t gain_milli)
 
 void lc_close(void *impl)
 {
-    delete impl_of(impl);
+    LibcameraCapture *c = impl_of(impl);
+    if (c->gone) {
+        // See the top of this file: only our own descriptors go; the process is exiting.
+        close(c->event_fd);
+        close(c->check_fd);
+        close(c->poll_fd);
+        return;
+    }
+    delete c;
 }
 
 } // namespace
@@ -421,9 +506,20 @@ extern "C" void *mn_capture_libcamera_new(unsigned index, uint32_t width, uint32
     }
     try {
         c->event_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-        if (c->event_fd < 0) {
-            fail(err, errlen, "eventfd failed", errno);
+        c->check_fd = timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC);
+        c->poll_fd = epoll_create1(EPOLL_CLOEXEC);
+        if (c->event_fd < 0 || c->check_fd < 0 || c->poll_fd < 0) {
+            fail(err, errlen, "eventfd, timerfd or epoll failed", errno);
             goto fail;
+        }
+        for (int fd : {c->event_fd, c->check_fd}) {
+            struct epoll_event ev = {};
+            ev.events = EPOLLIN;
+            ev.data.fd = fd;
+            if (epoll_ctl(c->poll_fd, EPOLL_CTL_ADD, fd, &ev) < 0) {
+                fail(err, errlen, "epoll_ctl failed", errno);
+                goto fail;
+            }
         }
         c->manager = std::make_unique<CameraManager>();
         if (c->manager->start() < 0) {
@@ -455,8 +551,13 @@ extern "C" void *mn_capture_libcamera_new(unsigned index, uint32_t width, uint32
         }
         if (!map_and_request(c, err, errlen))
             goto fail;
+        record_device_fds(c);
         c->camera->requestCompleted.connect(c, &LibcameraCapture::onComplete);
         c->camera->disconnected.connect(c, &LibcameraCapture::onDisconnect);
+        mn_log_info("libcamera %u (%s): %ux%u %s, stride %u, %zu buffers, %zu video nodes",
+                    index, c->camera->id().c_str(), c->width, c->height,
+                    c->config->at(0).pixelFormat.toString().c_str(), c->stride,
+                    c->requests.size(), c->device_fds.size());
     } catch (const std::bad_alloc &) {
         fail(err, errlen, "out of memory", ENOMEM);
         goto fail;

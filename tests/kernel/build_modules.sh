@@ -21,6 +21,8 @@ if [ "$kver" = --newest-with-vivid ]; then
         exit 77
     }
 fi
+mkdir -p "$cache"
+cache=$(cd "$cache" && pwd) # kbuild's M= must be absolute
 out=$cache/$kver
 
 skip() {

@@ -43,7 +43,7 @@ wait_gone() {
 # load_modules_until NAME.ko: every module of /lib/modules/order up to and including NAME.ko.
 load_modules_until() {
     for m in $(cat /lib/modules/order); do
-        grep -q "^${m%.ko} " /proc/modules || insmod "/lib/modules/$m" || return 1
+        grep -q "^$(echo "${m%.ko}" | tr - _) " /proc/modules || insmod "/lib/modules/$m" || return 1
         [ "$m" = "$1" ] && return 0
     done
     return 1

@@ -549,7 +549,15 @@ static int cmd_cam2mcf(int argc, char **argv)
             fprintf(stderr, "cam2mcf: write: %s\n", strerror(errno));
             return 2;
         }
-        printf("cam2mcf: %s (stride %zu) -> frame %d\n", argv[i], stride, i - 6);
+        uint64_t sum = 0;
+        uint8_t lo = 255, hi = 0;
+        for (size_t k = 0; k < (size_t)w * h; k++) {
+            sum += y8[k];
+            lo = y8[k] < lo ? y8[k] : lo;
+            hi = y8[k] > hi ? y8[k] : hi;
+        }
+        printf("cam2mcf: %s (stride %zu) -> frame %d, luma %u..%u mean %.1f\n", argv[i], stride,
+               i - 6, lo, hi, (double)sum / ((double)w * h));
     }
     free(raw);
     free(y8);

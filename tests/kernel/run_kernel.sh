@@ -39,6 +39,7 @@ if readelf -l "$busybox" 2>/dev/null | grep -q "program interpreter"; then
 fi
 if [ "$mode" = vimc ]; then
     cam=$(command -v cam) || skip "libcamera's cam tool is not installed (libcamera-tools)"
+    udevadm=$(command -v udevadm) || skip "udevadm is not installed (udev)"
     ipa_dir=$(ls -d /usr/lib/*/libcamera 2>/dev/null | head -n 1 || true)
     [ -n "$ipa_dir" ] && [ -f "$ipa_dir/ipa_vimc.so" ] || skip "no ipa_vimc.so (libcamera-ipa)"
     ldd "$node_bin" | grep -q libcamera || skip "$node_bin was built without libcamera"
@@ -95,6 +96,13 @@ if [ "$mode" = vimc ]; then
     cp "$ipa_dir"/ipa_vimc.so* "$ipa_dir/vimc_ipa_proxy" "$root$ipa_dir/"
     copy_closure "$ipa_dir/ipa_vimc.so" "$ipa_dir/vimc_ipa_proxy"
     cp -r /usr/share/libcamera/ipa/vimc "$root/usr/share/libcamera/ipa/"
+    # libcamera finds cameras through udev: only devices udevd has processed count, and an
+    # unplug reaches it as a udev event. systemd-udevd runs in the VM (without rules) as it
+    # does on a board.
+    cp "$udevadm" "$root/bin/udevadm"
+    mkdir -p "$root/lib/systemd"
+    ln -s /bin/udevadm "$root/lib/systemd/systemd-udevd"
+    copy_closure "$udevadm"
 fi
 
 # Modules in load order, decompressed (busybox insmod reads plain .ko): each dependency chain as
