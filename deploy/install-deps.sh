@@ -37,6 +37,11 @@ HOST_PACKAGES=(
     # the vivid test: Debian's kernel (with the vivid module) booted in qemu with a busybox
     # initramfs (tests/vivid)
     linux-image-amd64 qemu-system-x86 busybox-static cpio kmod
+    # the kernel tests (tests/kernel): vimc.ko and gpio-sim.ko built out of tree from the kernel's
+    # source against its headers; libcamera's vimc IPA and cam tool and udevd in the VM
+    linux-source-6.1 linux-headers-amd64 libcamera-ipa libcamera-tools udev
+    # MJPEG webcams: libjpeg-turbo's TurboJPEG API
+    libturbojpeg0-dev
     # measurement
     time zlib1g-dev
     # network namespaces, veth and tc for the node fault tests and the simulated rig
@@ -59,6 +64,8 @@ CROSS_PACKAGES=(
     libsodium-dev:arm64
     # the node's libcamera source, built and linked for the boards it runs on
     libcamera-dev:arm64
+    # MJPEG webcams on the boards
+    libturbojpeg0-dev:arm64
 )
 
 missing() {

@@ -128,6 +128,38 @@ grep "^VIVID:" /tmp/recv.log
 grep -v "^VIVID:" /tmp/recv.log | sed "s/^/  recv| /"
 [ "$recv_rc" -eq 0 ] || failed=$((failed + 1))
 
+# Every format vivid offers that the node reads: the spots fed in that format (chroma neutral,
+# R = G = B), the node told to use it (pixel_format), its markers at the fed positions.
+NODE_FORMATS="GREY NV12 NV21 YU12 YV12 Y10 Y16 YUYV UYVY BX24 XR24 RGB3 BGR3"
+offered=$(mocap-vivid formats $CAP | tr '\n' ' ')
+tested=""
+for f in $offered; do
+    case " $NODE_FORMATS " in *" $f "*) ;; *) continue ;; esac
+    mocap-vivid feed $CAP $OUT $f >/tmp/feed-$f.log 2>&1 &
+    feed_pid=$!
+    if wait_for 10 /tmp/feed-$f.log "feed: looping"; then
+        mocap-node-static --source v4l2:$CAP --pixel-format $f --sync none --hub 127.0.0.1:$PORT \
+            --id 7 --threshold 100 --insecure-dev-wire --min-area 4 --log-level info >/tmp/node-$f.log 2>&1 &
+        node_pid=$!
+        if mocap-vivid spots $PORT 3 20 >/tmp/spots-$f.log 2>&1 && grep -q "($f *)" /tmp/node-$f.log; then
+            pass "format $f: $(cat /tmp/spots-$f.log)"
+            tested="$tested $f"
+        else
+            fail "format $f: $(cat /tmp/spots-$f.log)"
+            show node-$f /tmp/node-$f.log
+        fi
+        kill -TERM $node_pid
+        wait $node_pid
+    else
+        fail "format $f: the feeder never streamed: $(tail -n 1 /tmp/feed-$f.log)"
+    fi
+    kill -TERM $feed_pid
+    wait $feed_pid
+done
+untested=""
+for f in $offered; do case " $tested " in *" $f "*) ;; *) untested="$untested $f" ;; esac; done
+echo "VIVID: formats vivid offers that the node does not read:$untested"
+
 # What the node itself says about the device.
 if grep -q "(GREY), [0-9]* mmap buffers" /tmp/node.log; then
     pass "format negotiation and mmap streaming: $(grep -m1 'mmap buffers' /tmp/node.log | sed 's/.*: \/dev/\/dev/')"

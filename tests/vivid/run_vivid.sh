@@ -12,7 +12,7 @@ node_bin=$1
 tool_bin=$2
 work=$3
 here=$(cd "$(dirname "$0")" && pwd)
-boot_timeout=${MOCAP_VIVID_TIMEOUT:-100}
+boot_timeout=${MOCAP_VIVID_TIMEOUT:-200}
 
 skip() {
     echo "*** vivid test SKIPPED: $* ***"
