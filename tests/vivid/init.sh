@@ -159,6 +159,15 @@ done
 untested=""
 for f in $offered; do case " $tested " in *" $f "*) ;; *) untested="$untested $f" ;; esac; done
 echo "VIVID: formats vivid offers that the node does not read:$untested"
+# A format the device does not offer: refused at start, named, "hardware missing" (3).
+mocap-node-static --source v4l2:$CAP --pixel-format MJPG --sync none --hub 127.0.0.1:$PORT \
+    --id 7 --insecure-dev-wire >/tmp/node-mjpg.log 2>&1
+rc=$?
+if [ $rc -eq 3 ] && grep -q "pixel_format MJPG is not offered by the device" /tmp/node-mjpg.log; then
+    pass "format vivid lacks refused: $(grep -m1 'MJPG' /tmp/node-mjpg.log | sed 's/.*error: //')"
+else
+    fail "format vivid lacks: exit $rc, $(cat /tmp/node-mjpg.log)"
+fi
 
 # What the node itself says about the device.
 if grep -q "(GREY), [0-9]* mmap buffers" /tmp/node.log; then
