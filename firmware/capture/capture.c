@@ -120,6 +120,12 @@ int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli)
     return c->ops->set_gain(c->impl, gain_milli);
 }
 
+int mn_capture_set_picture(struct mn_capture *c, enum mn_picture_control which, uint32_t pct,
+                           double *value_out)
+{
+    return c->ops->set_picture(c->impl, which, pct, value_out);
+}
+
 void mn_capture_max_size(const struct mn_capture *c, uint32_t *width, uint32_t *height)
 {
     *width = c->width;

@@ -21,6 +21,9 @@ struct mn_frame {
     int slot;                /* source's buffer index, given back on release */
 };
 
+/* Picture controls the seeds' webcams set (seed 000), where the driver has them. */
+enum mn_picture_control { MN_PICTURE_BRIGHTNESS, MN_PICTURE_CONTRAST };
+
 struct mn_capture_ops {
     const char *name;
     int (*start)(void *impl);
@@ -36,6 +39,9 @@ struct mn_capture_ops {
     /* Controls: -1 with errno ENOTSUP where the device has no such control. */
     int (*set_exposure)(void *impl, uint32_t exposure_us);
     int (*set_gain)(void *impl, uint32_t gain_milli);
+    /* A picture control at pct percent of the camera's range (0 = its minimum, 100 = maximum);
+     * the value set goes to *value_out (driver units, for the log). */
+    int (*set_picture)(void *impl, enum mn_picture_control which, uint32_t pct, double *value_out);
     void (*close)(void *impl);
 };
 
@@ -64,6 +70,8 @@ int mn_capture_dequeue(struct mn_capture *c, struct mn_frame *frame);
 int mn_capture_release(struct mn_capture *c, const struct mn_frame *frame);
 int mn_capture_set_exposure(struct mn_capture *c, uint32_t exposure_us);
 int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli);
+int mn_capture_set_picture(struct mn_capture *c, enum mn_picture_control which, uint32_t pct,
+                           double *value_out);
 /* Largest frame the source can deliver (buffers sized for it); valid after open. */
 void mn_capture_max_size(const struct mn_capture *c, uint32_t *width, uint32_t *height);
 

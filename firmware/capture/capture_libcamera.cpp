@@ -73,8 +73,9 @@ struct LibcameraCapture {
     bool disconnected = false;       // guarded by lock: the camera was unplugged
     // Control values waiting for the next requeued request (set from the loop thread only).
     bool exposure_pending = false, gain_pending = false;
+    bool brightness_pending = false, contrast_pending = false;
     int32_t exposure_us = 0;
-    float gain = 1.0f;
+    float gain = 1.0f, brightness = 0.0f, contrast = 1.0f;
 
     void onComplete(Request *request)
     {
@@ -291,6 +292,14 @@ void apply_pending_controls(LibcameraCapture *c, Request *request)
         request->controls().set(controls::AnalogueGain, c->gain);
         c->gain_pending = false;
     }
+    if (c->brightness_pending) {
+        request->controls().set(controls::Brightness, c->brightness);
+        c->brightness_pending = false;
+    }
+    if (c->contrast_pending) {
+        request->controls().set(controls::Contrast, c->contrast);
+        c->contrast_pending = false;
+    }
 }
 
 int lc_start(void *impl)
@@ -475,6 +484,31 @@ int lc_set_gain(void *impl, uint32_t gain_milli)
     return 0;
 }
 
+// Brightness (-1..1) and Contrast (1 = unchanged) in the camera's own range; like exposure and
+// gain they go with the next queued request.
+int lc_set_picture(void *impl, enum mn_picture_control which, uint32_t pct, double *value_out)
+{
+    LibcameraCapture *c = impl_of(impl);
+    const ControlId &id = which == MN_PICTURE_BRIGHTNESS ? static_cast<const ControlId &>(controls::Brightness)
+                                                         : static_cast<const ControlId &>(controls::Contrast);
+    const ControlInfo *info = control_info(c, id);
+    if (info == nullptr) {
+        errno = ENOTSUP;
+        return -1;
+    }
+    float lo = info->min().get<float>(), hi = info->max().get<float>();
+    float value = lo + (hi - lo) * static_cast<float>(pct) / 100.0f;
+    *value_out = value;
+    if (which == MN_PICTURE_BRIGHTNESS) {
+        c->brightness = value;
+        c->brightness_pending = true;
+    } else {
+        c->contrast = value;
+        c->contrast_pending = true;
+    }
+    return 0;
+}
+
 void lc_close(void *impl)
 {
     LibcameraCapture *c = impl_of(impl);
@@ -492,7 +526,7 @@ void lc_close(void *impl)
 
 extern "C" const struct mn_capture_ops mn_capture_libcamera_ops = {
     "libcamera", lc_start, lc_stop, lc_fd, lc_dequeue, lc_release, lc_set_exposure, lc_set_gain,
-    lc_close,
+    lc_set_picture, lc_close,
 };
 
 extern "C" void *mn_capture_libcamera_new(unsigned index, uint32_t width, uint32_t height,

@@ -442,6 +442,23 @@ static int v4l2_set_gain(void *impl, uint32_t gain_milli)
     return -1;
 }
 
+static int v4l2_set_picture(void *impl, enum mn_picture_control which, uint32_t pct,
+                            double *value_out)
+{
+    struct v4l2 *v = impl;
+    struct v4l2_queryctrl q;
+    uint32_t id = which == MN_PICTURE_BRIGHTNESS ? V4L2_CID_BRIGHTNESS : V4L2_CID_CONTRAST;
+    if (query_ctrl(v, id, &q) < 0) {
+        errno = ENOTSUP;
+        return -1;
+    }
+    int64_t value = q.minimum + ((int64_t)q.maximum - q.minimum) * pct / 100;
+    if (q.step > 1)
+        value = q.minimum + (value - q.minimum) / q.step * q.step;
+    *value_out = (double)value;
+    return set_ctrl(v, id, clamp_ctrl(&q, value));
+}
+
 static void v4l2_close(void *impl)
 {
     struct v4l2 *v = impl;
@@ -464,5 +481,6 @@ const struct mn_capture_ops mn_capture_v4l2_ops = {
     .release = v4l2_release,
     .set_exposure = v4l2_set_exposure,
     .set_gain = v4l2_set_gain,
+    .set_picture = v4l2_set_picture,
     .close = v4l2_close,
 };

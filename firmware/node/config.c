@@ -53,6 +53,10 @@ static const struct setting settings[] = {
      "V4L2 format as v4l2-ctl names it (GREY NV12 YUYV MJPG ...; unset = best offered)"},
     {"exposure_us", T_U32, OFF(exposure_us), 0, 1000000, NULL, "exposure (0 = camera's)"},
     {"gain_milli", T_U32, OFF(gain_milli), 0, 64000, NULL, "analogue gain x1000 (0 = camera's)"},
+    {"brightness", T_I32, OFF(brightness_pct), -1, 100, NULL,
+     "percent of the camera's brightness range (-1 = camera's)"},
+    {"contrast", T_I32, OFF(contrast_pct), -1, 100, NULL,
+     "percent of the camera's contrast range (-1 = camera's)"},
     {"threshold", T_U32, OFF(threshold), 1, 255, NULL, "binary threshold"},
     {"auto_threshold", T_BOOL, OFF(auto_threshold), 0, 1, NULL, "threshold from histogram"},
     {"min_area", T_U32, OFF(min_area), 1, 100000, NULL, "smallest blob, pixels"},
@@ -97,6 +101,8 @@ void mn_config_defaults(struct mn_config *cfg)
     cfg->sync_kind = MN_SYNC_NONE;
     cfg->announce_port = 7700;
     cfg->buffers = 4;
+    cfg->brightness_pct = -1;
+    cfg->contrast_pct = -1;
     cfg->threshold = 128;
     cfg->min_area = 2;
     cfg->max_area = 5000;

@@ -106,6 +106,20 @@ static void node_grid_init(struct mn_node *n)
     }
 }
 
+/* A picture control from the config (pct -1: left as the camera has it). */
+static void set_picture(struct mn_capture *c, enum mn_picture_control which, const char *name,
+                        int32_t pct)
+{
+    if (pct < 0)
+        return;
+    double value = 0;
+    if (mn_capture_set_picture(c, which, (uint32_t)pct, &value) < 0)
+        mn_log_warn("%s: cannot set %s: %s", mn_capture_name(c), name, strerror(errno));
+    else
+        mn_log_info("%s: %s %d %% of the camera's range = %g", mn_capture_name(c), name, pct,
+                    value);
+}
+
 static int open_capture(struct mn_node *n, char *err, size_t errlen)
 {
     struct mn_capture *c = mn_capture_open(&n->cfg, &n->grid, err, errlen);
@@ -125,6 +139,8 @@ static int open_capture(struct mn_node *n, char *err, size_t errlen)
     if (n->gain_milli != 0 && mn_capture_set_gain(c, n->gain_milli) < 0)
         mn_log_warn("%s: cannot set gain %u/1000: %s", mn_capture_name(c), n->gain_milli,
                     strerror(errno));
+    set_picture(c, MN_PICTURE_BRIGHTNESS, "brightness", n->cfg.brightness_pct);
+    set_picture(c, MN_PICTURE_CONTRAST, "contrast", n->cfg.contrast_pct);
     n->capture = c;
     n->have_last_sequence = false;
     return 0;

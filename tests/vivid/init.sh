@@ -73,7 +73,7 @@ fi
 # The subject here is the V4L2 backend: the node sends plain datagrams (the development wire) so
 # that mocap-vivid needs no key; the authenticated wire has its own tests (firmware/node/tests).
 mocap-node-static --source v4l2:$CAP --sync none --hub 127.0.0.1:$PORT --id 7 --threshold 100 \
-    --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
+    --brightness 75 --contrast 40 --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
     --log-level info >/tmp/node.log 2>&1 &
 node_pid=$!
 sleep 4
@@ -170,6 +170,14 @@ else
 fi
 
 # What the node itself says about the device.
+# Picture controls (vivid's Brightness and Contrast are 0..255): set at open, and again at the
+# reopen after the device came back.
+if [ "$(grep -c "v4l2: brightness 75 % of the camera's range = 191" /tmp/node.log)" -ge 2 ] &&
+    grep -q "v4l2: contrast 40 % of the camera's range = 102" /tmp/node.log; then
+    pass "picture controls: $(grep -m1 'v4l2: brightness' /tmp/node.log | sed 's/.*info: //'), $(grep -m1 'v4l2: contrast' /tmp/node.log | sed 's/.*info: //')"
+else
+    fail "picture controls: $(grep 'v4l2: \(brightness\|contrast\)' /tmp/node.log | tr '\n' ' ')"
+fi
 if grep -q "(GREY), [0-9]* mmap buffers" /tmp/node.log; then
     pass "format negotiation and mmap streaming: $(grep -m1 'mmap buffers' /tmp/node.log | sed 's/.*: \/dev/\/dev/')"
 else

@@ -44,7 +44,8 @@ static void good_file(void **state)
                             "sim_missed = 0.25\n"
                             "log_level = debug\n"
                             "key_file = /etc/mocap/node.key\n"
-                            "pixel_format = Y10\n");
+                            "pixel_format = Y10\n"
+                            "brightness = 60\n");
     struct mn_config cfg;
     char err[MN_CONFIG_ERR] = "";
     mn_config_defaults(&cfg);
@@ -60,6 +61,8 @@ static void good_file(void **state)
     assert_int_equal(cfg.hub_port, 7000);
     assert_int_equal(cfg.threshold, 90);
     assert_string_equal(cfg.pixel_format, "Y10");
+    assert_int_equal(cfg.brightness_pct, 60);
+    assert_int_equal(cfg.contrast_pct, -1); /* unset: the camera's own */
     assert_true(cfg.auto_threshold);
     assert_int_equal(cfg.morph_radius, 2);
     assert_true(cfg.binary_centroid);
@@ -112,6 +115,7 @@ static void bad_files(void **state)
     expect_bad_line("threshold = -5\n", 1, "out of range");
     expect_bad_line("pixel_format = NV12X\n", 1, "'NV12X' is not a fourcc name");
     expect_bad_line("pixel_format = nv12\n", 1, "1-4 of A-Z, 0-9");
+    expect_bad_line("contrast = 101\n", 1, "out of range -1..100");
 
     /* A NUL byte (a binary file given by mistake). */
     char path[] = "/tmp/mn_test_config_XXXXXX";
