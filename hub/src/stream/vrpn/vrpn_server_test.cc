@@ -1,7 +1,7 @@
 // The VRPN server's sockets on loopback: a client connecting by TCP and one reached through the
 // UDP lookup (the server connects back) both exchange cookies, get the trackers described and a
 // fitted body's report stamped with the trigger time; a lookup naming another host is refused;
-// an unfitted body sends nothing.
+// an unfitted body sends nothing; fifty trackers are described and reported.
 #include <arpa/inet.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -118,6 +118,43 @@ TEST(VrpnServer, TcpAndLookupClientsGetReports) {
   EXPECT_EQ(s.refused, 1u);  // the lookup naming 10.1.2.3
   EXPECT_EQ(s.reports, 2u);  // one fitted frame to two clients
   for (int fd : {tcp, listener, udp, called}) close(fd);
+}
+
+TEST(VrpnServer, FiftyTrackers) {
+  VrpnOptions o;
+  o.listen = "127.0.0.1:0";
+  std::vector<std::string> names;
+  auto f = std::make_shared<service::LiveFrame>();
+  f->trigger_time_ns = 1'000'000'000;
+  for (uint32_t i = 1; i <= 50; ++i) {
+    names.push_back("body" + std::to_string(i));
+    service::LiveBody b;
+    b.id = i;
+    b.tracked = true;
+    b.position = {1000.0 * i, 0, 0};
+    f->bodies.push_back(b);
+  }
+  VrpnServer server(o, names);
+  const int tcp = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(server.port());
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
+  ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
+  for (int i = 0; i < 100 && server.stats().connections < 1; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  server.Publish(f);
+  const std::vector<ReceivedMessage> got = ReadUntil(tcp, kPosQuat, 50);
+  std::vector<std::string> described;
+  std::vector<int32_t> reported;
+  for (const ReceivedMessage& m : got) {
+    if (m.type == kSenderDescription) described.push_back(m.payload.substr(4, m.payload.find('\0', 4) - 4));
+    if (m.type == kPosQuat) reported.push_back(m.sender);
+  }
+  EXPECT_EQ(described, names);
+  ASSERT_EQ(reported.size(), 50u);
+  for (int32_t i = 0; i < 50; ++i) EXPECT_EQ(reported[static_cast<size_t>(i)], i);
+  close(tcp);
 }
 
 }  // namespace
