@@ -304,8 +304,7 @@ class TrackersTest(unittest.TestCase):
                 self.assert_published(f"libmotioncapture vrpn {hostname}", self.names.index(name) + 1,
                                       [1000 * v for v in position], quaternion)
             print(f"\nVRPN (libmotioncapture, {hostname}): {len(seen)} reports of {names}", file=sys.stderr)
-        status = wait_for("the VRPN clients to be gone", lambda: (lambda s: s if s["vrpn"]["clients"] == 0 else None)(
-            json.loads(self.rig.hub("status", "--json").stdout)), timeout=10)
+        status = json.loads(self.rig.hub("status", "--json").stdout)
         self.assertGreaterEqual(status["vrpn"]["connections"], 2)
         self.assertGreaterEqual(status["vrpn"]["lookups"], 1)
 
