@@ -120,6 +120,10 @@ def main():
         client = NatNetClient()
         client.set_client_address("0.0.0.0")
         client.set_use_multicast(True)
+        # The SDK client reads multicast frames from the start but learns the version from its server
+        # info: until then it parses frames as version 0.0 and its reading thread dies on the first.
+        # Asking for the version it asks Motive for in its connect (4.1) closes that window.
+        client._NatNetClient__nat_net_requested_version = [4, 1, 0, 0]
         client.new_frame_listener = lambda data: natnet.add(data["frame_number"])
         threading.Thread(target=lambda: websocket_messages(rig.api_port, "/api/live", 10**9, timeout=30,
                                                            on_message=lambda f: published.add(f["frame"])),
