@@ -8,7 +8,8 @@ the same time by
           number, which serve sets to the frame number (libmotioncapture's VRPN API polls and
           cannot count frames)
   VMC     python-osc (.venv), by /VMC/Ext/T (the frame's time)
-and /api/live (the frames serve published). Prints, per protocol, the frames a client missed
+and /api/live (the frames serve published; it skips frames for a reader that falls behind, so a
+frame any reader got counts as published too). Prints, per protocol, the frames a client missed
 among those published within its span, and serve's own figures from /api/status: the protocol's
 publish -> handed-to-the-kernel p50/p99/max (ms) on the hub. Figures, no assertions. Root: runs in
 a network namespace of its own (Motive's fixed ports, multicast on its loopback).
@@ -137,8 +138,10 @@ def main():
         status = json.loads(rig.hub("status", "--json").stdout)
     finally:
         rig.stop()
-    print(f"3 rigid bodies, {args.cameras} cameras at {args.rate} Hz, {args.seconds:.0f} s: serve published "
-          f"{len(published)} frames")
+    # /api/live gives a reader that falls behind the newest frame: a frame any reader got was published too.
+    published |= natnet | vrpn | vmc
+    print(f"3 rigid bodies, {args.cameras} cameras at {args.rate} Hz, {args.seconds:.0f} s: serve published at least "
+          f"{len(published)} frames ({status.get('frame_sets', '?')} frame sets since serve started)")
     print("%-8s %-34s %10s %10s %8s %8s %8s" % ("protocol", "reading client", "missed", "of", "p50 ms", "p99 ms",
                                                 "max ms"))
     for name, key, client_name, got in (("NatNet", "natnet", "natnetsdk (multicast)", natnet),
