@@ -106,6 +106,8 @@ TEST(VmcSender, SendsABundleLibloReceives) {
     VmcSender sender(o);
     sender.Publish(std::make_shared<service::LiveFrame>(Frame()));
     for (int i = 0; i < 50 && got.paths.size() < 3; ++i) lo_server_recv_noblock(server, 100);
+    // Counted just after the bundle leaves.
+    for (int i = 0; i < 100 && sender.stats().bundles < 1; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     EXPECT_EQ(sender.stats().bundles, 1u);
   }
   lo_server_free(server);
