@@ -1,12 +1,14 @@
 // The VRPN server's sockets on loopback: a client connecting by TCP and one reached through the
 // UDP lookup (the server connects back) both exchange cookies, get the trackers described and a
 // fitted body's report stamped with the trigger time; a lookup naming another host is refused;
-// an unfitted body sends nothing; fifty trackers are described and reported.
+// an unfitted body sends nothing; fifty trackers are described and reported; --vrpn-velocity's
+// report is the last two fitted poses' difference over their time.
 #include <arpa/inet.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -118,6 +120,51 @@ TEST(VrpnServer, TcpAndLookupClientsGetReports) {
   EXPECT_EQ(s.refused, 1u);  // the lookup naming 10.1.2.3
   EXPECT_EQ(s.reports, 2u);  // one fitted frame to two clients
   for (int fd : {tcp, listener, udp, called}) close(fd);
+}
+
+double BeF64At(const std::string& s, size_t at) {
+  uint64_t bits = 0;
+  for (int i = 0; i < 8; ++i) bits = bits << 8 | static_cast<uint8_t>(s[at + i]);
+  double v;
+  std::memcpy(&v, &bits, 8);
+  return v;
+}
+
+TEST(VrpnServer, VelocityFromTheLastTwoFittedPoses) {
+  VrpnOptions o;
+  o.listen = "127.0.0.1:0";
+  o.velocity = true;
+  VrpnServer server(o, {"drone"});
+  const int tcp = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(server.port());
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
+  ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
+  for (int i = 0; i < 100 && server.stats().connections < 1; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int n = 0; n < 2; ++n) {
+    auto f = std::make_shared<service::LiveFrame>();
+    f->trigger_time_ns = 1'000'000'000ull + static_cast<uint64_t>(n) * 10'000'000ull;  // 10 ms apart
+    service::LiveBody b;
+    b.id = 1;
+    b.tracked = true;
+    b.position = {100.0 + 5.0 * n, 0, 0};  // 5 mm in 10 ms: 0.5 m/s
+    b.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * n, Eigen::Vector3d::UnitZ()));
+    f->bodies = {b};
+    server.Publish(f);
+  }
+  const std::vector<ReceivedMessage> got = ReadUntil(tcp, kVelocity, 1);
+  const ReceivedMessage* velocity = nullptr;
+  for (const ReceivedMessage& m : got)
+    if (m.type == kVelocity) velocity = &m;
+  ASSERT_NE(velocity, nullptr);
+  ASSERT_EQ(velocity->payload.size(), 72u);
+  EXPECT_NEAR(BeF64At(velocity->payload, 8), 0.5, 1e-9);
+  EXPECT_NEAR(BeF64At(velocity->payload, 16), 0.0, 1e-12);
+  EXPECT_NEAR(BeF64At(velocity->payload, 64), 0.01, 1e-12);  // vel_quat_dt
+  EXPECT_NEAR(2 * std::asin(BeF64At(velocity->payload, 48)), 0.01, 1e-9);  // the rotation over dt: 0.01 rad about z
+  close(tcp);
 }
 
 TEST(VrpnServer, FiftyTrackers) {
