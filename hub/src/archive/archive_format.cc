@@ -30,6 +30,9 @@ class ByteWriter {
     }
     bytes_.push_back(static_cast<char>(value));
   }
+  void PutSigned(int64_t value) {
+    PutVarint(static_cast<uint32_t>(value < 0 ? ((-(value + 1)) << 1) | 1 : value << 1));
+  }
   void PutBytes(const std::string& text) { bytes_ += text; }
   std::string& bytes() { return bytes_; }
 
@@ -65,9 +68,17 @@ class ByteReader {
       const uint8_t byte = Get<uint8_t>(field);
       if (i == 4 && byte > 0x0f) Fail(std::string(field) + ": varint larger than 32 bits");
       value |= static_cast<uint32_t>(byte & 0x7f) << (7 * i);
-      if (!(byte & 0x80)) return value;
+      if (!(byte & 0x80)) {
+        // One encoding per number, so that a decoded archive encodes back to its bytes.
+        if (i > 0 && byte == 0) Fail(std::string(field) + ": varint not in its shortest form");
+        return value;
+      }
     }
     Fail(std::string(field) + ": varint longer than 5 bytes");
+  }
+  int64_t GetSigned(const char* field) {
+    const uint32_t raw = GetVarint(field);
+    return (raw & 1) ? -static_cast<int64_t>(raw >> 1) - 1 : static_cast<int64_t>(raw >> 1);
   }
   std::string GetBytes(size_t count, const char* field) {
     Need(count, 1, field);
@@ -88,6 +99,29 @@ class ByteReader {
   const std::string& source_;
   size_t offset_ = 0;
 };
+
+// The time factors along t: the first value, the first difference, then second differences.
+void PutTimeColumn(ByteWriter& out, const std::vector<int32_t>& time, size_t frames, size_t k, size_t k_count) {
+  for (size_t t = 0; t < frames; ++t) {
+    const int64_t now = time[t * k_count + k];
+    const int64_t before = t >= 1 ? time[(t - 1) * k_count + k] : 0;
+    const int64_t earlier = t >= 2 ? time[(t - 2) * k_count + k] : 0;
+    out.PutSigned(t == 0 ? now : t == 1 ? now - before : now - 2 * before + earlier);
+  }
+}
+
+void GetTimeColumn(ByteReader& in, std::vector<int32_t>* time, size_t frames, size_t k, size_t k_count) {
+  int64_t before = 0, earlier = 0;
+  for (size_t t = 0; t < frames; ++t) {
+    const int64_t delta = in.GetSigned("time");
+    const int64_t now = t == 0 ? delta : t == 1 ? before + delta : 2 * before - earlier + delta;
+    if (now > kMaxArchiveInteger || now < -kMaxArchiveInteger)
+      in.Fail("time: value " + std::to_string(now) + " is outside +-(2^29 - 1)");
+    (*time)[t * k_count + k] = static_cast<int32_t>(now);
+    earlier = before;
+    before = now;
+  }
+}
 
 bool Contiguous(const std::vector<uint64_t>& frame_numbers) {
   for (size_t i = 1; i < frame_numbers.size(); ++i)
@@ -140,10 +174,14 @@ std::string EncodeArchive(const CompressedTrajectories& compressed) {
     out.Put<uint8_t>(static_cast<uint8_t>(block.components));
     for (float v : block.mean) out.Put<float>(v);
     if (block.components == 0) continue;
-    for (float v : block.time_scale) out.Put<float>(v);
-    for (int16_t v : block.time_basis) out.Put<int16_t>(v);
-    for (float v : block.channel_scale) out.Put<float>(v);
-    for (int16_t v : block.channel_weights) out.Put<int16_t>(v);
+    const size_t k_count = static_cast<size_t>(block.components);
+    out.Put<float>(block.time_step);
+    for (size_t k = 0; k < k_count; ++k) PutTimeColumn(out, block.time, block.time.size() / k_count, k, k_count);
+    const size_t channels = block.mean.size();
+    for (size_t k = 0; k < k_count; ++k) {
+      out.Put<float>(block.weight_steps[k]);
+      for (size_t c = 0; c < channels; ++c) out.PutSigned(block.weights[c * k_count + k]);
+    }
   }
   return std::move(out.bytes());
 }
@@ -186,6 +224,8 @@ CompressedTrajectories DecodeArchive(const std::string& bytes, const std::string
     if (out.frame_numbers.back() > UINT64_MAX - step) in.Fail("frame numbers: past 2^64");
     out.frame_numbers.push_back(out.frame_numbers.back() + step);
   }
+  if (numbering == 1 && frames > 1 && out.frame_numbers.back() - out.frame_numbers.front() == frames - 1)
+    in.Fail("numbering: 1 (listed) for contiguous frame numbers, which are written as 0");
   in.Need(markers, 2, "names");
   for (uint32_t i = 0; i < markers; ++i) {
     const uint8_t length = in.Get<uint8_t>("name length");
@@ -240,12 +280,24 @@ CompressedTrajectories DecodeArchive(const std::string& bytes, const std::string
       in.GetArray(&block.mean, channels, "mean");
       CheckFinite(in, block.mean, "mean");
       if (k > 0) {
-        in.GetArray(&block.time_scale, k, "time scale");
-        CheckFinite(in, block.time_scale, "time scale");
-        in.GetArray(&block.time_basis, window_frames * k, "time basis");
-        in.GetArray(&block.channel_scale, k, "channel scale");
-        CheckFinite(in, block.channel_scale, "channel scale");
-        in.GetArray(&block.channel_weights, channels * k, "channel weights");
+        block.time_step = in.Get<float>("time step");
+        if (!(block.time_step > 0.0f && std::isfinite(block.time_step))) in.Fail("time step: not a finite number > 0");
+        in.Need(window_frames * k, 1, "time");  // a varint is at least a byte
+        block.time.resize(window_frames * k);
+        for (size_t q = 0; q < k; ++q) GetTimeColumn(in, &block.time, window_frames, q, k);
+        in.Need(k, 4 + channels, "weights");
+        block.weights.resize(channels * k);
+        for (size_t q = 0; q < k; ++q) {
+          block.weight_steps.push_back(in.Get<float>("weight step"));
+          if (!(block.weight_steps.back() > 0.0f && std::isfinite(block.weight_steps.back())))
+            in.Fail("weight step: not a finite number > 0");
+          for (size_t c = 0; c < channels; ++c) {
+            const int64_t w = in.GetSigned("weights");
+            if (w > kMaxArchiveInteger || w < -kMaxArchiveInteger)
+              in.Fail("weights: value " + std::to_string(w) + " is outside +-(2^29 - 1)");
+            block.weights[c * k + q] = static_cast<int32_t>(w);
+          }
+        }
       }
       out.blocks.push_back(std::move(block));
     }

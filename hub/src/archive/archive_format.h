@@ -15,10 +15,14 @@
 //            and missing, present first, summing to frames
 //   blocks   window-major (all groups of window 0, then window 1, ...), per block:
 //            u8 K (components, <= min(window frames, 3 x group size, 255)),
-//            f32 mean[3 x size], then when K > 0: f32 time_scale[K], i16 time_basis[frames x K],
-//            f32 channel_scale[K], i16 channel_weights[3 x size x K]
+//            f32 mean[3 x size], then when K > 0:
+//              f32 time_step (> 0); per component k: the window's frames of time[t][k] as
+//                zigzag varints of t = 0's value, t = 1's first difference and then second
+//                differences;
+//              per component k: f32 weight_step (> 0), then 3 x size zigzag varints weights[c][k]
+//            every integer within +-(2^29 - 1) once summed back
 //   nothing after the last block.
-// Varints are unsigned LEB128 of at most 5 bytes. Window-major blocks let a reader decode the
+// Varints are unsigned LEB128 of at most 5 bytes; zigzag maps 0, -1, 1, -2 ... to 0, 1, 2, 3 ... Window-major blocks let a reader decode the
 // start of a long take without the rest.
 // Errors: std::runtime_error "<source>: <reason>" (the io layer's rule), reason naming the field.
 #pragma once

@@ -37,10 +37,10 @@ void ExpectSame(const CompressedTrajectories& a, const CompressedTrajectories& b
   for (size_t i = 0; i < a.blocks.size(); ++i) {
     EXPECT_EQ(a.blocks[i].components, b.blocks[i].components);
     EXPECT_EQ(a.blocks[i].mean, b.blocks[i].mean);
-    EXPECT_EQ(a.blocks[i].time_scale, b.blocks[i].time_scale);
-    EXPECT_EQ(a.blocks[i].time_basis, b.blocks[i].time_basis);
-    EXPECT_EQ(a.blocks[i].channel_scale, b.blocks[i].channel_scale);
-    EXPECT_EQ(a.blocks[i].channel_weights, b.blocks[i].channel_weights);
+    EXPECT_EQ(a.blocks[i].time_step, b.blocks[i].time_step);
+    EXPECT_EQ(a.blocks[i].time, b.blocks[i].time);
+    EXPECT_EQ(a.blocks[i].weight_steps, b.blocks[i].weight_steps);
+    EXPECT_EQ(a.blocks[i].weights, b.blocks[i].weights);
   }
 }
 

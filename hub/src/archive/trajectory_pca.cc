@@ -56,34 +56,42 @@ WindowData GatherWindow(const MarkerTrajectories& trajectories, const std::vecto
   return data;
 }
 
-// Quantises a column to int16 with one scale (max |value| / 32767); returns the scale.
-float QuantiseColumn(const Eigen::VectorXd& column, int16_t* out, size_t stride) {
-  const double peak = column.cwiseAbs().maxCoeff();
-  const float scale = peak > 0.0 ? static_cast<float>(peak / 32767.0) : 0.0f;
-  for (Eigen::Index i = 0; i < column.size(); ++i) {
-    const double q = scale > 0.0f ? std::round(column[i] / static_cast<double>(scale)) : 0.0;
-    out[static_cast<size_t>(i) * stride] = static_cast<int16_t>(std::clamp(q, -32767.0, 32767.0));
-  }
-  return scale;
+int32_t Quantise(double value, double step) {
+  return static_cast<int32_t>(std::clamp(std::round(value / step), -double{kMaxArchiveInteger}, double{kMaxArchiveInteger}));
 }
 
-PcaBlock MakeBlock(const Eigen::BDCSVD<MatrixXd>& svd, const Eigen::RowVectorXd& mean, int components) {
+// K components quantised so that they add about `quantisation_mm` RMS 3D error per point, half
+// from each factor. With orthonormal weights, a step d on every time value adds K d^2 / 12 per
+// frame over the group's m markers; a step e_k on component k's weights adds
+// sigma_k^2 3 e_k^2 / (12 T) per marker. Equal shares per component give the steps below.
+PcaBlock MakeBlock(const Eigen::BDCSVD<MatrixXd>& svd, const Eigen::RowVectorXd& mean, int components,
+                   double quantisation_mm) {
   const MatrixXd& u = svd.matrixU();
   const MatrixXd& v = svd.matrixV();
   const size_t frames = static_cast<size_t>(u.rows());
   const size_t channels = static_cast<size_t>(v.rows());
   const size_t k_count = static_cast<size_t>(components);
+  const double markers = static_cast<double>(channels) / 3.0;
   PcaBlock block;
   block.components = components;
   block.mean.resize(channels);
   for (size_t c = 0; c < channels; ++c) block.mean[c] = static_cast<float>(mean[static_cast<Eigen::Index>(c)]);
-  block.time_basis.resize(frames * k_count);
-  block.channel_weights.resize(channels * k_count);
+  if (k_count == 0) return block;
+  const double share = 0.5 * quantisation_mm * quantisation_mm;
+  block.time_step = static_cast<float>(std::sqrt(12.0 * markers * share / static_cast<double>(k_count)));
+  block.time.resize(frames * k_count);
+  block.weights.resize(channels * k_count);
   for (size_t k = 0; k < k_count; ++k) {
     const Eigen::Index kk = static_cast<Eigen::Index>(k);
-    const Eigen::VectorXd time = u.col(kk) * svd.singularValues()[kk];
-    block.time_scale.push_back(QuantiseColumn(time, block.time_basis.data() + k, k_count));
-    block.channel_scale.push_back(QuantiseColumn(v.col(kk), block.channel_weights.data() + k, k_count));
+    const double sigma = std::max(svd.singularValues()[kk], 1e-9);
+    for (size_t t = 0; t < frames; ++t)
+      block.time[t * k_count + k] = Quantise(u(static_cast<Eigen::Index>(t), kk) * sigma, block.time_step);
+    // At least 2^-24: a weight is at most 1, so its integer stays within kMaxArchiveInteger.
+    const double step = std::max(std::sqrt(4.0 * static_cast<double>(frames) * share / static_cast<double>(k_count)) / sigma,
+                                 1.0 / (1 << 24));
+    block.weight_steps.push_back(static_cast<float>(step));
+    for (size_t c = 0; c < channels; ++c)
+      block.weights[c * k_count + k] = Quantise(v(static_cast<Eigen::Index>(c), kk), static_cast<double>(block.weight_steps.back()));
   }
   return block;
 }
@@ -97,10 +105,10 @@ MatrixXd ExpandBlock(const PcaBlock& block, size_t frames) {
   for (size_t k = 0; k < k_count; ++k) {
     for (size_t t = 0; t < frames; ++t)
       time(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(k)) =
-          static_cast<double>(block.time_scale[k]) * block.time_basis[t * k_count + k];
+          static_cast<double>(block.time_step) * block.time[t * k_count + k];
     for (size_t c = 0; c < channels; ++c)
       weights(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(c)) =
-          static_cast<double>(block.channel_scale[k]) * block.channel_weights[c * k_count + k];
+          static_cast<double>(block.weight_steps[k]) * block.weights[c * k_count + k];
   }
   MatrixXd values = time * weights;
   for (size_t c = 0; c < channels; ++c) values.col(static_cast<Eigen::Index>(c)).array() += static_cast<double>(block.mean[c]);
@@ -138,15 +146,25 @@ PcaBlock CompressWindow(const WindowData& data, const TrajectoryPcaOptions& opti
   const int rank = static_cast<int>(std::min<Eigen::Index>(svd.singularValues().size(),
                                                             static_cast<Eigen::Index>(kMaxArchiveComponents)));
   if (options.components > 0 || data.present_count == 0)
-    return MakeBlock(svd, mean, data.present_count == 0 ? 0 : std::min(options.components, rank));
+    return MakeBlock(svd, mean, data.present_count == 0 ? 0 : std::min(options.components, rank),
+                     options.quantisation_mm);
   // The smallest K within the bound, measured after quantisation; the error falls with K (a binary
-  // search over it), and K = rank reproduces the window up to quantisation.
+  // search over it), and K = rank reproduces the window up to quantisation. The quantisation takes
+  // what the truncation leaves of the budget (the truncation's share estimated from the singular
+  // values over every sample, filled ones too), at least a tenth of it.
   const double bound = options.max_error_mm * options.max_error_mm * static_cast<double>(data.present_count);
+  const double points = static_cast<double>(frames) * static_cast<double>(m);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  const auto quantisation_for = [&](int k) {
+    const double truncation = sigma.tail(sigma.size() - k).squaredNorm() / points;
+    const double budget = options.max_error_mm * options.max_error_mm;
+    return std::sqrt(std::max(0.8 * (budget - truncation), 0.1 * budget));
+  };
   int lo = 0, hi = rank;
-  PcaBlock best = MakeBlock(svd, mean, hi);
+  PcaBlock best = MakeBlock(svd, mean, hi, quantisation_for(hi));
   while (lo < hi) {
     const int mid = (lo + hi) / 2;
-    PcaBlock candidate = MakeBlock(svd, mean, mid);
+    PcaBlock candidate = MakeBlock(svd, mean, mid, quantisation_for(mid));
     if (SquaredError(data, ExpandBlock(candidate, static_cast<size_t>(frames))) <= bound) {
       hi = mid;
       best = std::move(candidate);
@@ -185,6 +203,8 @@ void TrajectoryPcaOptions::Check() const {
                                 std::to_string(kMaxArchiveComponents) + " (0: chosen by max_error_mm)");
   if (components == 0 && !(max_error_mm > 0.0 && std::isfinite(max_error_mm)))
     throw std::invalid_argument("max_error_mm: " + std::to_string(max_error_mm) + " must be a finite number > 0");
+  if (!(quantisation_mm >= 1e-4 && quantisation_mm <= 1e3))
+    throw std::invalid_argument("quantisation_mm: " + std::to_string(quantisation_mm) + " is outside 0.0001..1000");
 }
 
 CompressedTrajectories CompressTrajectories(const MarkerTrajectories& trajectories,

@@ -1,9 +1,12 @@
 // PCA compression of marker trajectories (seed 003, chapter 6, turned to marker data): the
 // recording is cut into windows of a few seconds; within a window each group of markers (the whole
 // body, or one segment) is a matrix of frames x coordinates, centred on each coordinate's mean and
-// reduced to its K leading singular components (Eigen's BDCSVD); both factors are quantised to
-// 16 bits with one scale per component. K is the user's (components) or the smallest that keeps
-// the window's RMS 3D error, measured after quantisation, within max_error_mm. Gaps stay gaps:
+// reduced to its K leading singular components (Eigen's BDCSVD); both factors are quantised with
+// steps sized from the error budget left after the truncation (each component's weights with a
+// step inverse to its singular value, so that every component adds the same error), which keeps
+// the integers small: the file stores them as varints, the time factors as second differences
+// (smooth motion makes them a byte or less). K is the user's (components) or the smallest that
+// keeps the window's RMS 3D error, measured after quantisation, within max_error_mm. Gaps stay gaps:
 // they are filled by linear interpolation for the decomposition only and kept as a per-marker run
 // list, so the decoder puts NaN back exactly where the input had none.
 // Errors: std::invalid_argument from Check() (the hub's options policy) and for inputs that
@@ -29,25 +32,31 @@ constexpr uint64_t kMaxArchivePoints = uint64_t{1} << 28;
 
 struct TrajectoryPcaOptions {
   // Frames per window (1..kMaxArchiveWindowFrames).
-  int window_frames = 240;
+  int window_frames = 120;
   // Fixed number of components per window and group (1..255, at most the window's rank); 0: chosen
   // by max_error_mm.
   int components = 0;
   // RMS 3D error bound per window and group, mm (> 0), when components is 0.
   double max_error_mm = 0.5;
+  // RMS 3D error the quantisation may add with a fixed number of components, mm (> 0).
+  double quantisation_mm = 0.05;
 
   void Check() const;
 };
 
-// One group's window: x[t][c] = mean[c] + sum_k time_scale[k] * time_basis[t * K + k] *
-// channel_scale[k] * channel_weights[c * K + k], c = 3 * (marker in group) + axis.
+// Integers of the quantised factors are at most this in magnitude (they travel as 32-bit
+// zigzag varints, the time factors' second differences too).
+constexpr int32_t kMaxArchiveInteger = (int32_t{1} << 29) - 1;
+
+// One group's window: x[t][c] = mean[c] + sum_k time_step * time[t * K + k] *
+// weight_steps[k] * weights[c * K + k], c = 3 * (marker in group) + axis.
 struct PcaBlock {
   int components = 0;
-  std::vector<float> mean;              // 3 * group size
-  std::vector<float> time_scale;        // K
-  std::vector<int16_t> time_basis;      // frames in window x K, row-major
-  std::vector<float> channel_scale;     // K
-  std::vector<int16_t> channel_weights; // 3 * group size x K, row-major
+  std::vector<float> mean;           // 3 * group size
+  float time_step = 0.0f;            // > 0 when K > 0
+  std::vector<int32_t> time;         // frames in window x K, row-major
+  std::vector<float> weight_steps;   // K, each > 0
+  std::vector<int32_t> weights;      // 3 * group size x K, row-major
 };
 
 struct CompressedTrajectories {

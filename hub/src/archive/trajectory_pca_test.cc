@@ -71,7 +71,7 @@ TEST(TrajectoryPca, FixedComponentsAreKeptAndErrorFallsWithThem) {
     const CompressedTrajectories compressed = CompressTrajectories(motion, {}, options);
     for (const PcaBlock& block : compressed.blocks) {
       EXPECT_EQ(block.components, k);
-      EXPECT_EQ(block.channel_weights.size(), 3 * motion.NumMarkers() * static_cast<size_t>(k));
+      EXPECT_EQ(block.weights.size(), 3 * motion.NumMarkers() * static_cast<size_t>(k));
     }
     const double error = TrajectoryRmsError(motion, DecompressTrajectories(compressed));
     EXPECT_LT(error, previous) << k;
