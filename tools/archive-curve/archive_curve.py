@@ -17,8 +17,8 @@ import subprocess
 import sys
 import tempfile
 
-BOUNDS_MM = [2.0, 1.0, 0.5, 0.25, 0.1, 0.05]
-COMPONENTS = [4, 8, 16]
+BOUNDS_MM = [1.0, 0.5, 0.25, 0.1]
+COMPONENTS = [8, 16]
 
 
 def run_json(command):
