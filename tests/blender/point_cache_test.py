@@ -71,7 +71,7 @@ def main():
 
     # Independent reading of the headers.
     with open(caches["pc2"], "rb") as f:
-        magic, version, points, start, sampling, samples = struct.unpack("<12si2ffi", f.read(32))
+        magic, version, points, start, sampling, samples = struct.unpack("<12siiffi", f.read(32))
         assert magic == b"POINTCACHE2\0" and version == 1, (magic, version)
         assert (points, samples) == (len(vertices), FRAMES), (points, samples)
         assert os.path.getsize(caches["pc2"]) == 32 + 12 * points * samples

@@ -71,16 +71,16 @@ TEST(RegisterCli, KabschByNameAndIcpOntoAnObj) {
   const HubRun icp = RunHub(work, "register m.trc cloud.obj --json -o moved.trc");
   ASSERT_EQ(icp.status, 0) << icp.err;
   const nlohmann::json result = nlohmann::json::parse(icp.out);
-  EXPECT_LT(result["rms_mm"].get<double>(), 1e-3);
+  EXPECT_LT(result["rms_mm"].get<double>(), 0.01);  // the OBJ holds 6 significant digits
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(result["rotation"][r][c].get<double>(), turn(r, c), 1e-6);
   const MarkerTrajectories moved = ReadTrc(work + "/moved.trc");
   ASSERT_EQ(moved.NumFrames(), 1u);
-  EXPECT_LT((moved.At(0, 3) - (turn * motion.At(0, 3) + shift)).norm(), 1e-3);
+  EXPECT_LT((moved.At(0, 3) - (turn * motion.At(0, 3) + shift)).norm(), 0.01);
   // Non-rigid on top: the RBF keeps an exact fit exact.
   const HubRun rbf = RunHub(work, "register m.trc cloud.obj --rbf thin-plate --json");
   ASSERT_EQ(rbf.status, 0) << rbf.err;
-  EXPECT_LT(nlohmann::json::parse(rbf.out)["rms_mm"].get<double>(), 1e-3);
+  EXPECT_LT(nlohmann::json::parse(rbf.out)["rms_mm"].get<double>(), 0.01);
   EXPECT_EQ(RunHub(work, "register m.trc cloud.obj --rbf cubic").status, 2);
 }
 
