@@ -24,6 +24,10 @@ HOST_PACKAGES=(
     libcivetweb-dev libjs-three
     # OSC streaming (liblo)
     liblo-dev
+    # registration (hub/src/registration): the k-d tree of rigid ICP
+    libnanoflann-dev
+    # the point-cache test imports mesh driving's .mdd/.pc2 into Blender itself, headless
+    blender
     # the web console's browser test (tests/web): headless Chromium and its WebDriver
     chromium chromium-driver
     # node hardware backends
