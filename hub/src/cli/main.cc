@@ -27,6 +27,7 @@ const AddCommand kCommands[] = {
     mocap::AddConvertCommand,
     mocap::AddBodyCommands,
     mocap::AddLabelsCommands,
+    mocap::AddSkeletonCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,
@@ -50,6 +51,7 @@ const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
     {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
+    {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT and seed-format imports"},
 };
 
