@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -348,7 +349,16 @@ SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const Mar
                                marker_offsets[m].data());
     }
     ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    // No marker residual holds two frames' poses: they are eliminated frame by frame (Schur), leaving
+    // a small dense system in the offsets.
+    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (auto& pose : poses) ordering->AddElementToGroup(pose.data(), 0);
+    for (size_t g = 1; g < n_seg; ++g)
+      if (problem.HasParameterBlock(offsets[g].data())) ordering->AddElementToGroup(offsets[g].data(), 1);
+    for (auto& m : marker_offsets)
+      if (problem.HasParameterBlock(m.data())) ordering->AddElementToGroup(m.data(), 1);
+    solver_options.linear_solver_ordering = ordering;
     solver_options.max_num_iterations = 100;
     solver_options.num_threads = 1;
     solver_options.logging_type = ceres::SILENT;
