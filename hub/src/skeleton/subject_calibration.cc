@@ -235,8 +235,12 @@ SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const Mar
   for (size_t g = 0; g < n_seg; ++g)
     if (skeleton.segments[g].bone) bone_dirs[g] = skeleton.segments[g].offset.normalized();
 
-  std::vector<bool> held(n_seg, false);
-  for (int round = 0; round < 2; ++round) {
+  // Round 0 holds every joint centre at the scaled template's and fits the marker offsets only:
+  // tracking with the raw template is too rough to tell a still joint from a moving one (it
+  // showed 10-17 deg of spurious turning at standing legs). Round 1 tracks with that skeleton
+  // and measures each joint's range; rounds 1 and 2 free the centres of the joints that turned.
+  std::vector<bool> held(n_seg, true);
+  for (int round = 0; round < 3; ++round) {
     const auto tracked = TrackWindow(skeleton, markers, columns, window);
     if (tracked.size() < 5)
       throw std::invalid_argument("trial: only " + std::to_string(tracked.size()) +
@@ -248,7 +252,7 @@ SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const Mar
     pick.erase(std::unique(pick.begin(), pick.end()), pick.end());
 
     // Each joint's range over the picked frames decides whether the trial finds its centre.
-    if (round == 0) {
+    if (round == 1) {
       std::vector<SkeletonPoseState> states(pick.size());
       for (size_t i = 0; i < pick.size(); ++i)
         ForwardKinematics(skeleton, tracked[pick[i]].second.data(), nullptr, &states[i]);

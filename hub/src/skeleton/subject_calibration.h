@@ -5,7 +5,9 @@
 // other joints' 3-D offsets) and each marker's offset on its segment.
 // Steps: the template scaled to the subject's height; each frame of the window solved with it
 // (warm-started); then one Ceres problem over up to `max_frames` frames: poses, joint offsets and
-// marker offsets together (Huber loss on markers); the two repeated once with the new skeleton.
+// marker offsets together (Huber loss on markers), first with every joint centre held at the
+// template's; the window tracked again with that skeleton measures each joint's range; twice
+// more the track and the fit with the centres of the joints that turned set free.
 // Gauge: a segment whose frame neither a bone nor a hinge fixes (template "reference_zero":
 // pelvis, trunk, head, feet, hands) takes its angles as zero in the window's first frame: the
 // subject stands upright there (the pelvis only its tilt and roll; its heading is free).
@@ -27,7 +29,7 @@ struct SubjectCalibrationOptions {
   double start_s = 0.0;      // window start, seconds from the trial's first frame
   double duration_s = 2.0;   // window length
   int max_frames = 60;       // frames of the window used in the joint fit (evenly spread)
-  double min_joint_range_deg = 10.0;
+  double min_joint_range_deg = 15.0;
   bool keep_template_centres = false;
   void Check() const;
 };
