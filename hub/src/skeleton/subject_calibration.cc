@@ -25,9 +25,9 @@ constexpr double kLossScaleMm = 10.0;
 // the marker's chain below the root (a bone's length or a 3-D offset), the marker's offset.
 class MarkerCalibrationCost : public ceres::CostFunction {
  public:
-  MarkerCalibrationCost(const Skeleton* skeleton, const std::vector<Eigen::Vector3d>* bone_dirs, int marker,
+  MarkerCalibrationCost(const Skeleton* skeleton, const std::vector<Eigen::Vector3d>* bone_dirs,
                         std::vector<int> chain, std::vector<int> chain_dofs, const Eigen::Vector3d& observed)
-      : skeleton_(skeleton), bone_dirs_(bone_dirs), marker_(marker), chain_(std::move(chain)),
+      : skeleton_(skeleton), bone_dirs_(bone_dirs), chain_(std::move(chain)),
         chain_dofs_(std::move(chain_dofs)), observed_(observed) {
     set_num_residuals(3);
     mutable_parameter_block_sizes()->push_back(static_cast<int>(skeleton->NumPoseParameters()));
@@ -85,7 +85,6 @@ class MarkerCalibrationCost : public ceres::CostFunction {
  private:
   const Skeleton* skeleton_;
   const std::vector<Eigen::Vector3d>* bone_dirs_;
-  int marker_;
   std::vector<int> chain_, chain_dofs_;
   Eigen::Vector3d observed_;
 };
@@ -315,7 +314,7 @@ SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const Mar
           if (g != 0) blocks.push_back(offsets[g].data());
         }
         blocks.push_back(marker_offsets[m].data());
-        problem.AddResidualBlock(new MarkerCalibrationCost(&skeleton, &bone_dirs, static_cast<int>(m), chains[s],
+        problem.AddResidualBlock(new MarkerCalibrationCost(&skeleton, &bone_dirs, chains[s],
                                                            chain_dofs, markers.At(f, columns[m])),
                                  loss, blocks);
       }
