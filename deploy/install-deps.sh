@@ -30,6 +30,8 @@ HOST_PACKAGES=(
     blender
     # the web console's browser test (tests/web): headless Chromium and its WebDriver
     chromium chromium-driver
+    # the skeleton test's other side for BVH (tests/skeleton): Blender's own importer, headless
+    blender
     # node hardware backends
     libgpiod-dev libcamera-dev libsystemd-dev
     # the authenticated wire between hub and nodes (HMAC-SHA-512/256, keys from its CSPRNG)

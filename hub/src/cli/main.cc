@@ -30,6 +30,7 @@ const AddCommand kCommands[] = {
     mocap::AddMeshDriveCommand,
     mocap::AddBodyCommands,
     mocap::AddLabelsCommands,
+    mocap::AddSkeletonCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,
@@ -54,6 +55,7 @@ const GroupEntry kGroups[] = {
     {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
     {"mesh", "Meshes driven by markers: bind an OBJ to a static frame, export the motion as a point cache"},
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
+    {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT and seed-format imports"},
 };
 
