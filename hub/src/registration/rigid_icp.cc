@@ -30,7 +30,7 @@ struct NearestPoints::Index {
   Tree tree;
 };
 
-NearestPoints::NearestPoints(const std::vector<Eigen::Vector3d>& points) : points_(points), index_(new Index(points)) {}
+NearestPoints::NearestPoints(const std::vector<Eigen::Vector3d>& points) : index_(new Index(points)) {}
 
 NearestPoints::~NearestPoints() { delete index_; }
 

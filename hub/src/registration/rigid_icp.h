@@ -50,7 +50,6 @@ class NearestPoints {
 
  private:
   struct Index;
-  const std::vector<Eigen::Vector3d>& points_;
   Index* index_;
 };
 
