@@ -258,9 +258,10 @@ def websocket_upgrade(port, path, timeout=10.0, headers=None):
     return s
 
 
-def websocket_messages(port, path, count, timeout=10.0, headers=None):
+def websocket_messages(port, path, count, timeout=10.0, headers=None, on_message=None):
     """The first `count` data messages of a WebSocket (RFC 6455 client, no extensions): text
-    messages parsed as JSON, binary ones as bytes."""
+    messages parsed as JSON, binary ones as bytes. With on_message, each is handed to it as it
+    arrives instead of being kept."""
     s = websocket_upgrade(port, path, timeout, headers)
     buf = b""
     while b"\r\n\r\n" not in buf:
@@ -288,10 +289,14 @@ def websocket_messages(port, path, count, timeout=10.0, headers=None):
         elif n == 127:
             n = struct.unpack(">Q", take(8))[0]
         payload = take(n)
-        if b0 & 15 == 1:
-            messages.append(json.loads(payload))
-        elif b0 & 15 == 2:
-            messages.append(payload)
+        if b0 & 15 not in (1, 2):
+            continue
+        message = json.loads(payload) if b0 & 15 == 1 else payload
+        if on_message:
+            on_message(message)
+            count -= 1
+        else:
+            messages.append(message)
     s.close()
     return messages
 

@@ -58,6 +58,8 @@ std::string FailureReason(const SessionWriter& writer) {
   return writer.failure();
 }
 
+const std::string kUnnamed;
+
 }  // namespace
 
 std::string CaptureDiskOptions::Check() const {
@@ -333,8 +335,9 @@ void Captures::AddPublished(const LiveFrame& frame) {
   for (const LivePoint& p : frame.points) {
     const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
                                          : static_cast<long long>(p.marker);
+    const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;
     live_ << LivePointLine(frame.frame_number, p.position.x(), p.position.y(), p.position.z(), id, p.provisional(),
-                           p.views, p.rms_px);
+                           p.views, p.rms_px, name);
   }
 }
 
