@@ -7,6 +7,10 @@ export const traffic = { httpBytes: 0, wsBytes: 0, requests: 0 };
 
 let unauthorized = () => {};
 export function onUnauthorized(handler) { unauthorized = handler; }
+// Logins so far: a 401 to a request sent before the latest login is stale (the cookie was not
+// set yet when it left) and must not bring the form back.
+let logins = 0;
+function refused(sentAfterLogins) { if (sentAfterLogins === logins) unauthorized(); }
 
 export class ApiError extends Error {
   constructor(status, message) {
@@ -15,7 +19,7 @@ export class ApiError extends Error {
   }
 }
 
-async function answer(response) {
+async function answer(response, sentAfterLogins) {
   const text = await response.text();
   traffic.httpBytes += text.length;
   traffic.requests += 1;
@@ -25,12 +29,13 @@ async function answer(response) {
   } catch (e) {
     throw new ApiError(response.status, `not JSON: ${text.slice(0, 80)}`);
   }
-  if (response.status === 401) unauthorized();
+  if (response.status === 401) refused(sentAfterLogins);
   if (!response.ok) throw new ApiError(response.status, (body && body.error) || response.statusText);
   return body;
 }
 
 async function send(method, path, body) {
+  const sentAfterLogins = logins;
   let response;
   try {
     response = await fetch(path, {
@@ -42,22 +47,27 @@ async function send(method, path, body) {
   } catch (e) {
     throw new ApiError(0, 'the hub does not answer');
   }
-  return answer(response);
+  return answer(response, sentAfterLogins);
 }
 
 export const getJson = (path) => send('GET', path);
 export const postJson = (path, body) => send('POST', path, body === undefined ? {} : body);
 export const deleteJson = (path) => send('DELETE', path);
-export const login = (token) => send('POST', '/api/login', { token });
+export async function login(token) {
+  const who = await send('POST', '/api/login', { token });
+  logins += 1;
+  return who;
+}
 export const logout = () => send('POST', '/api/logout', {});
 
 // A file's text (session files for playback).
 export async function getText(path) {
+  const sentAfterLogins = logins;
   const response = await fetch(path, { cache: 'no-store' });
   const text = await response.text();
   traffic.httpBytes += text.length;
   traffic.requests += 1;
-  if (response.status === 401) unauthorized();
+  if (response.status === 401) refused(sentAfterLogins);
   if (!response.ok) {
     let reason = response.statusText;
     try { reason = JSON.parse(text).error || reason; } catch (e) { /* not JSON: keep the status text */ }
@@ -68,11 +78,12 @@ export async function getText(path) {
 
 // A PNG (node previews) as an image bitmap.
 export async function getImage(path) {
+  const sentAfterLogins = logins;
   const response = await fetch(path, { cache: 'no-store' });
   const blob = await response.blob();
   traffic.httpBytes += blob.size;
   traffic.requests += 1;
-  if (response.status === 401) unauthorized();
+  if (response.status === 401) refused(sentAfterLogins);
   if (!response.ok) {
     let reason = response.statusText;
     try { reason = JSON.parse(await blob.text()).error || reason; } catch (e) { /* keep the status */ }
