@@ -49,12 +49,30 @@ void InitSodium() {
 }
 
 // Mode 0600, temporary file + fsync + rename: a reader sees the old file or the new one.
+// Whose a file written by root becomes: the owner of the file it replaces, else of the directory
+// it goes into. So `sudo mocap-hub tokens new` leaves the installed service's store its user's
+// (serve could not read a store root took over) and a holder's file in a home its holder's.
+bool OwnerFor(const std::string& path, uid_t* uid, gid_t* gid) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    const size_t slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+    if (::stat(dir.c_str(), &st) != 0) return false;
+  }
+  *uid = st.st_uid;
+  *gid = st.st_gid;
+  return true;
+}
+
 void WritePrivateFile(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
+  uid_t uid = 0;
+  gid_t gid = 0;
+  const bool chown_it = ::geteuid() == 0 && OwnerFor(path, &uid, &gid) && uid != 0;
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOFOLLOW, 0600);
   if (fd < 0) throw std::runtime_error(tmp + ": cannot create: " + std::strerror(errno));
-  bool ok = ::fchmod(fd, 0600) == 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) &&
-            ::fsync(fd) == 0;
+  bool ok = ::fchmod(fd, 0600) == 0 && (!chown_it || ::fchown(fd, uid, gid) == 0) &&
+            ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size()) && ::fsync(fd) == 0;
   const int error = errno;
   ok = ::close(fd) == 0 && ok;
   if (!ok || ::rename(tmp.c_str(), path.c_str()) != 0) {

@@ -3,6 +3,7 @@
 #include "api/api_tokens.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -81,6 +82,33 @@ TEST(ApiTokens, OpenFilesAndBadStoresAreRefusedNamingThem) {
   }
   EXPECT_TRUE(ReadTokenStore(temp.File("absent")).empty());
   EXPECT_THROW(IssueToken(temp.File("s"), "../x", ApiRole::kViewer, temp.File("x")), std::invalid_argument);
+}
+
+// `sudo mocap-hub tokens new` on an installed hub: the store stays the service user's (serve runs
+// as that user and must still read it) and the holder's file becomes its directory owner's.
+TEST(ApiTokens, RootKeepsTheStoreItsOwnersAndGivesTheHolderTheirFile) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root (chown)";
+  const testing::TemporaryDirectory temp("api_tokens_owner");
+  const std::string service = temp.File("api-auth"), home = temp.File("home");
+  ASSERT_EQ(::mkdir(service.c_str(), 0700), 0);
+  ASSERT_EQ(::mkdir(home.c_str(), 0700), 0);
+  ASSERT_EQ(::chown(service.c_str(), 4242, 4243), 0);
+  ASSERT_EQ(::chown(home.c_str(), 4244, 4245), 0);
+  const std::string store = service + "/tokens";
+  IssueToken(store, "local", ApiRole::kOperator, service + "/operator.token");
+  IssueToken(store, "alice", ApiRole::kOperator, home + "/token");
+  struct stat st {};
+  ASSERT_EQ(stat(store.c_str(), &st), 0);
+  EXPECT_EQ(st.st_uid, 4242u);
+  EXPECT_EQ(st.st_gid, 4243u);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  ASSERT_EQ(stat((home + "/token").c_str(), &st), 0);
+  EXPECT_EQ(st.st_uid, 4244u);
+  EXPECT_EQ(st.st_mode & 0777, 0600u);
+  // Files root's own directories hold stay root's.
+  IssueToken(temp.File("root_store"), "bob", ApiRole::kViewer, temp.File("bob.token"));
+  ASSERT_EQ(stat(temp.File("root_store").c_str(), &st), 0);
+  EXPECT_EQ(st.st_uid, 0u);
 }
 
 }  // namespace

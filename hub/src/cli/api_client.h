@@ -2,9 +2,10 @@
 // comes from --api, else $MOCAP_HUB_API, else 127.0.0.1:7801 (serve's default). Every request
 // carries the API token (api/api_tokens.h) as "Authorization: Bearer": $MOCAP_HUB_TOKEN (the
 // token itself), else the file --token-file or $MOCAP_HUB_TOKEN_FILE names, else the first of
-// the files serve creates by default that this user can read: ./api-auth/operator.token (serve
-// run here with --sessions-dir sessions) and /var/lib/mocap-hub/api-auth/operator.token (the
-// installed service's). One command per process: the token is looked up once.
+// these files this user can read: ./api-auth/operator.token (serve run here with --sessions-dir
+// sessions), the user's own $XDG_CONFIG_HOME/mocap-hub/token (~/.config/mocap-hub/token; issued
+// by `sudo mocap-hub tokens new ... --out` it), /var/lib/mocap-hub/api-auth/operator.token (the
+// installed service's, for root). One command per process: the token is looked up once.
 #pragma once
 
 #include <string>

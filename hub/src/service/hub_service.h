@@ -126,7 +126,7 @@ class HubService : public ServiceApi {
   // Live wanding: a capture named options.session whose frame sets feed each camera's wand
   // samples and coverage until every camera has enough (or the timeout), then a solve on a
   // worker thread; Apply switches the live reconstruction to the solved calibration (and with
-  // save writes it over --calibration, the old file kept as CAL.previous).
+  // save writes it over --calibration, every replaced file kept as CAL.<UTC time>).
   nlohmann::json StartWanding(const WandingOptions& options) override;
   nlohmann::json Wanding() override;
   nlohmann::json StopWanding(bool solve) override;
