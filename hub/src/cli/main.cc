@@ -36,6 +36,8 @@ const AddCommand kCommands[] = {
     mocap::AddSimTargetImageCommand,
     mocap::AddCalibrateIntrinsicsCommand,
     mocap::AddCalibrateDltCommand,
+    mocap::AddCalibrateTsaiCommands,
+    mocap::AddCalibrateMarkerCommand,
     mocap::AddCalibrateImportTsaiCommand,
     mocap::AddCalibrateImportMcdCommand,
     mocap::AddEvalCalibrationCommand,
@@ -50,7 +52,7 @@ const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
     {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
-    {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT and seed-format imports"},
+    {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT, Tsai, merging and seed-format imports"},
 };
 
 }  // namespace

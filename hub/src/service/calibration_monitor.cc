@@ -51,15 +51,19 @@ void CalibrationMonitor::Add(const FrameSet& set, const Reconstructor& reconstru
     // window is then a copy of pointers, not of the samples.
     collector_.AddReconstructed(set, reconstructor);
     std::deque<MarkerSample>& fresh = *collector_.mutable_samples();
-    if (!fresh.empty()) {
-      window_.push_back(std::make_shared<const std::vector<MarkerSample>>(std::make_move_iterator(fresh.begin()),
-                                                                         std::make_move_iterator(fresh.end())));
-      window_samples_ += window_.back()->size();
-      fresh.clear();
+    std::deque<FrameBlobs>& blobs = *collector_.mutable_blobs();
+    if (!fresh.empty() && !blobs.empty()) {
+      auto chunk = std::make_shared<Chunk>();
+      chunk->samples.assign(std::make_move_iterator(fresh.begin()), std::make_move_iterator(fresh.end()));
+      chunk->blobs = std::move(blobs.back());
+      window_samples_ += chunk->samples.size();
+      window_.push_back(std::move(chunk));
     }
+    fresh.clear();
+    blobs.clear();
   }
-  while (!window_.empty() && window_.front()->front().frame + window_frames_ < frame) {
-    window_samples_ -= window_.front()->size();
+  while (!window_.empty() && window_.front()->blobs.frame + window_frames_ < frame) {
+    window_samples_ -= window_.front()->samples.size();
     window_.pop_front();
   }
   if (frame >= next_check_frame_ && !pending_.valid()) {
@@ -81,9 +85,14 @@ void CalibrationMonitor::StartCheck(uint64_t frame) {
     result.frame = frame;
     try {
       std::deque<MarkerSample> samples;
-      for (const auto& chunk : window) samples.insert(samples.end(), chunk->begin(), chunk->end());
+      std::deque<FrameBlobs> blobs;
+      for (const auto& chunk : window) {
+        samples.insert(samples.end(), chunk->samples.begin(), chunk->samples.end());
+        blobs.push_back(chunk->blobs);
+      }
       result.detection = DetectBumps(ComputeCameraResiduals(rig, samples), options.refinement.detection);
-      if (may_solve && result.detection.AnyMoved()) result.refinement = RefineExtrinsics(rig, samples, options.refinement);
+      if (may_solve && result.detection.AnyMoved())
+        result.refinement = RefineExtrinsics(rig, samples, blobs, options.refinement);
     } catch (const std::exception& error) {
       result.error = error.what();
     }
