@@ -73,7 +73,7 @@ fi
 # The subject here is the V4L2 backend: the node sends plain datagrams (the development wire) so
 # that mocap-vivid needs no key; the authenticated wire has its own tests (firmware/node/tests).
 mocap-node-static --source v4l2:$CAP --sync none --hub 127.0.0.1:$PORT --id 7 --threshold 100 \
-    --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
+    --brightness 75 --contrast 40 --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
     --log-level info >/tmp/node.log 2>&1 &
 node_pid=$!
 sleep 4
@@ -128,7 +128,56 @@ grep "^VIVID:" /tmp/recv.log
 grep -v "^VIVID:" /tmp/recv.log | sed "s/^/  recv| /"
 [ "$recv_rc" -eq 0 ] || failed=$((failed + 1))
 
+# Every format vivid offers that the node reads: the spots fed in that format (chroma neutral,
+# R = G = B), the node told to use it (pixel_format), its markers at the fed positions.
+NODE_FORMATS="GREY NV12 NV21 YU12 YV12 Y10 Y16 YUYV UYVY BX24 XR24 RGB3 BGR3"
+offered=$(mocap-vivid formats $CAP | tr '\n' ' ')
+tested=""
+for f in $offered; do
+    case " $NODE_FORMATS " in *" $f "*) ;; *) continue ;; esac
+    mocap-vivid feed $CAP $OUT $f >/tmp/feed-$f.log 2>&1 &
+    feed_pid=$!
+    if wait_for 10 /tmp/feed-$f.log "feed: looping"; then
+        mocap-node-static --source v4l2:$CAP --pixel-format $f --sync none --hub 127.0.0.1:$PORT \
+            --id 7 --threshold 100 --insecure-dev-wire --min-area 4 --log-level info >/tmp/node-$f.log 2>&1 &
+        node_pid=$!
+        if mocap-vivid spots $PORT 3 20 >/tmp/spots-$f.log 2>&1 && grep -q "($f *)" /tmp/node-$f.log; then
+            pass "format $f: $(cat /tmp/spots-$f.log)"
+            tested="$tested $f"
+        else
+            fail "format $f: $(cat /tmp/spots-$f.log)"
+            show node-$f /tmp/node-$f.log
+        fi
+        kill -TERM $node_pid
+        wait $node_pid
+    else
+        fail "format $f: the feeder never streamed: $(tail -n 1 /tmp/feed-$f.log)"
+    fi
+    kill -TERM $feed_pid
+    wait $feed_pid
+done
+untested=""
+for f in $offered; do case " $tested " in *" $f "*) ;; *) untested="$untested $f" ;; esac; done
+echo "VIVID: formats vivid offers that the node does not read:$untested"
+# A format the device does not offer: refused at start, named, "hardware missing" (3).
+mocap-node-static --source v4l2:$CAP --pixel-format MJPG --sync none --hub 127.0.0.1:$PORT \
+    --id 7 --insecure-dev-wire >/tmp/node-mjpg.log 2>&1
+rc=$?
+if [ $rc -eq 3 ] && grep -q "pixel_format MJPG is not offered by the device" /tmp/node-mjpg.log; then
+    pass "format vivid lacks refused: $(grep -m1 'MJPG' /tmp/node-mjpg.log | sed 's/.*error: //')"
+else
+    fail "format vivid lacks: exit $rc, $(cat /tmp/node-mjpg.log)"
+fi
+
 # What the node itself says about the device.
+# Picture controls (vivid's Brightness and Contrast are 0..255): set at open, and again at the
+# reopen after the device came back.
+if [ "$(grep -c "v4l2: brightness 75 % of the camera's range = 191" /tmp/node.log)" -ge 2 ] &&
+    grep -q "v4l2: contrast 40 % of the camera's range = 102" /tmp/node.log; then
+    pass "picture controls: $(grep -m1 'v4l2: brightness' /tmp/node.log | sed 's/.*info: //'), $(grep -m1 'v4l2: contrast' /tmp/node.log | sed 's/.*info: //')"
+else
+    fail "picture controls: $(grep 'v4l2: \(brightness\|contrast\)' /tmp/node.log | tr '\n' ' ')"
+fi
 if grep -q "(GREY), [0-9]* mmap buffers" /tmp/node.log; then
     pass "format negotiation and mmap streaming: $(grep -m1 'mmap buffers' /tmp/node.log | sed 's/.*: \/dev/\/dev/')"
 else
