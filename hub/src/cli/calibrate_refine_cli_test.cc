@@ -130,9 +130,12 @@ TEST_F(CalibrateRefineCliTest, PrintedTargetThroughACameraGivesADltCalibration) 
   AimCamera(Eigen::Vector3d(-80.0, 300.0, 240.0), Eigen::Vector3d(95.0, 30.0, 30.0), Eigen::Vector3d::UnitZ(), &other);
   second.cameras.push_back(other);
   SaveRigJson(second, dir_ + "/camera8.json");
-  ASSERT_EQ(Hub("sim target-image --target target.json --rig camera8.json --camera 8 -o view8.png").status, 0);
-  ASSERT_EQ(Hub("calibrate target-points view8.png --target target.json -o points8.txt").status, 0);
-  ASSERT_EQ(Hub("calibrate tsai points8.txt --width 1280 --height 800 --id 8 -o tsai8.json").status, 0);
+  const HubRun image8 = Hub("sim target-image --target target.json --rig camera8.json --camera 8 -o view8.png");
+  ASSERT_EQ(image8.status, 0) << image8.err;
+  const HubRun found8 = Hub("calibrate target-points view8.png --target target.json -o points8.txt");
+  ASSERT_EQ(found8.status, 0) << found8.err;
+  const HubRun tsai8 = Hub("calibrate tsai points8.txt --width 1280 --height 800 --id 8 -o tsai8.json");
+  ASSERT_EQ(tsai8.status, 0) << tsai8.err;
   const HubRun merge = Hub("calibrate merge tsai.json tsai8.json -o rig.json");
   ASSERT_EQ(merge.status, 0) << merge.err;
   const Rig merged = LoadRigJson(dir_ + "/rig.json");
