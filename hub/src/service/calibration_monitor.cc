@@ -138,10 +138,10 @@ void CalibrationMonitor::TakeResult(CheckResult result) {
     if (refined.accepted) {
       status.solved = result.refinement->rig.cameras[c];
       log::Warn("calibration monitor: camera {} re-solved from the last {:.1f} s: moved {:.2f} mm, turned {:.3f} deg; "
-                "median residual {:.2f} -> {:.2f} px (the live reconstruction keeps the old pose: write the new one "
-                "with `calibrate refine` on a capture, or restart serve with it)",
+                "median residual {:.2f} -> {:.2f} px (the live reconstruction keeps the old pose until it is applied: "
+                "POST /api/calibration/monitor/apply {{\"camera\": {}}})",
                 refined.camera_id, options_.window_s, refined.centre_change_mm, refined.rotation_change_deg,
-                refined.before.median_px, refined.after.median_px);
+                refined.before.median_px, refined.after.median_px, refined.camera_id);
     } else {
       status.solved.reset();
       log::Warn("calibration monitor: camera {} could not be re-solved: {}", refined.camera_id, refined.note);
