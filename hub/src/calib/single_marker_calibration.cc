@@ -353,20 +353,43 @@ class SingleMarkerSolver {
         SelectWandFrames(frames_, rig_, WandGeometry::TwoMarker(options_.scale_length_mm), options_.selection, &stats);
     std::vector<double> lengths;
     for (const WandFrame& frame : bars) {
-      const WandView& first = frame.views[0];
+      // Which blob of each view is end 0. A pair of views whose epipolar lines run along the bar
+      // cannot tell (both orders fit), so the order is not taken from the first view alone: the
+      // views are oriented one at a time, each time the view whose orders differ most in Sampson
+      // error summed over the views already oriented, and by that sum.
+      const size_t n = frame.views.size();
+      std::vector<char> oriented(n, 0), swapped(n, 0);
+      oriented[0] = 1;
+      for (size_t done = 1; done < n; ++done) {
+        size_t best = 0;
+        double best_margin = -1.0, best_difference = 0.0;
+        for (size_t v = 0; v < n; ++v) {
+          if (oriented[v]) continue;
+          const WandView& view = frame.views[v];
+          double difference = 0.0;  // straight minus swapped
+          for (size_t o = 0; o < n; ++o) {
+            if (!oriented[o]) continue;
+            const WandView& other = frame.views[o];
+            const Eigen::Vector2d& o0 = other.normalized[swapped[o] ? 1 : 0];
+            const Eigen::Vector2d& o1 = other.normalized[swapped[o] ? 0 : 1];
+            const Eigen::Matrix3d e = Essential(other.camera, view.camera);
+            difference += Sampson(e, o0, view.normalized[0]) + Sampson(e, o1, view.normalized[1]) -
+                          Sampson(e, o0, view.normalized[1]) - Sampson(e, o1, view.normalized[0]);
+          }
+          if (std::abs(difference) > best_margin) {
+            best = v;
+            best_margin = std::abs(difference);
+            best_difference = difference;
+          }
+        }
+        oriented[best] = 1;
+        swapped[best] = best_difference > 0.0;
+      }
       std::vector<PointView> ends[2];
-      ends[0].push_back({Projection(rig_.cameras[first.camera]), first.normalized[0]});
-      ends[1].push_back({Projection(rig_.cameras[first.camera]), first.normalized[1]});
-      for (size_t v = 1; v < frame.views.size(); ++v) {
+      for (size_t v = 0; v < n; ++v) {
         const WandView& view = frame.views[v];
-        const Eigen::Matrix3d e = Essential(first.camera, view.camera);
-        const double straight = Sampson(e, first.normalized[0], view.normalized[0]) +
-                                Sampson(e, first.normalized[1], view.normalized[1]);
-        const double swapped = Sampson(e, first.normalized[0], view.normalized[1]) +
-                               Sampson(e, first.normalized[1], view.normalized[0]);
-        const bool swap = swapped < straight;
-        ends[0].push_back({Projection(rig_.cameras[view.camera]), view.normalized[swap ? 1 : 0]});
-        ends[1].push_back({Projection(rig_.cameras[view.camera]), view.normalized[swap ? 0 : 1]});
+        ends[0].push_back({Projection(rig_.cameras[view.camera]), view.normalized[swapped[v] ? 1 : 0]});
+        ends[1].push_back({Projection(rig_.cameras[view.camera]), view.normalized[swapped[v] ? 0 : 1]});
       }
       Eigen::Vector3d a, b;
       if (TriangulatePoint(ends[0], &a) && TriangulatePoint(ends[1], &b)) lengths.push_back((b - a).norm());
