@@ -3,7 +3,8 @@
 # gpio-sim chip made through configfs, mocap-kernel as the hub that starts the node on a grid in
 # phase with the camera and drives the simulated line at the frame rate, the node pairing each
 # edge with its frame; then the falling edge, and the chip removed under the running node.
-. /init_lib.sh
+VM_TAG=KERNEL
+. /guest_lib.sh
 PORT=7000
 LINE=3
 EDGES=80

@@ -7,7 +7,8 @@
 # module removed) and plugged back (the node reopens it), and the proof that the frames are
 # right: frames captured by libcamera's own cam tool, turned into a recording and replayed
 # through the node, give the same markers bit for bit.
-. /init_lib.sh
+VM_TAG=KERNEL
+. /guest_lib.sh
 export LIBCAMERA_LOG_LEVELS='*:ERROR'
 export LTTNG_UST_REGISTER_TIMEOUT=0
 PORT=7000

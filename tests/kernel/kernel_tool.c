@@ -47,26 +47,11 @@
 #include "capture/pixfmt.h"
 #include "framefile/framefile.h"
 #include "wire/wire.h"
+#include "stop_signals.h"
 
 #define MAX_SAMPLES 100000
 #define MAX_SLOTS 4096
 
-static volatile sig_atomic_t stop_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_requested = 1;
-}
-
-static void catch_stop_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof(sa));
-    sa.sa_handler = on_signal;
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGINT, &sa, NULL);
-}
 
 static int64_t real_ns(void)
 {

@@ -4,14 +4,9 @@
 # the capture device with a receiver on loopback, removes the device under the running node and
 # brings it back. Every check prints "VIVID: PASS|FAIL <what>: <detail>" on the serial console,
 # then "VIVID: RESULT PASS|FAIL", and the VM powers off; the host script reads those lines.
-/bin/busybox mkdir -p /proc /sys /dev /tmp
-/bin/busybox mount -t devtmpfs devtmpfs /dev
-exec </dev/console >/dev/console 2>&1
-/bin/busybox --install -s /bin
-export PATH=/bin
-mount -t proc proc /proc
-mount -t sysfs sysfs /sys
-ip link set lo up
+VM_TAG=VIVID
+VM_FINISH_LOGS="node:/tmp/node.log feed:/tmp/feed.log"
+. /guest_lib.sh
 
 CAP=/dev/video0
 OUT=/dev/video1
@@ -20,34 +15,11 @@ PORT=7000
 # output (vivid loops only like to like; its S-Video input has no progressive format), at fixed
 # device numbers so that the node's --source path is right again after the module is reloaded.
 VIVID_OPTS="n_devs=1 node_types=0x101 num_inputs=1 input_types=0x3 num_outputs=1 output_types=0x1 vid_cap_nr=0 vid_out_nr=1"
-failed=0
-
-pass() { echo "VIVID: PASS $*"; }
-fail() { echo "VIVID: FAIL $*"; failed=$((failed + 1)); }
-show() { sed "s/^/  $1| /" "$2"; }
-finish() {
-    [ -f /tmp/node.log ] && show node /tmp/node.log
-    [ -f /tmp/feed.log ] && show feed /tmp/feed.log
-    if [ "$failed" -eq 0 ]; then echo "VIVID: RESULT PASS"; else echo "VIVID: RESULT FAIL ($failed failed)"; fi
-    sync
-    poweroff -f
-}
-# wait_for SECONDS FILE PATTERN: 0 once FILE holds a line matching PATTERN.
-wait_for() {
-    i=0
-    while [ "$i" -lt $(($1 * 10)) ]; do
-        grep -q "$3" "$2" 2>/dev/null && return 0
-        sleep 0.1
-        i=$((i + 1))
-    done
-    return 1
-}
 load_vivid() {
     insmod /lib/modules/vivid.ko $VIVID_OPTS || return 1
     wait_for 5 /sys/class/video4linux/video1/name vid-out
 }
 
-echo "VIVID: kernel $(uname -r), $(grep -c ^processor /proc/cpuinfo) cpu"
 for m in $(cat /lib/modules/order); do
     [ "$m" = vivid.ko ] && break
     insmod "/lib/modules/$m" || { fail "modules: insmod $m"; finish; }

@@ -32,6 +32,7 @@
 
 #include "capture/v4l2_buffers.h"
 #include "wire/wire.h"
+#include "stop_signals.h"
 
 #define N_SPOTS 5
 #define SPOT_SIGMA 1.8
@@ -49,23 +50,6 @@
 #define MIN_CAPTURE_LAG_NS (-100000000LL)
 #define MAX_CAPTURE_LAG_NS 2000000000LL
 
-static volatile sig_atomic_t stop_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_requested = 1;
-}
-
-/* No SA_RESTART: a blocked poll or recv returns EINTR and the loop sees the flag. */
-static void catch_stop_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof(sa));
-    sa.sa_handler = on_signal;
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGINT, &sa, NULL);
-}
 
 /* Spot i of a w x h frame: spread over the image, at different sub-pixel phases. */
 static void spot_position(uint32_t w, uint32_t h, int i, double *x, double *y)

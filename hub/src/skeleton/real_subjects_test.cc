@@ -2,7 +2,7 @@
 // from hdm_bd.trc's names, hdm_mm.trc (another person) calibrated from its own first 2 s and
 // solved over its 20 s. The legs stand still in those 2 s: calibration refuses unless told to
 // keep the template's centres. The targets (RMS <= 10 mm, max <= 30 mm) are NOT reached
-// yet (12.3 mm, max 138 mm: the legs' template centres, README); asserted: every frame solved
+// yet (12.3 mm, max 138 mm: the legs' template centres, docs/skeletons.md); asserted: every frame solved
 // and the RMS reached today with a little room, so that a regression shows.
 #include <cstdio>
 

@@ -340,11 +340,23 @@ SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const Mar
       const SkeletonSegment& s = scaled_template.segments[g];
       std::vector<double> target = skeleton.segments[g].bone ? std::vector<double>{s.offset.norm()}
                                                              : std::vector<double>{s.offset.x(), s.offset.y(), s.offset.z()};
-      std::vector<int> entries;
-      for (size_t e = 0; e < target.size(); ++e) entries.push_back(static_cast<int>(e));
-      problem.AddResidualBlock(new PriorCost(target, entries, static_cast<int>(target.size()),
-                                             1.0 / (held[g] ? kHeldCentreSigmaMm : kFreeCentreSigmaMm)),
-                               nullptr, offsets[g].data());
+      // A hinge's centre can slide along its axis without changing any marker's path: that
+      // component stays at the scaled template's like a still joint's centre.
+      const int hinge_axis = !s.bone && s.dofs.size() == 1 ? s.dofs[0].axis : -1;
+      std::vector<int> free_entries, held_entries;
+      std::vector<double> free_target, held_target;
+      for (size_t e = 0; e < target.size(); ++e) {
+        const bool hold = held[g] || static_cast<int>(e) == hinge_axis;
+        (hold ? held_entries : free_entries).push_back(static_cast<int>(e));
+        (hold ? held_target : free_target).push_back(target[e]);
+      }
+      const int size = static_cast<int>(target.size());
+      if (!free_entries.empty())
+        problem.AddResidualBlock(new PriorCost(free_target, free_entries, size, 1.0 / kFreeCentreSigmaMm), nullptr,
+                                 offsets[g].data());
+      if (!held_entries.empty())
+        problem.AddResidualBlock(new PriorCost(held_target, held_entries, size, 1.0 / kHeldCentreSigmaMm), nullptr,
+                                 offsets[g].data());
     }
     for (size_t m = 0; m < skeleton.markers.size(); ++m) {
       if (!problem.HasParameterBlock(marker_offsets[m].data())) continue;

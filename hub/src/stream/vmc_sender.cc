@@ -1,5 +1,6 @@
 // VMC bundles per frame over liblo (see vmc_sender.h).
 #include "stream/vmc_sender.h"
+#include "stream/publish_latency.h"
 
 #include <lo/lo.h>
 
@@ -105,11 +106,7 @@ nlohmann::json VmcSender::StatsJson() const {
           {"send_failures", s.send_failures},
           {"frames_dropped", s.frames_dropped},
           {"publish_to_sent_ms",
-           {{"p50", publish_to_sent_ms_.Percentile(50)},
-            {"p99", publish_to_sent_ms_.Percentile(99)},
-            {"max", publish_to_sent_ms_.max()},
-            {"frames", publish_to_sent_ms_.count()},
-            {"definition", "3D result published -> its VMC bundle handed to the kernel"}}}};
+           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its VMC bundle handed to the kernel")}};
 }
 
 void VmcSender::Run() {

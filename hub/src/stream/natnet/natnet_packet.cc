@@ -3,6 +3,8 @@
 
 #include <cstring>
 
+#include "util/little_endian.h"
+
 namespace mocap::stream::natnet {
 namespace {
 
@@ -11,8 +13,6 @@ namespace {
 constexpr size_t kSenderSize = kMaxNameLength + 8;
 constexpr size_t kConnectVersionAt = kSenderSize + 1;
 constexpr size_t kMaxCommand = 4096;  // longer command lines are not Motive's
-
-uint16_t LeU16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | p[1] << 8); }
 
 Request Refuse(uint16_t id, std::string reason) {
   Request r;
@@ -41,8 +41,8 @@ std::string ToString(const Version& v) { return std::to_string(v.major) + "." + 
 Request ParseRequest(const uint8_t* data, size_t size) {
   if (size < kHeaderSize) return Refuse(0, "datagram of " + std::to_string(size) + " bytes is shorter than a header");
   if (size > kMaxPacket) return Refuse(0, "datagram of " + std::to_string(size) + " bytes exceeds " + std::to_string(kMaxPacket));
-  const uint16_t id = LeU16(data);
-  const size_t declared = LeU16(data + 2);
+  const uint16_t id = le::GetU16(data);
+  const size_t declared = le::GetU16(data + 2);
   if (declared > size - kHeaderSize)
     return Refuse(id, "header says " + std::to_string(declared) + " payload bytes, datagram has " +
                           std::to_string(size - kHeaderSize));
@@ -80,27 +80,12 @@ Writer::Writer(uint16_t id) {
 }
 
 void Writer::I16(int16_t v) { U16(static_cast<uint16_t>(v)); }
-void Writer::U16(uint16_t v) {
-  U8(static_cast<uint8_t>(v));
-  U8(static_cast<uint8_t>(v >> 8));
-}
+void Writer::U16(uint16_t v) { le::PutU16(&bytes_, v); }
 void Writer::I32(int32_t v) { U32(static_cast<uint32_t>(v)); }
-void Writer::U32(uint32_t v) {
-  for (int i = 0; i < 4; ++i) U8(static_cast<uint8_t>(v >> (8 * i)));
-}
-void Writer::U64(uint64_t v) {
-  for (int i = 0; i < 8; ++i) U8(static_cast<uint8_t>(v >> (8 * i)));
-}
-void Writer::F32(float v) {
-  uint32_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  U32(bits);
-}
-void Writer::F64(double v) {
-  uint64_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  U64(bits);
-}
+void Writer::U32(uint32_t v) { le::PutU32(&bytes_, v); }
+void Writer::U64(uint64_t v) { le::PutU64(&bytes_, v); }
+void Writer::F32(float v) { le::PutF32(&bytes_, v); }
+void Writer::F64(double v) { le::PutF64(&bytes_, v); }
 void Writer::Str(const std::string& text) {
   bytes_.append(text.c_str());  // up to an embedded NUL, as a reader would see it
   U8(0);
@@ -115,9 +100,7 @@ size_t Writer::Slot() {
   U32(0);
   return at;
 }
-void Writer::PatchI32(size_t at, int32_t v) {
-  for (int i = 0; i < 4; ++i) bytes_[at + i] = static_cast<char>(static_cast<uint32_t>(v) >> (8 * i));
-}
+void Writer::PatchI32(size_t at, int32_t v) { le::PatchU32(&bytes_, at, static_cast<uint32_t>(v)); }
 std::string Writer::Finish() {
   // Payloads beyond 65535 bytes cannot be told in the header: callers keep below kMaxPacket.
   const size_t payload = bytes_.size() - kHeaderSize;

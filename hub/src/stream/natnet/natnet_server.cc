@@ -1,9 +1,9 @@
 // The NatNet server's socket and thread (see natnet_server.h).
 #include "stream/natnet/natnet_server.h"
+#include "stream/publish_latency.h"
 
 #include <arpa/inet.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -44,7 +44,7 @@ void NatNetOptions::Check() const {
 }
 
 NatNetServer::NatNetServer(NatNetOptions options, Model model)
-    : options_((options.Check(), std::move(options))), model_(std::move(model)), queue_(options_.queue_frames) {
+    : options_((options.Check(), std::move(options))), model_(std::move(model)), queue_(options_.queue_frames, "natnet") {
   socket_.Bind(ParseHostPort(options_.listen));
   ParseVersion(options_.version, &state_.version);
   state_.info.version = state_.version;
@@ -60,24 +60,17 @@ NatNetServer::NatNetServer(NatNetOptions options, Model model)
   } else {
     std::memset(state_.info.multicast_group, 0, 4);
   }
-  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-  if (wake_fd_ < 0) throw std::runtime_error(std::string("natnet: eventfd: ") + std::strerror(errno));
   thread_ = std::thread([this] { Run(); });
 }
 
 NatNetServer::~NatNetServer() {
   stop_ = true;
-  const uint64_t one = 1;
-  (void)!write(wake_fd_, &one, sizeof one);
+  queue_.Wake();
   if (thread_.joinable()) thread_.join();
-  queue_.Close();
-  close(wake_fd_);
 }
 
 void NatNetServer::Publish(SharedFrame frame) {
   queue_.Push(std::move(frame));
-  const uint64_t one = 1;
-  (void)!write(wake_fd_, &one, sizeof one);
 }
 
 NatNetStats NatNetServer::stats() const {
@@ -101,25 +94,18 @@ nlohmann::json NatNetServer::StatsJson() const {
           {"frames_dropped", s.frames_dropped},
           {"points_dropped", s.points_dropped},
           {"publish_to_sent_ms",
-           {{"p50", publish_to_sent_ms_.Percentile(50)},
-            {"p99", publish_to_sent_ms_.Percentile(99)},
-            {"max", publish_to_sent_ms_.max()},
-            {"frames", publish_to_sent_ms_.count()},
-            {"definition", "3D result published -> its last NatNet datagram handed to the kernel"}}}};
+           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last NatNet datagram handed to the kernel")}};
 }
 
 void NatNetServer::Run() {
   while (!stop_) {
-    pollfd fds[2] = {{socket_.fd(), POLLIN, 0}, {wake_fd_, POLLIN, 0}};
+    pollfd fds[2] = {{socket_.fd(), POLLIN, 0}, {queue_.fd(), POLLIN, 0}};
     if (poll(fds, 2, kIdlePollMs) < 0 && errno != EINTR) {
       log::Error("natnet: poll failed: {}", std::strerror(errno));
       break;
     }
-    if (fds[1].revents & POLLIN) {
-      uint64_t count = 0;
-      (void)!read(wake_fd_, &count, sizeof count);
-    }
-    while (SharedFrame frame = queue_.Pop(std::chrono::milliseconds(0))) {
+    if (fds[1].revents & POLLIN) queue_.Acknowledge();
+    while (SharedFrame frame = queue_.PopNow()) {
       latest_ = frame;
       Send(*frame);
     }

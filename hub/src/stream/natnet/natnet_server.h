@@ -25,7 +25,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "ingest/udp_socket.h"
-#include "stream/frame_queue.h"
+#include "stream/polled_frame_queue.h"
 #include "stream/natnet/natnet_commands.h"
 #include "util/latency_sample.h"
 
@@ -82,13 +82,12 @@ class NatNetServer {
   const NatNetOptions options_;
   const Model model_;
   UdpSocket socket_;
-  int wake_fd_ = -1;
   bool multicast_ = false;
   sockaddr_in group_{};
   CommandState state_;           // the thread's own
   std::vector<Client> clients_;  // the thread's own
   SharedFrame latest_;           // the thread's own
-  FrameQueue queue_;
+  PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   NatNetStats stats_;
   LatencySample publish_to_sent_ms_{20000};

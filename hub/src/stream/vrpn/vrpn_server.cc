@@ -1,11 +1,11 @@
 // The VRPN server's sockets and thread (see vrpn_server.h).
 #include "stream/vrpn/vrpn_server.h"
+#include "stream/publish_latency.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/tcp.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -57,7 +57,7 @@ void VrpnOptions::Check() const {
 
 VrpnServer::VrpnServer(VrpnOptions options, std::vector<std::string> trackers)
     : options_((options.Check(), std::move(options))), trackers_(std::move(trackers)), last_(trackers_.size()),
-      queue_(options_.queue_frames) {
+      queue_(options_.queue_frames, "vrpn") {
   const HostPort where = ParseHostPort(options_.listen);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -66,10 +66,9 @@ VrpnServer::VrpnServer(VrpnOptions options, std::vector<std::string> trackers)
   else addr = ResolveHostPort(where);
   listen_fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   udp_fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
-  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   const int one = 1;
   if (listen_fd_ >= 0) setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  bool ok = listen_fd_ >= 0 && udp_fd_ >= 0 && wake_fd_ >= 0 &&
+  bool ok = listen_fd_ >= 0 && udp_fd_ >= 0 &&
             bind(listen_fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0 &&
             listen(listen_fd_, SOMAXCONN) == 0;
   if (ok) {
@@ -80,7 +79,7 @@ VrpnServer::VrpnServer(VrpnOptions options, std::vector<std::string> trackers)
   }
   if (!ok) {
     const std::runtime_error error = SocketError("cannot listen on " + options_.listen);
-    for (int fd : {listen_fd_, udp_fd_, wake_fd_})
+    for (int fd : {listen_fd_, udp_fd_})
       if (fd >= 0) close(fd);
     throw error;
   }
@@ -89,20 +88,15 @@ VrpnServer::VrpnServer(VrpnOptions options, std::vector<std::string> trackers)
 
 VrpnServer::~VrpnServer() {
   stop_ = true;
-  const uint64_t one = 1;
-  (void)!write(wake_fd_, &one, sizeof one);
+  queue_.Wake();
   if (thread_.joinable()) thread_.join();
-  queue_.Close();
   for (auto& c : clients_) close(c->fd);
   close(listen_fd_);
   close(udp_fd_);
-  close(wake_fd_);
 }
 
 void VrpnServer::Publish(SharedFrame frame) {
   queue_.Push(std::move(frame));
-  const uint64_t one = 1;
-  (void)!write(wake_fd_, &one, sizeof one);
 }
 
 VrpnStats VrpnServer::stats() const {
@@ -125,11 +119,7 @@ nlohmann::json VrpnServer::StatsJson() const {
           {"reports", s.reports},
           {"frames_dropped", s.frames_dropped},
           {"publish_to_sent_ms",
-           {{"p50", publish_to_sent_ms_.Percentile(50)},
-            {"p99", publish_to_sent_ms_.Percentile(99)},
-            {"max", publish_to_sent_ms_.max()},
-            {"frames", publish_to_sent_ms_.count()},
-            {"definition", "3D result published -> its last VRPN report handed to the kernel"}}}};
+           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last VRPN report handed to the kernel")}};
 }
 
 void VrpnServer::Run() {
@@ -138,18 +128,15 @@ void VrpnServer::Run() {
     fds.clear();
     fds.push_back({listen_fd_, POLLIN, 0});
     fds.push_back({udp_fd_, POLLIN, 0});
-    fds.push_back({wake_fd_, POLLIN, 0});
+    fds.push_back({queue_.fd(), POLLIN, 0});
     for (const auto& c : clients_)
       fds.push_back({c->fd, static_cast<short>(c->connecting ? POLLOUT : (POLLIN | (c->queue.empty() ? 0 : POLLOUT))), 0});
     if (poll(fds.data(), fds.size(), kIdlePollMs) < 0 && errno != EINTR) {
       log::Error("vrpn: poll failed: {}", std::strerror(errno));
       break;
     }
-    if (fds[2].revents & POLLIN) {
-      uint64_t count = 0;
-      (void)!read(wake_fd_, &count, sizeof count);
-    }
-    while (SharedFrame frame = queue_.Pop(std::chrono::milliseconds(0))) SendFrame(*frame);
+    if (fds[2].revents & POLLIN) queue_.Acknowledge();
+    while (SharedFrame frame = queue_.PopNow()) SendFrame(*frame);
     const size_t polled = fds.size() - 3;
     for (size_t i = 0; i < polled && i < clients_.size(); ++i) {
       Client& c = *clients_[i];

@@ -33,7 +33,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "stream/frame_queue.h"
+#include "stream/polled_frame_queue.h"
 #include "stream/vrpn/vrpn_protocol.h"
 #include "util/latency_sample.h"
 
@@ -95,11 +95,10 @@ class VrpnServer {
   const std::vector<std::string> trackers_;
   int listen_fd_ = -1;
   int udp_fd_ = -1;
-  int wake_fd_ = -1;
   uint16_t port_ = 0;
   std::vector<std::unique_ptr<Client>> clients_;  // the thread's own
   std::vector<LastPose> last_;                    // the thread's own
-  FrameQueue queue_;
+  PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   VrpnStats stats_;
   LatencySample publish_to_sent_ms_{20000};

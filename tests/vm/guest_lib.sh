@@ -1,6 +1,8 @@
-# Sourced by the kernel tests' /init (init_vimc.sh, init_gpio.sh; built into the initramfs by
-# run_kernel.sh): mounts, the PASS/FAIL lines the host script reads, waiting, module loading,
-# and the node's CPU time.
+# Sourced by the /init of every VM test (tests/vivid/init.sh, tests/kernel/init_vimc.sh and
+# init_gpio.sh; copied into the initramfs by host_lib.sh): mounts, the "$VM_TAG: PASS|FAIL" lines
+# the host script reads, waiting, module loading, and a process's CPU time. Set before sourcing:
+# VM_TAG (the console lines' prefix) and optionally VM_FINISH_LOGS ("name:file ..." shown by
+# finish when the file exists).
 /bin/busybox mkdir -p /proc /sys /dev /tmp /run
 /bin/busybox mount -t devtmpfs devtmpfs /dev
 exec </dev/console >/dev/console 2>&1
@@ -12,11 +14,14 @@ mount -t sysfs sysfs /sys
 ip link set lo up
 failed=0
 
-pass() { echo "KERNEL: PASS $*"; }
-fail() { echo "KERNEL: FAIL $*"; failed=$((failed + 1)); }
+pass() { echo "$VM_TAG: PASS $*"; }
+fail() { echo "$VM_TAG: FAIL $*"; failed=$((failed + 1)); }
 show() { [ -f "$2" ] && sed "s/^/  $1| /" "$2"; }
 finish() {
-    if [ "$failed" -eq 0 ]; then echo "KERNEL: RESULT PASS"; else echo "KERNEL: RESULT FAIL ($failed failed)"; fi
+    for log in ${VM_FINISH_LOGS:-}; do
+        [ -f "${log#*:}" ] && show "${log%%:*}" "${log#*:}"
+    done
+    if [ "$failed" -eq 0 ]; then echo "$VM_TAG: RESULT PASS"; else echo "$VM_TAG: RESULT FAIL ($failed failed)"; fi
     sync
     poweroff -f
 }
@@ -51,4 +56,4 @@ load_modules_until() {
 # cpu_ns PID: CPU time the process has used (ns, /proc/PID/schedstat).
 cpu_ns() { cut -d' ' -f1 "/proc/$1/schedstat"; }
 
-echo "KERNEL: kernel $(uname -r), $(grep -c ^processor /proc/cpuinfo) cpu"
+echo "$VM_TAG: kernel $(uname -r), $(grep -c ^processor /proc/cpuinfo) cpu"
