@@ -189,4 +189,20 @@ Rig LoadRigJson(const std::string& path) { return RigFromJson(ReadJsonFile(path)
 
 void SaveRigJson(const Rig& rig, const std::string& path) { WriteJsonFile(RigToJson(rig), path); }
 
+json WithCameraPose(json document, const Camera& camera) {
+  if (document.is_object() && document.contains("cameras") && document["cameras"].is_array()) {
+    for (json& entry : document["cameras"]) {
+      if (!entry.is_object() || !entry.contains("id") || !entry["id"].is_number_unsigned() ||
+          entry["id"].get<uint64_t>() != camera.id)
+        continue;
+      json rotation = json::array();
+      for (int r = 0; r < 3; ++r) rotation.push_back({camera.rotation(r, 0), camera.rotation(r, 1), camera.rotation(r, 2)});
+      entry["rotation"] = rotation;
+      entry["translation"] = {camera.translation.x(), camera.translation.y(), camera.translation.z()};
+      return document;
+    }
+  }
+  throw std::runtime_error("calibration document has no camera " + std::to_string(camera.id));
+}
+
 }  // namespace mocap

@@ -1021,38 +1021,81 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     }
     std::string source = o.calibration_file;
     if (save) {
-      // Every old file stays beside the new one, named by when it was replaced, so that an
-      // operator can go back to any of them (and an unwanted apply overwrites none).
-      const std::string kept = DatedCopyName(options_.calibration, RealtimeNowNs());
-      std::error_code ec;
-      std::filesystem::copy_file(options_.calibration, kept, std::filesystem::copy_options::none, ec);
-      if (ec) throw ApiError(500, kept + ": cannot keep the old calibration: " + ec.message());
-      try {
-        WriteJsonFile(o.calibration, options_.calibration);
-      } catch (const std::exception& e) {
-        throw ApiError(500, e.what());
-      }
+      SaveCalibration(o.calibration);
       source = options_.calibration;
       wand_saved_ = options_.calibration;
     }
-    // The monitor judges residuals against the calibration it was made with: a new one starts
-    // afresh (made again after the rig changes, so its worker never sees the change).
-    const bool monitoring = calibration_monitor_ != nullptr;
-    calibration_monitor_.reset();
-    {
-      std::lock_guard<std::mutex> lock(rig_mutex_);
-      rig_ = o.rig;
-      calibration_source_ = source;
-    }
-    live_ = MakeLive();
-    if (monitoring)
-      calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
-    captures_.SetCalibrationFile(source);
+    UseRig(o.rig, source);
     wand_applied_ = true;
     log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,
               save ? " and saved to " + options_.calibration : "");
     return WandingJson();
   });
+}
+
+nlohmann::json HubService::ApplyMonitorSolve(uint32_t camera_id, bool save) {
+  return OnLoop([this, camera_id, save] {
+    if (!calibration_monitor_) throw ApiError(409, "the calibration monitor is off (serve --no-calibration-monitor)");
+    calibration_monitor_->Finish();
+    size_t index = rig_.cameras.size();
+    for (size_t c = 0; c < rig_.cameras.size(); ++c) {
+      if (rig_.cameras[c].id == camera_id) index = c;
+    }
+    if (index == rig_.cameras.size()) throw ApiError(404, "no camera " + std::to_string(camera_id) + " in the calibration");
+    if (!calibration_monitor_->solved_pose(index))
+      throw ApiError(409, "camera " + std::to_string(camera_id) +
+                              " has no accepted solve to apply (see calibration_monitor in /api/status: it is solved "
+                              "when it is bumped or drifting and the subject is in its view)");
+    const Camera pose = *calibration_monitor_->solved_pose(index);
+    Rig rig = rig_;
+    rig.cameras[index] = pose;
+    // The document written keeps every other field of the calibration serve runs with.
+    nlohmann::json document;
+    try {
+      document = WithCameraPose(ReadJsonFile(calibration_source_), pose);
+    } catch (const std::exception&) {
+      document = RigToJson(rig);  // the source is gone or unreadable: the rig itself
+    }
+    std::string source = calibration_source_;
+    if (save) {
+      SaveCalibration(document);
+      source = options_.calibration;
+    }
+    UseRig(rig, source);
+    log::Info("calibration monitor: camera {}'s solved pose applied to the live reconstruction{}", camera_id,
+              save ? " and saved to " + options_.calibration : "");
+    return calibration_monitor_->StatusJson();
+  });
+}
+
+void HubService::SaveCalibration(const nlohmann::json& document) {
+  // Every old file stays beside the new one, named by when it was replaced, so that an
+  // operator can go back to any of them (and an unwanted apply overwrites none).
+  const std::string kept = DatedCopyName(options_.calibration, RealtimeNowNs());
+  std::error_code ec;
+  std::filesystem::copy_file(options_.calibration, kept, std::filesystem::copy_options::none, ec);
+  if (ec) throw ApiError(500, kept + ": cannot keep the old calibration: " + ec.message());
+  try {
+    WriteJsonFile(document, options_.calibration);
+  } catch (const std::exception& e) {
+    throw ApiError(500, e.what());
+  }
+}
+
+void HubService::UseRig(const Rig& rig, const std::string& source) {
+  // The monitor judges residuals against the calibration it was made with: a new one starts
+  // afresh (made again after the rig changes, so its worker never sees the change).
+  const bool monitoring = calibration_monitor_ != nullptr;
+  calibration_monitor_.reset();
+  {
+    std::lock_guard<std::mutex> lock(rig_mutex_);
+    rig_ = rig;
+    calibration_source_ = source;
+  }
+  live_ = MakeLive();
+  if (monitoring)
+    calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
+  captures_.SetCalibrationFile(source);
 }
 
 int HubService::Subscribe(Subscriber subscriber) {

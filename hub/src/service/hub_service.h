@@ -132,6 +132,8 @@ class HubService : public ServiceApi {
   nlohmann::json StopWanding(bool solve) override;
   nlohmann::json SolveWanding(const std::string& refine_intrinsics) override;
   nlohmann::json ApplyWandCalibration(bool save) override;
+  // The monitor's accepted solve of one camera into the live reconstruction (409 without one).
+  nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override;
 
   int Subscribe(Subscriber subscriber);
   void Unsubscribe(int id);
@@ -181,6 +183,10 @@ class HubService : public ServiceApi {
   void PollWandSolve();
   nlohmann::json WandingJson() const;
   std::unique_ptr<LiveReconstruction> MakeLive() const;
+  // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
+  void SaveCalibration(const nlohmann::json& document);
+  // Loop only: the live reconstruction (and a fresh monitor) run with `rig` from now on.
+  void UseRig(const Rig& rig, const std::string& source);
 
   ServeOptions options_;
   // The loop thread is the only writer of rig_ (ApplyWandCalibration) and reads it freely; other
