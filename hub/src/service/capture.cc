@@ -330,9 +330,9 @@ nlohmann::json Captures::Disk() const {
           {"stop_free_mb", disk_.stop_free_mb}};
 }
 
-void Captures::AddPublished(const LiveFrame& frame) {
+void Captures::AddPublished(const pipeline::LiveFrame& frame) {
   ++frame_sets_;
-  for (const LivePoint& p : frame.points) {
+  for (const pipeline::LivePoint& p : frame.points) {
     const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
                                          : static_cast<long long>(p.marker);
     const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;

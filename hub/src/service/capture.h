@@ -21,7 +21,7 @@
 
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
 
 namespace mocap::service {
 
@@ -80,7 +80,7 @@ class Captures {
   // space watched, session.json's counts rewritten every second.
   nlohmann::json Tick(const IngestStats& stats, uint64_t now_ns);
   // A frame published while capturing: counted and its points kept.
-  void AddPublished(const LiveFrame& frame);
+  void AddPublished(const pipeline::LiveFrame& frame);
 
   bool running() const { return writer_ != nullptr; }
   const std::string& name() const { return name_; }  // the running capture's

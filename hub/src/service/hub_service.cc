@@ -176,8 +176,8 @@ HubService::HubService(ServeOptions options)
 
 HubService::~HubService() = default;
 
-std::unique_ptr<LiveReconstruction> HubService::MakeLive() const {
-  return std::make_unique<LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
+std::unique_ptr<pipeline::LiveReconstruction> HubService::MakeLive() const {
+  return std::make_unique<pipeline::LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
                                               options_.body_filter);
 }
 
@@ -320,7 +320,7 @@ void HubService::Publish(const FrameSet& set) {
   blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
   if (wanding_) wanding_->Add(set);
-  const LiveFrame& frame = live_->Process(set, RealtimeNowNs);
+  const pipeline::LiveFrame& frame = live_->Process(set, RealtimeNowNs);
   {
     // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
     std::lock_guard<std::mutex> lock(subscribers_mutex_);
@@ -329,7 +329,7 @@ void HubService::Publish(const FrameSet& set) {
   processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
   ++frame_sets_;
   points_published_ += frame.points.size();
-  for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
+  for (const pipeline::LivePoint& p : frame.points) provisional_published_ += p.provisional();
   // The hub's own latency: sets that waited out their deadline for an absent camera measure the
   // deadline, not the hub, and are counted as incomplete instead.
   if (set.cameras.size() == rig_.cameras.size() && frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)

@@ -37,7 +37,7 @@
 #include "service/capture.h"
 #include "service/control_requests.h"
 #include "service/calibration_monitor.h"
-#include "service/live_reconstruction.h"
+#include "pipeline/live_reconstruction.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
 #include "service/service_api.h"
@@ -87,7 +87,7 @@ std::string DatedCopyName(const std::string& path, uint64_t now_ns);
 
 class HubService : public ServiceApi {
  public:
-  using Subscriber = std::function<void(const LiveFrame&)>;
+  using Subscriber = std::function<void(const pipeline::LiveFrame&)>;
 
   // Loads the calibration and the mask file; throws std::invalid_argument / std::runtime_error.
   explicit HubService(ServeOptions options);
@@ -182,7 +182,7 @@ class HubService : public ServiceApi {
   void StartWandSolve();
   void PollWandSolve();
   nlohmann::json WandingJson() const;
-  std::unique_ptr<LiveReconstruction> MakeLive() const;
+  std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
   // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
   void SaveCalibration(const nlohmann::json& document);
   // Loop only: the live reconstruction (and a fresh monitor) run with `rig` from now on.
@@ -205,7 +205,7 @@ class HubService : public ServiceApi {
   PreviewAssembler previews_;
   std::vector<RigidBodyDefinition> bodies_;
   std::optional<MarkerSet> labels_;
-  std::unique_ptr<LiveReconstruction> live_;  // made again when the calibration changes
+  std::unique_ptr<pipeline::LiveReconstruction> live_;  // made again when the calibration changes
   std::unique_ptr<CalibrationMonitor> calibration_monitor_;  // null when off
   Captures captures_;
   std::vector<CameraMask> masks_;
