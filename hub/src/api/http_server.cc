@@ -219,7 +219,7 @@ std::string HttpServerOptions::Check() const {
   return "";
 }
 
-HttpServer::HttpServer(service::HubService& service, HttpServerOptions options)
+HttpServer::HttpServer(service::ServiceApi& service, HttpServerOptions options)
     : service_(service),
       options_(std::move(options)),
       sessions_(options_.logins_file, RealtimeNowNs()),

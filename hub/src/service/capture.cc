@@ -83,16 +83,6 @@ uint64_t FreeBytes(const std::string& path) {
   return static_cast<uint64_t>(fs_info.f_bavail) * fs_info.f_frsize;
 }
 
-bool ValidSessionName(const std::string& name) {
-  if (name.empty() || name.size() > 64 || name[0] == '.') return false;
-  for (char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                    c == '-' || c == '_';
-    if (!ok) return false;
-  }
-  return true;
-}
-
 Captures::Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base, CaptureDiskOptions disk,
                    FreeBytesFunction free_bytes)
     : disk_(disk),

@@ -22,11 +22,9 @@
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
 #include "pipeline/live_frame.h"
+#include "service/session_name.h"
 
 namespace mocap::service {
-
-// Letters, digits, '.', '-', '_'; 1-64 characters, not starting with '.'.
-bool ValidSessionName(const std::string& name);
 
 // Free space on the sessions disk: a capture needs `start_free_mb` to start, warns once below
 // `warn_free_mb` and is stopped ("failed: disk full") below `stop_free_mb`, checked every
