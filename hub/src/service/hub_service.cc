@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <utility>
 
-#include "calib/wand_bundle_adjustment.h"
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
@@ -319,7 +318,7 @@ void HubService::Publish(const FrameSet& set) {
   for (auto& wait : blobs_waiters_) wait->promise.set_value(BlobsSnapshot{set, masks_});
   blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
-  if (wanding_) wanding_->Add(set);
+  if (wanding_.collecting()) wanding_.Add(set);
   const pipeline::LiveFrame& frame = live_->Process(set, RealtimeNowNs);
   {
     // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
@@ -370,14 +369,14 @@ void HubService::Tick(uint64_t now) {
     (*it)->promise.set_value(BlobsSnapshot{std::nullopt, masks_});
     it = blobs_waiters_.erase(it);
   }
-  if (wanding_) {
-    std::string reason = wanding_->StopReason(now);
+  if (wanding_.collecting()) {
+    std::string reason = wanding_.StopReason(now);
     // An operator who stops the wanding's capture (capture stop) ends the wanding with it.
-    if (reason.empty() && !(captures_.running() && captures_.name() == wand_options_.session))
+    if (reason.empty() && !(captures_.running() && captures_.name() == wanding_.options().session))
       reason = "its capture was stopped";
     if (!reason.empty()) FinishWanding(reason, true);
   }
-  PollWandSolve();
+  wanding_.Poll();
   if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
     FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
                     " frame sets arrived in time (are the nodes running?)",
@@ -873,76 +872,20 @@ nlohmann::json HubService::Blobs() {
 
 // ---- live wanding ----
 
-nlohmann::json HubService::WandingJson() const {
-  nlohmann::json j = {{"state", wand_state_},
-                      {"session", wand_options_.session},
-                      {"wand_length_mm", wand_options_.wand_length_mm},
-                      {"middle_marker_mm", wand_options_.middle_marker_mm},
-                      {"stop_reason", wand_stop_reason_},
-                      {"applied", wand_applied_},
-                      {"saved_to", wand_saved_.empty() ? nlohmann::json(nullptr) : nlohmann::json(wand_saved_)}};
-  j["collection"] = wanding_ ? wanding_->Json(RealtimeNowNs()) : wand_collected_;
-  if (wand_job_ && wand_job_->done()) {
-    const WandSolveOutcome& o = wand_job_->outcome();
-    j["solve"] = {{"ok", o.ok},
-                  {"error", o.error},
-                  {"seconds", o.seconds},
-                  {"all_accepted", o.all_accepted},
-                  {"report", o.report},
-                  {"files", o.ok ? nlohmann::json{{"calibration", "wand_calibration.json"},
-                                                  {"report", "wand_report.html"},
-                                                  {"figures", "wand_figures.json"}}
-                                 : nlohmann::json(nullptr)}};
-  } else {
-    j["solve"] = nullptr;
-  }
-  return j;
-}
-
 void HubService::FinishWanding(const std::string& reason, bool solve) {
   const uint64_t now = RealtimeNowNs();
-  wand_collected_ = wanding_->Json(now);
-  wand_stop_reason_ = reason;
-  wanding_.reset();
-  if (captures_.running() && captures_.name() == wand_options_.session) {
+  // The capture ends first, so that a solve reads the whole session.
+  if (wanding_.collecting() && captures_.running() && captures_.name() == wanding_.options().session) {
     const nlohmann::json summary = captures_.Stop(ingest_.stats(), now);
-    log::Info("wanding {}: {}; {} frame sets captured", wand_options_.session, reason, summary.value("frame_sets", 0));
+    log::Info("wanding {}: {}; {} frame sets captured", wanding_.options().session, reason,
+              summary.value("frame_sets", 0));
   }
-  if (!solve) {
-    wand_state_ = "cancelled";
-    return;
-  }
-  StartWandSolve();
-}
-
-void HubService::StartWandSolve() {
-  WandSolveInput input;
-  input.session_dir = (std::filesystem::path(captures_.dir()) / wand_options_.session).string();
-  input.title = wand_options_.session;
-  input.intrinsics = wand_options_.intrinsics ? *wand_options_.intrinsics : rig_;
-  input.wand = wand_options_.Wand();
-  input.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(wand_options_.refine_intrinsics);
-  input.options.bundle.num_threads = 1;  // one core for the solve, the other for the frame path
-  input.thresholds = wand_options_.thresholds;
-  wand_job_ = std::make_unique<WandSolveJob>(std::move(input));
-  wand_state_ = "solving";
-}
-
-void HubService::PollWandSolve() {
-  if (wand_state_ != "solving" || !wand_job_ || !wand_job_->done()) return;
-  const WandSolveOutcome& o = wand_job_->outcome();
-  wand_state_ = o.ok ? "solved" : "failed";
-  if (o.ok)
-    log::Info("wanding {}: solved in {:.1f} s, rig rated {}, {}", wand_options_.session, o.seconds,
-              o.report.value("rating", ""), o.all_accepted ? "every camera accepted" : "some cameras refused");
-  else
-    log::Warn("wanding {}: no calibration: {}", wand_options_.session, o.error);
+  wanding_.Stop(reason, now, solve, captures_.dir(), rig_);
 }
 
 nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
   return OnLoop([this, requested] {
-    if (wanding_) throw ApiError(409, "wanding " + wand_options_.session + " is running already");
-    if (wand_state_ == "solving") throw ApiError(409, "the last wanding is still being solved");
+    wanding_.CheckCanStart();
     if (requested.intrinsics) {
       if (!SameCameras(*requested.intrinsics, rig_))
         throw ApiError(400, "'intrinsics' must hold the same cameras as the calibration serve runs with");
@@ -950,48 +893,32 @@ nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
     const uint64_t now = RealtimeNowNs();
     auto collection = std::make_unique<WandCollection>(rig_, requested, now);  // checks the options
     captures_.Start(requested.session, ingest_.stats(), now);
-    wanding_ = std::move(collection);
-    wand_options_ = requested;
-    wand_state_ = "collecting";
-    wand_stop_reason_.clear();
-    wand_collected_ = nullptr;
-    wand_job_.reset();
-    wand_applied_ = false;
-    wand_saved_.clear();
+    wanding_.Start(std::move(collection));
     log::Info("wanding {} started: {:.1f} mm wand, {} samples and {:.0f} % coverage per camera, timeout {:.0f} s",
               requested.session, requested.wand_length_mm, requested.min_samples, 100.0 * requested.coverage_target,
               requested.timeout_s);
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::Wanding() {
   return OnLoop([this] {
-    PollWandSolve();
-    return WandingJson();
+    wanding_.Poll();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::StopWanding(bool solve) {
   return OnLoop([this, solve] {
-    if (!wanding_) throw ApiError(409, "no wanding is running");
     FinishWanding(solve ? "stopped on request" : "cancelled on request", solve);
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
   return OnLoop([this, refine_intrinsics] {
-    PollWandSolve();
-    if (wand_state_ == "idle") throw ApiError(409, "no wanding was recorded since serve started");
-    if (wand_state_ == "collecting" || wand_state_ == "solving")
-      throw ApiError(409, "wanding " + wand_options_.session + " is still " + wand_state_);
-    if (!refine_intrinsics.empty()) wand_options_.refine_intrinsics = refine_intrinsics;
-    wand_job_.reset();
-    wand_applied_ = false;
-    wand_saved_.clear();
-    StartWandSolve();
-    return WandingJson();
+    wanding_.SolveAgain(refine_intrinsics, captures_.dir(), rig_);
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
@@ -1008,9 +935,8 @@ std::string DatedCopyName(const std::string& path, uint64_t now_ns) {
 
 nlohmann::json HubService::ApplyWandCalibration(bool save) {
   return OnLoop([this, save] {
-    PollWandSolve();
-    if (wand_state_ != "solved") throw ApiError(409, "no solved wand calibration to apply (state " + wand_state_ + ")");
-    const WandSolveOutcome& o = wand_job_->outcome();
+    wanding_.Poll();
+    const WandSolveOutcome& o = wanding_.Solved();
     if (!SameCameras(o.rig, rig_)) {
       std::string refused;
       for (const auto& c : o.report["cameras"])
@@ -1023,13 +949,12 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     if (save) {
       SaveCalibration(o.calibration);
       source = options_.calibration;
-      wand_saved_ = options_.calibration;
     }
     UseRig(o.rig, source);
-    wand_applied_ = true;
-    log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,
+    wanding_.Applied(save ? options_.calibration : "");
+    log::Info("calibration of wanding {} applied to the live reconstruction{}", wanding_.options().session,
               save ? " and saved to " + options_.calibration : "");
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 

@@ -38,11 +38,11 @@
 #include "service/capture.h"
 #include "service/control_requests.h"
 #include "service/calibration_monitor.h"
+#include "service/live_wanding.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
 #include "service/service_api.h"
 #include "service/wand_collection.h"
-#include "service/wand_solve_job.h"
 #include "util/latency_sample.h"
 
 namespace mocap::service {
@@ -178,10 +178,8 @@ class HubService : public ServiceApi {
     std::vector<CameraMask> masks;
   };
   nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ under rig_mutex_)
+  // Ends the wanding's capture, then its collection (409 when none runs).
   void FinishWanding(const std::string& reason, bool solve);
-  void StartWandSolve();
-  void PollWandSolve();
-  nlohmann::json WandingJson() const;
   std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
   // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
   void SaveCalibration(const nlohmann::json& document);
@@ -227,14 +225,7 @@ class HubService : public ServiceApi {
   uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
 
   // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
-  std::unique_ptr<WandCollection> wanding_;
-  WandingOptions wand_options_;
-  std::string wand_state_ = "idle";  // idle, collecting, solving, solved, failed, cancelled
-  std::string wand_stop_reason_;
-  nlohmann::json wand_collected_;    // the collection's figures when it stopped
-  std::unique_ptr<WandSolveJob> wand_job_;
-  bool wand_applied_ = false;
-  std::string wand_saved_;           // where the applied calibration was saved, if it was
+  LiveWanding wanding_;
 
   // Work handed to the loop by other threads.
   std::mutex tasks_mutex_;
