@@ -131,18 +131,6 @@ struct HubService::BlobsWait {
   std::promise<BlobsSnapshot> promise;
 };
 
-struct HubService::MaskJob {
-  int frames_wanted = 0;
-  int frames_seen = 0;
-  uint64_t deadline_ns = 0;
-  std::map<uint32_t, std::vector<CameraFrame>> frames;  // by camera id
-  std::vector<CameraMask> masks;
-  std::map<uint64_t, uint32_t> requests;                // request id -> camera id
-  nlohmann::json results = nlohmann::json::array();
-  nlohmann::json found = nlohmann::json::array();       // per camera: new static blobs, regions
-  std::promise<nlohmann::json> promise;
-};
-
 HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
       rig_(LoadRigOrThrow(options_.calibration)),
@@ -377,10 +365,7 @@ void HubService::Tick(uint64_t now) {
     if (!reason.empty()) FinishWanding(reason, true);
   }
   wanding_.Poll();
-  if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
-    FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
-                    " frame sets arrived in time (are the nodes running?)",
-                504);
+  if (mask_job_ && mask_job_->TimedOut(now)) FailMaskJob(mask_job_->TimeoutReason(), 504);
 }
 
 void HubService::Announce(uint64_t now) {
@@ -433,21 +418,11 @@ void HubService::OnRequestFinished(const RequestResult& result) {
     request_waiters_.erase(waiter);
     return;
   }
-  if (!mask_job_) return;
-  auto part = mask_job_->requests.find(result.request_id);
-  if (part == mask_job_->requests.end()) return;
-  mask_job_->results.push_back(RequestJson(result));
-  mask_job_->requests.erase(part);
-  if (!mask_job_->requests.empty()) return;
+  if (!mask_job_ || !mask_job_->Finished(result.request_id, RequestJson(result)) || !mask_job_->AllAnswered()) return;
   // Every node answered: the masks are the installation's now.
-  masks_ = mask_job_->masks;
+  masks_ = mask_job_->masks();
   SaveMasks();
-  nlohmann::json answer = {{"frames", mask_job_->frames_seen},
-                           {"cameras", mask_job_->found},
-                           {"masks", MasksToJson(masks_)},
-                           {"nodes", mask_job_->results},
-                           {"file", options_.masks_file}};
-  mask_job_->promise.set_value(answer);
+  mask_job_->Succeed(MasksToJson(masks_), options_.masks_file);
   mask_job_.reset();
 }
 
@@ -463,41 +438,15 @@ void HubService::OnPreview(const PreviewImage& image) {
 }
 
 void HubService::CollectMaskFrames(const FrameSet& set) {
-  MaskJob& job = *mask_job_;
-  if (!job.requests.empty() || job.frames_seen >= job.frames_wanted) return;
-  for (const CameraFrame& camera : set.cameras) job.frames[camera.camera_id].push_back(camera);
-  if (++job.frames_seen == job.frames_wanted) FinishMaskCollection();
-}
-
-void HubService::FinishMaskCollection() {
-  MaskJob& job = *mask_job_;
-  AutoMaskOptions options;
-  options.min_frames = std::min<size_t>(options.min_frames, static_cast<size_t>(job.frames_wanted));
-  for (auto& [camera, frames] : job.frames) {
-    if (!registry_.Find(camera)) continue;
-    try {
-      CameraMask mask = ComputeAutoMask(frames, options);
-      job.found.push_back({{"camera_id", camera}, {"static_blobs_found", mask.blobs.size()}});
-      // Masks add up, as the commercial consoles' "mask visible" does: what the nodes mask
-      // already is invisible in these frames and must stay masked (`mask clear` removes all).
-      for (const CameraMask& kept : masks_) {
-        if (kept.camera_id != camera) continue;
-        mask.blobs.insert(mask.blobs.end(), kept.blobs.begin(), kept.blobs.end());
-        mask.regions.insert(mask.regions.end(), kept.regions.begin(), kept.regions.end());
-      }
-      job.found.back()["regions"] = mask.regions.size();
-      job.masks.push_back(std::move(mask));
-    } catch (const std::exception& e) {
-      log::Warn("camera {}: no mask: {}", camera, e.what());
-    }
-  }
-  job.frames.clear();
-  if (job.masks.empty()) {
-    FailMaskJob("no camera delivered enough frames for a mask", 504);
+  if (!mask_job_->Collect(set)) return;
+  const std::vector<CameraMask>& masks =
+      mask_job_->ComputeMasks(masks_, [this](uint32_t camera) { return registry_.Find(camera) != nullptr; });
+  if (masks.empty()) {  // the job has failed
+    mask_job_.reset();
     return;
   }
   const uint64_t now = RealtimeNowNs();
-  for (const CameraMask& mask : job.masks) {
+  for (const CameraMask& mask : masks) {
     const SubmitResult submitted = controls_.Submit(mask.camera_id, MaskCommands(mask), now);
     if (!submitted.ok) {
       FailMaskJob("camera " + std::to_string(mask.camera_id) + ": " + submitted.error, 500);
@@ -505,12 +454,12 @@ void HubService::FinishMaskCollection() {
     }
     const HostPort to = ParseHostPort(registry_.Find(mask.camera_id)->address);
     for (const v1::Packet& packet : submitted.send) SendToNode(mask.camera_id, to, packet);
-    job.requests[submitted.request_id] = mask.camera_id;
+    mask_job_->Sent(submitted.request_id, mask.camera_id);
   }
 }
 
 void HubService::FailMaskJob(const std::string& reason, int status) {
-  mask_job_->promise.set_exception(std::make_exception_ptr(ApiError(status, reason)));
+  mask_job_->Fail(status, reason);
   mask_job_.reset();
 }
 
@@ -748,10 +697,8 @@ nlohmann::json HubService::AutoMask(int frames) {
   const double collect_s = frames / options_.rate_hz + 2.0;
   std::future<nlohmann::json> answer = OnLoop([this, frames, collect_s] {
     if (mask_job_) throw ApiError(409, "an automatic mask is being made already");
-    mask_job_ = std::make_unique<MaskJob>();
-    mask_job_->frames_wanted = frames;
-    mask_job_->deadline_ns = RealtimeNowNs() + Ns(collect_s);
-    return mask_job_->promise.get_future();
+    mask_job_ = std::make_unique<AutoMaskJob>(frames, RealtimeNowNs() + Ns(collect_s));
+    return mask_job_->Answer();
   });
   return Await(std::move(answer), collect_s + options_.request_timeout_s + 1.0);
 }

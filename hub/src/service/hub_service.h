@@ -35,6 +35,7 @@
 #include "pipeline/live_reconstruction.h"
 #include "service/api_error.h"
 #include "service/auto_mask.h"
+#include "service/auto_mask_job.h"
 #include "service/capture.h"
 #include "service/control_requests.h"
 #include "service/calibration_monitor.h"
@@ -142,7 +143,6 @@ class HubService : public ServiceApi {
   void AddStatusSection(const std::string& name, std::function<nlohmann::json()> section);
 
  private:
-  struct MaskJob;
   struct PreviewWait;
   struct BlobsWait;
 
@@ -161,8 +161,8 @@ class HubService : public ServiceApi {
   void OnRegistryEvents(const std::vector<RegistryEvent>& events);
   void OnRequestFinished(const RequestResult& result);
   void OnPreview(const PreviewImage& image);
+  // Into the mask job; its last frame set wanted computes the masks and sends them.
   void CollectMaskFrames(const FrameSet& set);
-  void FinishMaskCollection();
   void FailMaskJob(const std::string& reason, int status);
   std::future<RequestResult> Submit(uint32_t node_id, const std::vector<v1::Control>& commands);
   void SendMask(const CameraMask& mask, uint32_t node_id);
@@ -219,7 +219,7 @@ class HubService : public ServiceApi {
   // Loop-owned waiters.
   std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
   std::vector<std::unique_ptr<PreviewWait>> preview_waiters_;
-  std::unique_ptr<MaskJob> mask_job_;
+  std::unique_ptr<AutoMaskJob> mask_job_;
   std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
   uint64_t last_publish_ns_ = 0;
   uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
