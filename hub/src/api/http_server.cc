@@ -24,8 +24,8 @@
 
 namespace mocap::api {
 
-using service::LiveFrame;
-using service::LivePoint;
+using pipeline::LiveFrame;
+using pipeline::LivePoint;
 using service::ApiRequest;
 using service::ApiResponse;
 using service::kMaxApiBody;
@@ -137,7 +137,7 @@ std::string FrameMessage(const LiveFrame& frame) {
   }
   out += "],\"bodies\":[";
   for (size_t i = 0; i < frame.bodies.size(); ++i) {
-    const service::LiveBody& b = frame.bodies[i];
+    const pipeline::LiveBody& b = frame.bodies[i];
     const Eigen::Quaterniond& q = b.orientation;
     std::snprintf(buffer, sizeof(buffer), "%s[%u,%d,%d,%.3f,%.3f,%.3f,%.6f,%.6f,%.6f,%.6f,%.3f,%d]", i ? "," : "", b.id,
                   b.tracked ? 1 : 0, b.predicted ? 1 : 0, b.position.x(), b.position.y(), b.position.z(), q.x(), q.y(),
@@ -219,7 +219,7 @@ std::string HttpServerOptions::Check() const {
   return "";
 }
 
-HttpServer::HttpServer(service::HubService& service, HttpServerOptions options)
+HttpServer::HttpServer(service::ServiceApi& service, HttpServerOptions options)
     : service_(service),
       options_(std::move(options)),
       sessions_(options_.logins_file, RealtimeNowNs()),

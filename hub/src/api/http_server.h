@@ -38,7 +38,7 @@
 
 #include "api/access.h"
 #include "api/static_files.h"
-#include "service/hub_service.h"
+#include "service/service_api.h"
 #include "stream/frame_queue.h"
 
 struct mg_context;
@@ -64,7 +64,7 @@ class HttpServer {
  public:
   // Starts serving at once; throws std::runtime_error when the address cannot be bound or the
   // token store cannot be read.
-  HttpServer(service::HubService& service, HttpServerOptions options);
+  HttpServer(service::ServiceApi& service, HttpServerOptions options);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -90,7 +90,7 @@ class HttpServer {
   bool AnswerSession(mg_connection* connection, const std::string& path, const std::string& body,
                      const AccessDecision& access, int* status);
 
-  service::HubService& service_;
+  service::ServiceApi& service_;
   HttpServerOptions options_;
   std::unique_ptr<TokenVerifier> tokens_;
   LoginSessions sessions_;

@@ -4,22 +4,15 @@
 #include <filesystem>
 #include <system_error>
 
+#include "util/plain_name.h"
+
 namespace mocap::api {
 namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kMaxPath = 512;
 constexpr size_t kMaxSegments = 16;
-
-bool PlainSegment(const std::string& s) {
-  if (s.empty() || s.size() > 128 || s[0] == '.') return false;
-  for (char c : s) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                    c == '-' || c == '_';
-    if (!ok) return false;
-  }
-  return true;
-}
+constexpr size_t kMaxSegment = 128;  // characters of one segment
 
 const char* ContentType(const std::string& name) {
   const size_t dot = name.rfind('.');
@@ -63,7 +56,7 @@ StaticFile ResolveStaticFile(const std::vector<StaticMount>& mounts, const std::
   while (true) {
     const size_t end = path.find('/', start);
     const std::string segment = path.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    if (!PlainSegment(segment) || ++segments > kMaxSegments) return NotFound("not a served path: " + path);
+    if (!PlainName(segment, kMaxSegment) || ++segments > kMaxSegments) return NotFound("not a served path: " + path);
     relative /= segment;
     if (end == std::string::npos) break;
     start = end + 1;

@@ -20,6 +20,7 @@
 
 #include "calib/camera_blocks.h"
 #include "calib/cost_functions.h"
+#include "calib/solver_options.h"
 
 namespace mocap {
 
@@ -288,15 +289,8 @@ class Relocalizer {
                                new ceres::HuberLoss(options_.loss_scale_px), block.data(), intrinsics.data());
     }
     problem.SetParameterBlockConstant(intrinsics.data());
-    ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
-    solver.max_num_iterations = options_.max_iterations;
-    solver.function_tolerance = 1e-12;
-    solver.gradient_tolerance = 1e-14;
-    solver.parameter_tolerance = 1e-12;
-    solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    ceres::Solve(solver, &problem, &summary);
+    ceres::Solve(TightSolverOptions(ceres::DENSE_QR, options_.max_iterations), &problem, &summary);
     SetPoseFromBlock(block.data(), pose);
   }
 

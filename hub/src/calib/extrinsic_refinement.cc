@@ -17,6 +17,7 @@
 #include "calib/camera_blocks.h"
 #include "calib/cost_functions.h"
 #include "calib/marker_reprojection_error.h"
+#include "calib/solver_options.h"
 #include "geometry/triangulation.h"
 
 namespace mocap {
@@ -52,18 +53,6 @@ double Median(std::vector<double> values) {
 // per-coordinate spread only roughly (lengths are Rayleigh), which is what a gate needs.
 double OutlierGate(const std::vector<double>& lengths, double floor_px) {
   return std::max(floor_px, 5.0 * 1.4826 * Median(lengths));
-}
-
-ceres::Solver::Options SolverOptions(const ExtrinsicRefinementOptions& options) {
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_SCHUR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.num_threads = options.num_threads;
-  solver.function_tolerance = 1e-12;
-  solver.gradient_tolerance = 1e-14;
-  solver.parameter_tolerance = 1e-12;
-  solver.logging_type = ceres::SILENT;
-  return solver;
 }
 
 class ExtrinsicRefiner {
@@ -223,7 +212,8 @@ class ExtrinsicRefiner {
         if (!moved_[c]) problem.SetParameterBlockConstant(poses[c].data());
       }
       ceres::Solver::Summary summary;
-      ceres::Solve(SolverOptions(options_), &problem, &summary);
+      ceres::Solve(TightSolverOptions(ceres::DENSE_SCHUR, options_.max_iterations, options_.num_threads), &problem,
+                   &summary);
       for (size_t c = 0; c < n; ++c) {
         if (moved_[c]) SetPoseFromBlock(poses[c].data(), &solved_.cameras[c]);
       }

@@ -21,6 +21,7 @@
 
 #include "calib/camera_blocks.h"
 #include "calib/marker_reprojection_error.h"
+#include "calib/solver_options.h"
 #include "geometry/triangulation.h"
 
 namespace mocap {
@@ -297,16 +298,9 @@ class SingleMarkerSolver {
                                                    ceres::EuclideanManifold<3>(), ceres::SphereManifold<3>()));
         }
       }
-      ceres::Solver::Options solver;
-      solver.linear_solver_type = ceres::SPARSE_SCHUR;
-      solver.max_num_iterations = options_.max_iterations;
-      solver.num_threads = options_.num_threads;
-      solver.function_tolerance = 1e-12;
-      solver.gradient_tolerance = 1e-14;
-      solver.parameter_tolerance = 1e-12;
-      solver.logging_type = ceres::SILENT;
       ceres::Solver::Summary summary;
-      ceres::Solve(solver, &problem, &summary);
+      ceres::Solve(TightSolverOptions(ceres::SPARSE_SCHUR, options_.max_iterations, options_.num_threads), &problem,
+                   &summary);
       for (size_t c = 0; c < n; ++c) SetPoseFromBlock(poses[c].data(), &rig_.cameras[c]);
       DropOutliers();
     }

@@ -15,11 +15,8 @@
 #include "cli/progress.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
+#include "pipeline/offline_reconstruction.h"
 #include "recon/known_correspondences.h"
-#include "recon/reconstructor.h"
-#include "track/gap_filler.h"
-#include "track/hindsight_swaps.h"
-#include "track/tracker.h"
 #include "bodies/body_live_filter.h"
 #include "bodies/body_trajectories.h"
 #include "io/trajectory_file.h"
@@ -36,11 +33,7 @@ struct ReconstructArgs {
   std::string matcher = "relaxation";
   std::string assignment = "optimal";
   bool no_predictions = false;
-  double max_spline_gap_s = 0.05;
-  ReconstructorOptions recon;
-  TrackerOptions tracker;
-  GapFillOptions gap_fill;
-  HindsightSwapOptions hindsight;
+  pipeline::OfflineReconstructionOptions chain;
   std::string bodies;  // rigid bodies file; empty: none
   BodySmoothingOptions body_smoothing;
   bool bodies_live = false;  // the live (causal) body path instead of the offline one
@@ -147,7 +140,7 @@ void WriteKnownCorrespondenceFloor(const ReconstructArgs& args, const Rig& rig, 
     for (size_t m = 0; m < truth.NumMarkers(); ++m) true_points[m] = truth.At(row->second, m);
     BuildFrameViews(rig_model, frame_set, &views);
     FindTrueViews(rig_model, views, true_points, KnownCorrespondenceOptions(), &true_views);
-    points += TriangulateKnownCorrespondences(rig_model, views, true_views, args.recon.triangulation, &positions);
+    points += TriangulateKnownCorrespondences(rig_model, views, true_views, args.chain.recon.triangulation, &positions);
     const size_t f = floor.AddFrame(frame_set.frame_number);
     for (size_t m = 0; m < positions.size(); ++m) floor.At(f, m) = positions[m];
     ++frames;
@@ -166,10 +159,10 @@ void RunReconstruct(ReconstructArgs args) {
   } catch (const std::invalid_argument& error) {
     throw UsageError(error.what());
   }
-  args.recon.matcher = MatcherTypeFromString(args.matcher);
-  args.recon.use_predictions = !args.no_predictions;
-  args.tracker.assignment = AssignmentMethodFromString(args.assignment);
-  CheckOptions(args.recon);  // out-of-range numbers are usage errors, before any file is read
+  args.chain.recon.matcher = MatcherTypeFromString(args.matcher);
+  args.chain.recon.use_predictions = !args.no_predictions;
+  args.chain.tracker.assignment = AssignmentMethodFromString(args.assignment);
+  CheckOptions(args.chain.recon);  // out-of-range numbers are usage errors, before any file is read
   const Rig rig = LoadRigJson(args.calibration);
   SessionReader reader;
   reader.Open(args.session);
@@ -181,23 +174,12 @@ void RunReconstruct(ReconstructArgs args) {
     WriteKnownCorrespondenceFloor(args, rig, &reader);
     return;
   }
-  args.tracker.rate_hz = info.rate_hz;
-  args.gap_fill.max_spline_gap = static_cast<int>(std::lround(args.max_spline_gap_s * info.rate_hz));
-  // The window must hold the longest spline gap; a quarter second also bounds the back-fill of
-  // a newly confirmed track.
-  args.gap_fill.window_frames = std::max(args.gap_fill.max_spline_gap + 2,
-                                         static_cast<int>(std::lround(0.25 * info.rate_hz)));
-
-  Reconstructor reconstructor(rig, args.recon);
-  Tracker tracker(args.tracker);
   TrcSpill spill;
   spill.Open(args.output, info.rate_hz);
-  GapFiller filler(args.gap_fill, [&spill](uint64_t frame, const std::vector<TrackSample>& row) {
-    spill.AddRow(frame, row);
-  });
-  HindsightSwaps hindsight(args.hindsight, [&filler](uint64_t frame, const std::vector<TrackSample>& row) {
-    filler.Add(frame, row);
-  });
+  pipeline::OfflineReconstruction chain(rig, info.rate_hz, args.chain,
+                                        [&spill](uint64_t frame, const std::vector<TrackSample>& row) {
+                                          spill.AddRow(frame, row);
+                                        });
 
   std::unique_ptr<LiveBodiesRun> live_bodies;
   if (args.bodies_live) {
@@ -206,31 +188,15 @@ void RunReconstruct(ReconstructArgs args) {
   }
   ProgressBar progress("reconstruct", static_cast<size_t>(info.frame_sets));
   FrameSet frame_set;
-  std::vector<ReconstructedPoint> points;
-  std::vector<TrackSample> samples;
-  size_t done = 0;
-  bool first = true;
-  uint64_t last_frame = 0;
   while (reader.Next(&frame_set)) {
-    if (!first && frame_set.frame_number <= last_frame) continue;  // reader guarantees order
-    first = false;
-    last_frame = frame_set.frame_number;
-    reconstructor.Process(frame_set, tracker.Predict(frame_set.frame_number), &points);
-    samples.clear();
-    tracker.Update(frame_set.frame_number, points, &samples);
-    hindsight.Add(frame_set.frame_number, samples);
-    if (live_bodies) live_bodies->Add(frame_set.frame_number, points);
-    progress.Update(++done);
+    if (!chain.Add(frame_set)) continue;  // the reader guarantees order
+    if (live_bodies) live_bodies->Add(frame_set.frame_number, chain.points());
+    progress.Update(chain.frames());
   }
   progress.Finish();
+  const size_t done = chain.frames();
   if (done == 0) throw std::runtime_error(args.session + ": no frames to reconstruct");
-  samples.clear();
-  tracker.Finish(&samples);
-  hindsight.Add(last_frame, samples);
-  hindsight.Finish();
-  filler.Finish();
-  // Hindsight issues the output columns (a new track continuing a lost marker takes its column).
-  const int columns = args.hindsight.enabled ? hindsight.num_columns() : tracker.NumMarkers();
+  const int columns = chain.Finish();
   spill.Finish(columns);
   if (!args.labels.empty()) AddLabels(args);
   if (live_bodies) {
@@ -240,8 +206,8 @@ void RunReconstruct(ReconstructArgs args) {
   }
 
   for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
-  const ReconstructionStats& rs = reconstructor.stats();
-  const TrackerStats& ts = tracker.stats();
+  const ReconstructionStats& rs = chain.reconstructor().stats();
+  const TrackerStats& ts = chain.tracker().stats();
   std::printf(
       "%s: %zu frames, %d markers, %.2f points/frame (%.1f%% via predictions), %lld outlier views "
       "rejected, %lld duplicate or ghost points dropped, %lld re-acquisitions, %lld swaps undone in hindsight, %lld tracks joined to the marker they "
@@ -249,8 +215,8 @@ void RunReconstruct(ReconstructArgs args) {
       args.output.c_str(), done, columns,
       static_cast<double>(rs.points) / static_cast<double>(done),
       rs.points > 0 ? 100.0 * static_cast<double>(rs.points_from_predictions) / rs.points : 0.0,
-      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, hindsight.swaps_undone(),
-      hindsight.columns_joined(), ts.predicted_samples, filler.filled_samples(),
+      rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, chain.hindsight().swaps_undone(),
+      chain.hindsight().columns_joined(), ts.predicted_samples, chain.gap_filler().filled_samples(),
       args.matcher.c_str());
   const SessionReadStats& read = reader.stats();
   if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {
@@ -314,25 +280,25 @@ void AddReconstructCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--no-predictions", args->no_predictions,
                     "Match every frame from scratch (no reprojected track predictions)");
-  command->add_option("--contested-gate-factor", args->recon.prediction.contested_gate_factor,
+  command->add_option("--contested-gate-factor", args->chain.recon.prediction.contested_gate_factor,
                       "Predictions nearer each other than this times the sum of their gates (each counted up to "
                       "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
       ->capture_default_str();
-  command->add_option("--threads", args->recon.threads,
+  command->add_option("--threads", args->chain.recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
                       "for any count")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
-  command->add_option("--max-ray-distance-mm", args->recon.graph.max_ray_distance_mm,
+  command->add_option("--max-ray-distance-mm", args->chain.recon.graph.max_ray_distance_mm,
                       "Epipolar graph: rays closer than this are linked")->capture_default_str();
-  command->add_option("--cluster-distance-mm", args->recon.clustering.max_ray_distance_mm,
+  command->add_option("--cluster-distance-mm", args->chain.recon.clustering.max_ray_distance_mm,
                       "Clustering matcher threshold")->capture_default_str();
-  command->add_option("--max-reprojection-px", args->recon.triangulation.max_reprojection_px,
+  command->add_option("--max-reprojection-px", args->chain.recon.triangulation.max_reprojection_px,
                       "Views with a larger residual are rejected")->capture_default_str();
-  command->add_flag("--no-hindsight-swaps", [args](int64_t) { args->hindsight.enabled = false; },
+  command->add_flag("--no-hindsight-swaps", [args](int64_t) { args->chain.hindsight.enabled = false; },
                     "Keep identity trades between close markers as tracked (by default a trade that both "
                     "trajectories' next frames show is undone)");
-  command->add_option("--max-spline-gap-s", args->max_spline_gap_s,
+  command->add_option("--max-spline-gap-s", args->chain.max_spline_gap_s,
                       "Longest gap (seconds) filled by a spline")->capture_default_str();
   command->callback([args]() { RunReconstruct(*args); });
 }

@@ -20,7 +20,7 @@
 #include "io/calibration_json.h"
 #include "io/marker_trajectories.h"
 #include "io/trc.h"
-#include "service/live_reconstruction.h"
+#include "pipeline/live_reconstruction.h"
 #include "util/latency_sample.h"
 #include "util/log.h"
 
@@ -84,7 +84,7 @@ void RunRecord(const RecordArgs& args) {
   std::filesystem::copy_file(args.calibration, std::filesystem::path(args.output) / info.calibration,
                              std::filesystem::copy_options::overwrite_existing);
 
-  service::LiveReconstruction live(rig, args.rate_hz);
+  pipeline::LiveReconstruction live(rig, args.rate_hz);
   TrcWriter trc;
   std::vector<std::string> names;
   for (int i = 0; i < args.max_markers; ++i) names.push_back(DefaultMarkerName(static_cast<size_t>(i)));
@@ -99,7 +99,7 @@ void RunRecord(const RecordArgs& args) {
   LatencySample trigger_to_send, send_to_result;
   uint64_t dropped_columns = 0;
   recorder.Run(&session, [&](const FrameSet& set) {
-    const service::LiveFrame& frame = live.Process(set, RealtimeNowNs);
+    const pipeline::LiveFrame& frame = live.Process(set, RealtimeNowNs);
     const uint64_t done_ns = frame.publish_ns;
     for (const CameraFrame& f : set.cameras) {
       if (f.trigger_time_ns && f.send_time_ns >= f.trigger_time_ns)

@@ -258,7 +258,7 @@ void RunServe(ServeArgs& args, bool web_root_given) {
                                       args.options.labels_file));
   }
   TrackerStreams trackers(args);
-  hub.Subscribe([&](const service::LiveFrame& frame) {
+  hub.Subscribe([&](const pipeline::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
     if (streams.udp) streams.udp->Publish(shared);  // first: it may send at once (the others queue)
     http.Publish(shared);

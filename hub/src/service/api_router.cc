@@ -9,7 +9,7 @@
 #include "calib/wand_bundle_adjustment.h"
 #include "io/calibration_json.h"
 #include "service/api_error.h"
-#include "service/capture.h"
+#include "service/session_name.h"
 
 namespace mocap::service {
 namespace {

@@ -83,16 +83,6 @@ uint64_t FreeBytes(const std::string& path) {
   return static_cast<uint64_t>(fs_info.f_bavail) * fs_info.f_frsize;
 }
 
-bool ValidSessionName(const std::string& name) {
-  if (name.empty() || name.size() > 64 || name[0] == '.') return false;
-  for (char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
-                    c == '-' || c == '_';
-    if (!ok) return false;
-  }
-  return true;
-}
-
 Captures::Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base, CaptureDiskOptions disk,
                    FreeBytesFunction free_bytes)
     : disk_(disk),
@@ -330,9 +320,9 @@ nlohmann::json Captures::Disk() const {
           {"stop_free_mb", disk_.stop_free_mb}};
 }
 
-void Captures::AddPublished(const LiveFrame& frame) {
+void Captures::AddPublished(const pipeline::LiveFrame& frame) {
   ++frame_sets_;
-  for (const LivePoint& p : frame.points) {
+  for (const pipeline::LivePoint& p : frame.points) {
     const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
                                          : static_cast<long long>(p.marker);
     const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;

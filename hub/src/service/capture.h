@@ -21,12 +21,10 @@
 
 #include "ingest/ingest_stats.h"
 #include "ingest/session.h"
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
+#include "service/session_name.h"
 
 namespace mocap::service {
-
-// Letters, digits, '.', '-', '_'; 1-64 characters, not starting with '.'.
-bool ValidSessionName(const std::string& name);
 
 // Free space on the sessions disk: a capture needs `start_free_mb` to start, warns once below
 // `warn_free_mb` and is stopped ("failed: disk full") below `stop_free_mb`, checked every
@@ -80,7 +78,7 @@ class Captures {
   // space watched, session.json's counts rewritten every second.
   nlohmann::json Tick(const IngestStats& stats, uint64_t now_ns);
   // A frame published while capturing: counted and its points kept.
-  void AddPublished(const LiveFrame& frame);
+  void AddPublished(const pipeline::LiveFrame& frame);
 
   bool running() const { return writer_ != nullptr; }
   const std::string& name() const { return name_; }  // the running capture's

@@ -74,7 +74,7 @@ TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
   ASSERT_NE(captures.writer(), nullptr);
   const uint8_t datagram[] = {1, 2, 3};
   captures.writer()->AppendDatagram(datagram, sizeof(datagram), 5);
-  LiveFrame frame;
+  pipeline::LiveFrame frame;
   frame.frame_number = 7;
   frame.points.resize(2);
   frame.points[0].marker = 3;
@@ -185,7 +185,7 @@ TEST_F(CaptureTest, ALowDiskRefusesAStartAndEndsARunningCaptureFailedDiskFull) {
   IngestStats stats;
   captures.Start("fills", stats, kSecond);
   EXPECT_TRUE(fs::exists(dir_ / "sessions" / "fills" / ".reserve"));
-  LiveFrame frame;
+  pipeline::LiveFrame frame;
   for (int i = 0; i < 3; ++i) captures.AddPublished(frame);
   stats.nodes[1].frames = 6;
   EXPECT_TRUE(captures.Tick(stats, kSecond + kSecond / 2).is_null());
@@ -220,7 +220,7 @@ TEST_F(CaptureTest, SessionJsonCountsFollowARunningCapture) {
   Captures captures = Make();
   IngestStats stats;
   captures.Start("live", stats, kSecond);
-  LiveFrame frame;
+  pipeline::LiveFrame frame;
   for (int i = 0; i < 5; ++i) captures.AddPublished(frame);
   stats.nodes[1].frames = 10;
   captures.Tick(stats, kSecond + kSecond / 2);

@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <utility>
 
-#include "calib/wand_bundle_adjustment.h"
 #include "io/calibration_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
@@ -132,18 +131,6 @@ struct HubService::BlobsWait {
   std::promise<BlobsSnapshot> promise;
 };
 
-struct HubService::MaskJob {
-  int frames_wanted = 0;
-  int frames_seen = 0;
-  uint64_t deadline_ns = 0;
-  std::map<uint32_t, std::vector<CameraFrame>> frames;  // by camera id
-  std::vector<CameraMask> masks;
-  std::map<uint64_t, uint32_t> requests;                // request id -> camera id
-  nlohmann::json results = nlohmann::json::array();
-  nlohmann::json found = nlohmann::json::array();       // per camera: new static blobs, regions
-  std::promise<nlohmann::json> promise;
-};
-
 HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
       rig_(LoadRigOrThrow(options_.calibration)),
@@ -176,8 +163,8 @@ HubService::HubService(ServeOptions options)
 
 HubService::~HubService() = default;
 
-std::unique_ptr<LiveReconstruction> HubService::MakeLive() const {
-  return std::make_unique<LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
+std::unique_ptr<pipeline::LiveReconstruction> HubService::MakeLive() const {
+  return std::make_unique<pipeline::LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
                                               options_.body_filter);
 }
 
@@ -319,8 +306,8 @@ void HubService::Publish(const FrameSet& set) {
   for (auto& wait : blobs_waiters_) wait->promise.set_value(BlobsSnapshot{set, masks_});
   blobs_waiters_.clear();
   const uint64_t start_ns = RealtimeNowNs();
-  if (wanding_) wanding_->Add(set);
-  const LiveFrame& frame = live_->Process(set, RealtimeNowNs);
+  if (wanding_.collecting()) wanding_.Add(set);
+  const pipeline::LiveFrame& frame = live_->Process(set, RealtimeNowNs);
   {
     // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
     std::lock_guard<std::mutex> lock(subscribers_mutex_);
@@ -329,7 +316,7 @@ void HubService::Publish(const FrameSet& set) {
   processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
   ++frame_sets_;
   points_published_ += frame.points.size();
-  for (const LivePoint& p : frame.points) provisional_published_ += p.provisional();
+  for (const pipeline::LivePoint& p : frame.points) provisional_published_ += p.provisional();
   // The hub's own latency: sets that waited out their deadline for an absent camera measure the
   // deadline, not the hub, and are counted as incomplete instead.
   if (set.cameras.size() == rig_.cameras.size() && frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
@@ -370,18 +357,15 @@ void HubService::Tick(uint64_t now) {
     (*it)->promise.set_value(BlobsSnapshot{std::nullopt, masks_});
     it = blobs_waiters_.erase(it);
   }
-  if (wanding_) {
-    std::string reason = wanding_->StopReason(now);
+  if (wanding_.collecting()) {
+    std::string reason = wanding_.StopReason(now);
     // An operator who stops the wanding's capture (capture stop) ends the wanding with it.
-    if (reason.empty() && !(captures_.running() && captures_.name() == wand_options_.session))
+    if (reason.empty() && !(captures_.running() && captures_.name() == wanding_.options().session))
       reason = "its capture was stopped";
     if (!reason.empty()) FinishWanding(reason, true);
   }
-  PollWandSolve();
-  if (mask_job_ && mask_job_->requests.empty() && now >= mask_job_->deadline_ns)
-    FailMaskJob("only " + std::to_string(mask_job_->frames_seen) + " of " + std::to_string(mask_job_->frames_wanted) +
-                    " frame sets arrived in time (are the nodes running?)",
-                504);
+  wanding_.Poll();
+  if (mask_job_ && mask_job_->TimedOut(now)) FailMaskJob(mask_job_->TimeoutReason(), 504);
 }
 
 void HubService::Announce(uint64_t now) {
@@ -434,21 +418,11 @@ void HubService::OnRequestFinished(const RequestResult& result) {
     request_waiters_.erase(waiter);
     return;
   }
-  if (!mask_job_) return;
-  auto part = mask_job_->requests.find(result.request_id);
-  if (part == mask_job_->requests.end()) return;
-  mask_job_->results.push_back(RequestJson(result));
-  mask_job_->requests.erase(part);
-  if (!mask_job_->requests.empty()) return;
+  if (!mask_job_ || !mask_job_->Finished(result.request_id, RequestJson(result)) || !mask_job_->AllAnswered()) return;
   // Every node answered: the masks are the installation's now.
-  masks_ = mask_job_->masks;
+  masks_ = mask_job_->masks();
   SaveMasks();
-  nlohmann::json answer = {{"frames", mask_job_->frames_seen},
-                           {"cameras", mask_job_->found},
-                           {"masks", MasksToJson(masks_)},
-                           {"nodes", mask_job_->results},
-                           {"file", options_.masks_file}};
-  mask_job_->promise.set_value(answer);
+  mask_job_->Succeed(MasksToJson(masks_), options_.masks_file);
   mask_job_.reset();
 }
 
@@ -464,41 +438,15 @@ void HubService::OnPreview(const PreviewImage& image) {
 }
 
 void HubService::CollectMaskFrames(const FrameSet& set) {
-  MaskJob& job = *mask_job_;
-  if (!job.requests.empty() || job.frames_seen >= job.frames_wanted) return;
-  for (const CameraFrame& camera : set.cameras) job.frames[camera.camera_id].push_back(camera);
-  if (++job.frames_seen == job.frames_wanted) FinishMaskCollection();
-}
-
-void HubService::FinishMaskCollection() {
-  MaskJob& job = *mask_job_;
-  AutoMaskOptions options;
-  options.min_frames = std::min<size_t>(options.min_frames, static_cast<size_t>(job.frames_wanted));
-  for (auto& [camera, frames] : job.frames) {
-    if (!registry_.Find(camera)) continue;
-    try {
-      CameraMask mask = ComputeAutoMask(frames, options);
-      job.found.push_back({{"camera_id", camera}, {"static_blobs_found", mask.blobs.size()}});
-      // Masks add up, as the commercial consoles' "mask visible" does: what the nodes mask
-      // already is invisible in these frames and must stay masked (`mask clear` removes all).
-      for (const CameraMask& kept : masks_) {
-        if (kept.camera_id != camera) continue;
-        mask.blobs.insert(mask.blobs.end(), kept.blobs.begin(), kept.blobs.end());
-        mask.regions.insert(mask.regions.end(), kept.regions.begin(), kept.regions.end());
-      }
-      job.found.back()["regions"] = mask.regions.size();
-      job.masks.push_back(std::move(mask));
-    } catch (const std::exception& e) {
-      log::Warn("camera {}: no mask: {}", camera, e.what());
-    }
-  }
-  job.frames.clear();
-  if (job.masks.empty()) {
-    FailMaskJob("no camera delivered enough frames for a mask", 504);
+  if (!mask_job_->Collect(set)) return;
+  const std::vector<CameraMask>& masks =
+      mask_job_->ComputeMasks(masks_, [this](uint32_t camera) { return registry_.Find(camera) != nullptr; });
+  if (masks.empty()) {  // the job has failed
+    mask_job_.reset();
     return;
   }
   const uint64_t now = RealtimeNowNs();
-  for (const CameraMask& mask : job.masks) {
+  for (const CameraMask& mask : masks) {
     const SubmitResult submitted = controls_.Submit(mask.camera_id, MaskCommands(mask), now);
     if (!submitted.ok) {
       FailMaskJob("camera " + std::to_string(mask.camera_id) + ": " + submitted.error, 500);
@@ -506,12 +454,12 @@ void HubService::FinishMaskCollection() {
     }
     const HostPort to = ParseHostPort(registry_.Find(mask.camera_id)->address);
     for (const v1::Packet& packet : submitted.send) SendToNode(mask.camera_id, to, packet);
-    job.requests[submitted.request_id] = mask.camera_id;
+    mask_job_->Sent(submitted.request_id, mask.camera_id);
   }
 }
 
 void HubService::FailMaskJob(const std::string& reason, int status) {
-  mask_job_->promise.set_exception(std::make_exception_ptr(ApiError(status, reason)));
+  mask_job_->Fail(status, reason);
   mask_job_.reset();
 }
 
@@ -749,10 +697,8 @@ nlohmann::json HubService::AutoMask(int frames) {
   const double collect_s = frames / options_.rate_hz + 2.0;
   std::future<nlohmann::json> answer = OnLoop([this, frames, collect_s] {
     if (mask_job_) throw ApiError(409, "an automatic mask is being made already");
-    mask_job_ = std::make_unique<MaskJob>();
-    mask_job_->frames_wanted = frames;
-    mask_job_->deadline_ns = RealtimeNowNs() + Ns(collect_s);
-    return mask_job_->promise.get_future();
+    mask_job_ = std::make_unique<AutoMaskJob>(frames, RealtimeNowNs() + Ns(collect_s));
+    return mask_job_->Answer();
   });
   return Await(std::move(answer), collect_s + options_.request_timeout_s + 1.0);
 }
@@ -873,76 +819,20 @@ nlohmann::json HubService::Blobs() {
 
 // ---- live wanding ----
 
-nlohmann::json HubService::WandingJson() const {
-  nlohmann::json j = {{"state", wand_state_},
-                      {"session", wand_options_.session},
-                      {"wand_length_mm", wand_options_.wand_length_mm},
-                      {"middle_marker_mm", wand_options_.middle_marker_mm},
-                      {"stop_reason", wand_stop_reason_},
-                      {"applied", wand_applied_},
-                      {"saved_to", wand_saved_.empty() ? nlohmann::json(nullptr) : nlohmann::json(wand_saved_)}};
-  j["collection"] = wanding_ ? wanding_->Json(RealtimeNowNs()) : wand_collected_;
-  if (wand_job_ && wand_job_->done()) {
-    const WandSolveOutcome& o = wand_job_->outcome();
-    j["solve"] = {{"ok", o.ok},
-                  {"error", o.error},
-                  {"seconds", o.seconds},
-                  {"all_accepted", o.all_accepted},
-                  {"report", o.report},
-                  {"files", o.ok ? nlohmann::json{{"calibration", "wand_calibration.json"},
-                                                  {"report", "wand_report.html"},
-                                                  {"figures", "wand_figures.json"}}
-                                 : nlohmann::json(nullptr)}};
-  } else {
-    j["solve"] = nullptr;
-  }
-  return j;
-}
-
 void HubService::FinishWanding(const std::string& reason, bool solve) {
   const uint64_t now = RealtimeNowNs();
-  wand_collected_ = wanding_->Json(now);
-  wand_stop_reason_ = reason;
-  wanding_.reset();
-  if (captures_.running() && captures_.name() == wand_options_.session) {
+  // The capture ends first, so that a solve reads the whole session.
+  if (wanding_.collecting() && captures_.running() && captures_.name() == wanding_.options().session) {
     const nlohmann::json summary = captures_.Stop(ingest_.stats(), now);
-    log::Info("wanding {}: {}; {} frame sets captured", wand_options_.session, reason, summary.value("frame_sets", 0));
+    log::Info("wanding {}: {}; {} frame sets captured", wanding_.options().session, reason,
+              summary.value("frame_sets", 0));
   }
-  if (!solve) {
-    wand_state_ = "cancelled";
-    return;
-  }
-  StartWandSolve();
-}
-
-void HubService::StartWandSolve() {
-  WandSolveInput input;
-  input.session_dir = (std::filesystem::path(captures_.dir()) / wand_options_.session).string();
-  input.title = wand_options_.session;
-  input.intrinsics = wand_options_.intrinsics ? *wand_options_.intrinsics : rig_;
-  input.wand = wand_options_.Wand();
-  input.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(wand_options_.refine_intrinsics);
-  input.options.bundle.num_threads = 1;  // one core for the solve, the other for the frame path
-  input.thresholds = wand_options_.thresholds;
-  wand_job_ = std::make_unique<WandSolveJob>(std::move(input));
-  wand_state_ = "solving";
-}
-
-void HubService::PollWandSolve() {
-  if (wand_state_ != "solving" || !wand_job_ || !wand_job_->done()) return;
-  const WandSolveOutcome& o = wand_job_->outcome();
-  wand_state_ = o.ok ? "solved" : "failed";
-  if (o.ok)
-    log::Info("wanding {}: solved in {:.1f} s, rig rated {}, {}", wand_options_.session, o.seconds,
-              o.report.value("rating", ""), o.all_accepted ? "every camera accepted" : "some cameras refused");
-  else
-    log::Warn("wanding {}: no calibration: {}", wand_options_.session, o.error);
+  wanding_.Stop(reason, now, solve, captures_.dir(), rig_);
 }
 
 nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
   return OnLoop([this, requested] {
-    if (wanding_) throw ApiError(409, "wanding " + wand_options_.session + " is running already");
-    if (wand_state_ == "solving") throw ApiError(409, "the last wanding is still being solved");
+    wanding_.CheckCanStart();
     if (requested.intrinsics) {
       if (!SameCameras(*requested.intrinsics, rig_))
         throw ApiError(400, "'intrinsics' must hold the same cameras as the calibration serve runs with");
@@ -950,48 +840,32 @@ nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
     const uint64_t now = RealtimeNowNs();
     auto collection = std::make_unique<WandCollection>(rig_, requested, now);  // checks the options
     captures_.Start(requested.session, ingest_.stats(), now);
-    wanding_ = std::move(collection);
-    wand_options_ = requested;
-    wand_state_ = "collecting";
-    wand_stop_reason_.clear();
-    wand_collected_ = nullptr;
-    wand_job_.reset();
-    wand_applied_ = false;
-    wand_saved_.clear();
+    wanding_.Start(std::move(collection));
     log::Info("wanding {} started: {:.1f} mm wand, {} samples and {:.0f} % coverage per camera, timeout {:.0f} s",
               requested.session, requested.wand_length_mm, requested.min_samples, 100.0 * requested.coverage_target,
               requested.timeout_s);
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::Wanding() {
   return OnLoop([this] {
-    PollWandSolve();
-    return WandingJson();
+    wanding_.Poll();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::StopWanding(bool solve) {
   return OnLoop([this, solve] {
-    if (!wanding_) throw ApiError(409, "no wanding is running");
     FinishWanding(solve ? "stopped on request" : "cancelled on request", solve);
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
   return OnLoop([this, refine_intrinsics] {
-    PollWandSolve();
-    if (wand_state_ == "idle") throw ApiError(409, "no wanding was recorded since serve started");
-    if (wand_state_ == "collecting" || wand_state_ == "solving")
-      throw ApiError(409, "wanding " + wand_options_.session + " is still " + wand_state_);
-    if (!refine_intrinsics.empty()) wand_options_.refine_intrinsics = refine_intrinsics;
-    wand_job_.reset();
-    wand_applied_ = false;
-    wand_saved_.clear();
-    StartWandSolve();
-    return WandingJson();
+    wanding_.SolveAgain(refine_intrinsics, captures_.dir(), rig_);
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 
@@ -1008,9 +882,8 @@ std::string DatedCopyName(const std::string& path, uint64_t now_ns) {
 
 nlohmann::json HubService::ApplyWandCalibration(bool save) {
   return OnLoop([this, save] {
-    PollWandSolve();
-    if (wand_state_ != "solved") throw ApiError(409, "no solved wand calibration to apply (state " + wand_state_ + ")");
-    const WandSolveOutcome& o = wand_job_->outcome();
+    wanding_.Poll();
+    const WandSolveOutcome& o = wanding_.Solved();
     if (!SameCameras(o.rig, rig_)) {
       std::string refused;
       for (const auto& c : o.report["cameras"])
@@ -1023,13 +896,12 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     if (save) {
       SaveCalibration(o.calibration);
       source = options_.calibration;
-      wand_saved_ = options_.calibration;
     }
     UseRig(o.rig, source);
-    wand_applied_ = true;
-    log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,
+    wanding_.Applied(save ? options_.calibration : "");
+    log::Info("calibration of wanding {} applied to the live reconstruction{}", wanding_.options().session,
               save ? " and saved to " + options_.calibration : "");
-    return WandingJson();
+    return wanding_.Json(RealtimeNowNs());
   });
 }
 

@@ -32,17 +32,18 @@
 #include "geometry/camera.h"
 #include "ingest/frame_ingest.h"
 #include "ingest/udp_socket.h"
+#include "pipeline/live_reconstruction.h"
 #include "service/api_error.h"
 #include "service/auto_mask.h"
+#include "service/auto_mask_job.h"
 #include "service/capture.h"
 #include "service/control_requests.h"
 #include "service/calibration_monitor.h"
-#include "service/live_reconstruction.h"
+#include "service/live_wanding.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
 #include "service/service_api.h"
 #include "service/wand_collection.h"
-#include "service/wand_solve_job.h"
 #include "util/latency_sample.h"
 
 namespace mocap::service {
@@ -87,7 +88,7 @@ std::string DatedCopyName(const std::string& path, uint64_t now_ns);
 
 class HubService : public ServiceApi {
  public:
-  using Subscriber = std::function<void(const LiveFrame&)>;
+  using Subscriber = std::function<void(const pipeline::LiveFrame&)>;
 
   // Loads the calibration and the mask file; throws std::invalid_argument / std::runtime_error.
   explicit HubService(ServeOptions options);
@@ -142,7 +143,6 @@ class HubService : public ServiceApi {
   void AddStatusSection(const std::string& name, std::function<nlohmann::json()> section);
 
  private:
-  struct MaskJob;
   struct PreviewWait;
   struct BlobsWait;
 
@@ -161,8 +161,8 @@ class HubService : public ServiceApi {
   void OnRegistryEvents(const std::vector<RegistryEvent>& events);
   void OnRequestFinished(const RequestResult& result);
   void OnPreview(const PreviewImage& image);
+  // Into the mask job; its last frame set wanted computes the masks and sends them.
   void CollectMaskFrames(const FrameSet& set);
-  void FinishMaskCollection();
   void FailMaskJob(const std::string& reason, int status);
   std::future<RequestResult> Submit(uint32_t node_id, const std::vector<v1::Control>& commands);
   void SendMask(const CameraMask& mask, uint32_t node_id);
@@ -178,11 +178,9 @@ class HubService : public ServiceApi {
     std::vector<CameraMask> masks;
   };
   nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ under rig_mutex_)
+  // Ends the wanding's capture, then its collection (409 when none runs).
   void FinishWanding(const std::string& reason, bool solve);
-  void StartWandSolve();
-  void PollWandSolve();
-  nlohmann::json WandingJson() const;
-  std::unique_ptr<LiveReconstruction> MakeLive() const;
+  std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
   // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
   void SaveCalibration(const nlohmann::json& document);
   // Loop only: the live reconstruction (and a fresh monitor) run with `rig` from now on.
@@ -205,7 +203,7 @@ class HubService : public ServiceApi {
   PreviewAssembler previews_;
   std::vector<RigidBodyDefinition> bodies_;
   std::optional<MarkerSet> labels_;
-  std::unique_ptr<LiveReconstruction> live_;  // made again when the calibration changes
+  std::unique_ptr<pipeline::LiveReconstruction> live_;  // made again when the calibration changes
   std::unique_ptr<CalibrationMonitor> calibration_monitor_;  // null when off
   Captures captures_;
   std::vector<CameraMask> masks_;
@@ -221,20 +219,13 @@ class HubService : public ServiceApi {
   // Loop-owned waiters.
   std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
   std::vector<std::unique_ptr<PreviewWait>> preview_waiters_;
-  std::unique_ptr<MaskJob> mask_job_;
+  std::unique_ptr<AutoMaskJob> mask_job_;
   std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
   uint64_t last_publish_ns_ = 0;
   uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
 
   // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
-  std::unique_ptr<WandCollection> wanding_;
-  WandingOptions wand_options_;
-  std::string wand_state_ = "idle";  // idle, collecting, solving, solved, failed, cancelled
-  std::string wand_stop_reason_;
-  nlohmann::json wand_collected_;    // the collection's figures when it stopped
-  std::unique_ptr<WandSolveJob> wand_job_;
-  bool wand_applied_ = false;
-  std::string wand_saved_;           // where the applied calibration was saved, if it was
+  LiveWanding wanding_;
 
   // Work handed to the loop by other threads.
   std::mutex tasks_mutex_;

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "service/wand_collection.h"
+#include "service/wanding_options.h"
 
 namespace mocap::service {
 

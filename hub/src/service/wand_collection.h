@@ -4,7 +4,8 @@
 // or at the timeout. Pure: time is passed in, no threads, no files; HubService owns one on its
 // loop and hands the recorded session to a WandSolveJob when it stops.
 //
-// Error policy: WandingOptions::Check() throws ApiError 400 naming the bad setting.
+// Error policy: the constructor throws ApiError 400 naming the bad setting (WandingOptions::Check,
+// wanding_options.h).
 #pragma once
 
 #include <cstdint>
@@ -14,28 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "calib/wand_coverage.h"
-#include "calib/wand_observations.h"
-#include "calib/wand_quality.h"
 #include "geometry/camera.h"
 #include "ingest/camera_frame.h"
+#include "service/wanding_options.h"
 
 namespace mocap::service {
-
-struct WandingOptions {
-  std::string session;             // the capture's name in the sessions directory
-  double wand_length_mm = 0.0;     // between the end markers
-  double middle_marker_mm = 0.0;   // > 0: a third marker this far from the first end
-  size_t min_samples = 300;        // wand samples every camera needs
-  double coverage_target = 0.4;    // covered share of every camera's image (calibrate wand refuses < 0.2)
-  double timeout_s = 300.0;        // collection stops here whatever the coverage
-  std::string refine_intrinsics = "none";  // none, focal-principal or all
-  std::optional<Rig> intrinsics;   // none: the calibration serve runs with
-  WandCoverageOptions coverage;
-  RatingThresholds thresholds;
-
-  WandGeometry Wand() const;
-  void Check() const;
-};
 
 class WandCollection {
  public:

@@ -8,14 +8,14 @@
 namespace mocap::stream {
 namespace {
 
-service::LiveFrame Frame(size_t points) {
-  service::LiveFrame f;
+pipeline::LiveFrame Frame(size_t points) {
+  pipeline::LiveFrame f;
   f.frame_number = 4242;
   f.trigger_time_ns = 1'800'000'000'000'000'001ull;
   f.publish_ns = f.trigger_time_ns + 900'000;
   f.cameras = 16;
   for (size_t i = 0; i < points; ++i) {
-    service::LivePoint p;
+    pipeline::LivePoint p;
     p.position = {static_cast<double>(i), -5.5, 1000.0};
     p.rms_px = 0.125;
     p.views = 4;
@@ -23,7 +23,7 @@ service::LiveFrame Frame(size_t points) {
     else p.provisional_track = 70 + i;
     f.points.push_back(p);
   }
-  service::LiveBody body;
+  pipeline::LiveBody body;
   body.id = 3;
   body.name = "drone";
   body.tracked = true;

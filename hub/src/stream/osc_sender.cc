@@ -17,29 +17,29 @@ constexpr std::chrono::milliseconds kIdleWait{100};
 
 // One message of the address space, built by liblo or described for tests.
 template <typename Sink>
-void VisitFrame(const service::LiveFrame& frame, uint32_t parts, uint64_t* points_dropped, Sink&& sink) {
+void VisitFrame(const pipeline::LiveFrame& frame, uint32_t parts, uint64_t* points_dropped, Sink&& sink) {
   const bool points = parts & kPartPoints, bodies = parts & kPartBodies;
   size_t point_count = points ? std::min(frame.points.size(), kMaxOscPoints) : 0;
   size_t body_count = 0;
   if (bodies)
-    for (const service::LiveBody& b : frame.bodies) body_count += b.tracked;
+    for (const pipeline::LiveBody& b : frame.bodies) body_count += b.tracked;
   if (points_dropped) *points_dropped += points ? frame.points.size() - point_count : 0;
   sink.Frame(frame.frame_number, frame.trigger_time_ns, point_count, body_count);
   for (size_t i = 0; i < point_count; ++i) sink.Point(frame.points[i], frame.label_names.get());
   if (bodies)
-    for (const service::LiveBody& b : frame.bodies)
+    for (const pipeline::LiveBody& b : frame.bodies)
       if (b.tracked) sink.Body(b);
 }
 
 struct ShapeSink {
   std::vector<OscMessageShape>* out;
   void Frame(uint64_t, uint64_t, size_t, size_t) { out->push_back({"/mocap/frame", "hhii"}); }
-  void Point(const service::LivePoint& p, const std::vector<std::string>* names) {
+  void Point(const pipeline::LivePoint& p, const std::vector<std::string>* names) {
     OscMessageShape shape = p.marker >= 0 ? OscMessageShape{"/mocap/marker", "iffffi"} : OscMessageShape{"/mocap/point", "hffffi"};
     if (names != nullptr) shape.types += "s";
     out->push_back(shape);
   }
-  void Body(const service::LiveBody&) { out->push_back({"/mocap/rigidbody", "sffffffff"}); }
+  void Body(const pipeline::LiveBody&) { out->push_back({"/mocap/rigidbody", "sffffffff"}); }
 };
 
 struct BundleSink {
@@ -53,7 +53,7 @@ struct BundleSink {
     lo_message_add_int32(m, static_cast<int32_t>(bodies));
     Add("/mocap/frame", m);
   }
-  void Point(const service::LivePoint& p, const std::vector<std::string>* names) {
+  void Point(const pipeline::LivePoint& p, const std::vector<std::string>* names) {
     lo_message m = lo_message_new();
     if (p.marker >= 0)
       lo_message_add_int32(m, p.marker + 1);
@@ -71,7 +71,7 @@ struct BundleSink {
                                    : "");
     Add(p.marker >= 0 ? "/mocap/marker" : "/mocap/point", m);
   }
-  void Body(const service::LiveBody& b) {
+  void Body(const pipeline::LiveBody& b) {
     lo_message m = lo_message_new();
     lo_message_add_string(m, b.name.c_str());
     for (double v : {b.position.x(), b.position.y(), b.position.z(), b.orientation.x(), b.orientation.y(),
@@ -102,7 +102,7 @@ void OscOptions::Check() const {
   if (queue_frames == 0) throw std::invalid_argument("OSC queue must hold at least one frame");
 }
 
-std::vector<OscMessageShape> OscBundleShape(const service::LiveFrame& frame, uint32_t parts) {
+std::vector<OscMessageShape> OscBundleShape(const pipeline::LiveFrame& frame, uint32_t parts) {
   std::vector<OscMessageShape> out;
   VisitFrame(frame, parts, nullptr, ShapeSink{&out});
   return out;

@@ -51,7 +51,7 @@ struct OscMessageShape {
   std::string path;
   std::string types;
 };
-std::vector<OscMessageShape> OscBundleShape(const service::LiveFrame& frame, uint32_t parts);
+std::vector<OscMessageShape> OscBundleShape(const pipeline::LiveFrame& frame, uint32_t parts);
 
 class OscSender {
  public:

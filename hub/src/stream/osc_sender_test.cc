@@ -13,27 +13,27 @@
 namespace mocap::stream {
 namespace {
 
-service::LiveFrame Frame() {
-  service::LiveFrame f;
+pipeline::LiveFrame Frame() {
+  pipeline::LiveFrame f;
   f.frame_number = 77;
   f.trigger_time_ns = 1'800'000'000'000'000'123ull;
-  service::LivePoint confirmed;
+  pipeline::LivePoint confirmed;
   confirmed.position = {10.0, 20.0, 30.0};
   confirmed.rms_px = 0.5;
   confirmed.views = 3;
   confirmed.marker = 4;
-  service::LivePoint provisional;
+  pipeline::LivePoint provisional;
   provisional.position = {-1.0, -2.0, -3.0};
   provisional.views = 2;
   provisional.provisional_track = 12;
-  service::LivePoint untracked;
+  pipeline::LivePoint untracked;
   untracked.views = 2;
   f.points = {confirmed, provisional, untracked};
-  service::LiveBody body;
+  pipeline::LiveBody body;
   body.name = "wand";
   body.tracked = true;
   body.position = {1.0, 2.0, 3.0};
-  service::LiveBody lost;
+  pipeline::LiveBody lost;
   lost.name = "lost";
   f.bodies = {body, lost};
   return f;
@@ -53,12 +53,12 @@ TEST(OscSender, AddressSpace) {
   EXPECT_EQ(shape[4].types, "sffffffff");
   EXPECT_EQ(OscBundleShape(Frame(), kPartBodies).size(), 2u);
   // With a marker set every point message ends with the point's name.
-  service::LiveFrame named = Frame();
+  pipeline::LiveFrame named = Frame();
   named.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"Head"});
   const auto named_shape = OscBundleShape(named, kPartPoints);
   EXPECT_EQ(named_shape[1].types, "iffffis");
   EXPECT_EQ(named_shape[2].types, "hffffis");
-  service::LiveFrame many;
+  pipeline::LiveFrame many;
   many.points.resize(kMaxOscPoints + 10);
   EXPECT_EQ(OscBundleShape(many, kPartPoints).size(), 1 + kMaxOscPoints);
 }

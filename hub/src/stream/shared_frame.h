@@ -5,14 +5,14 @@
 
 #include <memory>
 
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
 
 namespace mocap::stream {
 
-using SharedFrame = std::shared_ptr<const service::LiveFrame>;
+using SharedFrame = std::shared_ptr<const pipeline::LiveFrame>;
 
-inline SharedFrame ShareFrame(const service::LiveFrame& frame) {
-  auto copy = std::make_shared<service::LiveFrame>();
+inline SharedFrame ShareFrame(const pipeline::LiveFrame& frame) {
+  auto copy = std::make_shared<pipeline::LiveFrame>();
   copy->frame_number = frame.frame_number;
   copy->trigger_time_ns = frame.trigger_time_ns;
   copy->last_receive_ns = frame.last_receive_ns;

@@ -9,7 +9,7 @@
 namespace mocap::stream {
 namespace {
 
-void FillPoint(const service::LivePoint& in, const std::vector<std::string>* names, v1::Point* out) {
+void FillPoint(const pipeline::LivePoint& in, const std::vector<std::string>* names, v1::Point* out) {
   out->set_x(static_cast<float>(in.position.x()));
   out->set_y(static_cast<float>(in.position.y()));
   out->set_z(static_cast<float>(in.position.z()));
@@ -21,7 +21,7 @@ void FillPoint(const service::LivePoint& in, const std::vector<std::string>* nam
     out->set_label((*names)[static_cast<size_t>(in.label)].substr(0, 63));  // the field's nanopb limit
 }
 
-void FillBody(const service::LiveBody& in, v1::RigidBody* out) {
+void FillBody(const pipeline::LiveBody& in, v1::RigidBody* out) {
   out->set_id(in.id);
   out->set_name(in.name);
   out->set_tracked(in.tracked);
@@ -40,7 +40,7 @@ void FillBody(const service::LiveBody& in, v1::RigidBody* out) {
 
 }  // namespace
 
-EncodedFrame EncodeStreamFrame(const service::LiveFrame& frame, uint32_t parts, size_t max_bytes) {
+EncodedFrame EncodeStreamFrame(const pipeline::LiveFrame& frame, uint32_t parts, size_t max_bytes) {
   v1::StreamFrame out;
   out.set_frame_number(frame.frame_number);
   out.set_trigger_time_ns(frame.trigger_time_ns);
@@ -48,12 +48,12 @@ EncodedFrame EncodeStreamFrame(const service::LiveFrame& frame, uint32_t parts, 
   out.set_cameras(static_cast<uint32_t>(frame.cameras));
   out.set_parts(parts & kAllParts);
   if (parts & kPartBodies)
-    for (const service::LiveBody& body : frame.bodies) FillBody(body, out.add_bodies());
+    for (const pipeline::LiveBody& body : frame.bodies) FillBody(body, out.add_bodies());
   if (parts & kPartPoints) {
     // Points are added while they fit: each one's size is known before it is added, so the
     // message never grows past the limit (a varint length prefix and tag: at most 3 bytes more).
     size_t size = out.ByteSizeLong() + 8;  // + room for points_dropped
-    for (const service::LivePoint& point : frame.points) {
+    for (const pipeline::LivePoint& point : frame.points) {
       v1::Point p;
       FillPoint(point, (parts & kPartLabels) && frame.label_names ? frame.label_names.get() : nullptr, &p);
       const size_t cost = p.ByteSizeLong() + 3;

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
 
 namespace mocap::stream {
 
@@ -31,7 +31,7 @@ struct EncodedFrame {
   std::string bytes;
   uint32_t points_dropped = 0;
 };
-EncodedFrame EncodeStreamFrame(const service::LiveFrame& frame, uint32_t parts,
+EncodedFrame EncodeStreamFrame(const pipeline::LiveFrame& frame, uint32_t parts,
                                size_t max_bytes = kMaxStreamMessage);
 
 // A subscription cookie (subscribe_cookie, Subscribe.cookie) is at most this long; a first

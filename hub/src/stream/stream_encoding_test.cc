@@ -10,14 +10,14 @@
 namespace mocap::stream {
 namespace {
 
-service::LiveFrame Frame(size_t points) {
-  service::LiveFrame f;
+pipeline::LiveFrame Frame(size_t points) {
+  pipeline::LiveFrame f;
   f.frame_number = 1234567;
   f.trigger_time_ns = 1'800'000'000'123'456'789ull;
   f.publish_ns = f.trigger_time_ns + 2'500'000;
   f.cameras = 8;
   for (size_t i = 0; i < points; ++i) {
-    service::LivePoint p;
+    pipeline::LivePoint p;
     p.position = {100.0 + static_cast<double>(i), -200.5, 1500.25};
     p.rms_px = 0.25;
     p.views = 3 + static_cast<int>(i % 4);
@@ -25,7 +25,7 @@ service::LiveFrame Frame(size_t points) {
     else p.marker = static_cast<int>(i);            // confirmed column i
     f.points.push_back(p);
   }
-  service::LiveBody body;
+  pipeline::LiveBody body;
   body.id = 1;
   body.name = "wand";
   body.tracked = true;
@@ -33,7 +33,7 @@ service::LiveFrame Frame(size_t points) {
   body.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
   body.mean_error_mm = 0.3;
   f.bodies.push_back(body);
-  service::LiveBody lost;
+  pipeline::LiveBody lost;
   lost.id = 2;
   lost.name = "drone";
   f.bodies.push_back(lost);
@@ -47,7 +47,7 @@ v1::StreamFrame Parse(const EncodedFrame& e) {
 }
 
 TEST(StreamEncoding, EveryFieldSurvivesTheRoundTrip) {
-  const service::LiveFrame f = Frame(7);
+  const pipeline::LiveFrame f = Frame(7);
   const v1::StreamFrame m = Parse(EncodeStreamFrame(f, kPartPoints | kPartBodies));
   EXPECT_EQ(m.frame_number(), f.frame_number);
   EXPECT_EQ(m.trigger_time_ns(), f.trigger_time_ns);
@@ -82,7 +82,7 @@ TEST(StreamEncoding, EveryFieldSurvivesTheRoundTrip) {
 }
 
 TEST(StreamEncoding, NamesOnlyWithTheLabelsPart) {
-  service::LiveFrame f = Frame(3);
+  pipeline::LiveFrame f = Frame(3);
   f.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"R.ASIS", "Head"});
   f.points[1].label = 1;
   f.points[2].label = 0;
@@ -96,7 +96,7 @@ TEST(StreamEncoding, NamesOnlyWithTheLabelsPart) {
 }
 
 TEST(StreamEncoding, OnlyThePartsAskedFor) {
-  const service::LiveFrame f = Frame(5);
+  const pipeline::LiveFrame f = Frame(5);
   const v1::StreamFrame points = Parse(EncodeStreamFrame(f, kPartPoints));
   EXPECT_EQ(points.points_size(), 5);
   EXPECT_EQ(points.bodies_size(), 0);
@@ -107,7 +107,7 @@ TEST(StreamEncoding, OnlyThePartsAskedFor) {
 }
 
 TEST(StreamEncoding, PointsBeyondTheLimitAreDroppedAndCounted) {
-  const service::LiveFrame f = Frame(4000);
+  const pipeline::LiveFrame f = Frame(4000);
   const EncodedFrame whole = EncodeStreamFrame(f, kPartPoints, 1'000'000);
   EXPECT_EQ(whole.points_dropped, 0u);
   EXPECT_GT(whole.bytes.size(), kMaxStreamMessage);

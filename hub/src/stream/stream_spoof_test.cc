@@ -71,7 +71,7 @@ TEST(StreamSpoofing, AForgedSubscriptionSendsTheVictimNoFrame) {
   for (int i = 0; i < 100 && server.stats().unproven < 256; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   ASSERT_EQ(server.stats().unproven, 256u) << "the forged datagrams did not all arrive";
   for (uint64_t n = 1; n <= 100; ++n) {
-    service::LiveFrame f;
+    pipeline::LiveFrame f;
     f.frame_number = n;
     f.publish_ns = RealtimeNowNs();
     f.points.resize(50);

@@ -149,7 +149,7 @@ void UdpStreamServer::ServeRequests(uint64_t now_ns) {
   stats_.subscribers = table_.subscribers().size();
 }
 
-void UdpStreamServer::Send(const service::LiveFrame& frame) {
+void UdpStreamServer::Send(const pipeline::LiveFrame& frame) {
   std::map<uint32_t, EncodedFrame> encoded;  // one encoding per distinct set of parts
   auto message = [&](uint32_t parts) -> const EncodedFrame& {
     auto it = encoded.find(parts);

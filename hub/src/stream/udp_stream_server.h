@@ -72,7 +72,7 @@ class UdpStreamServer {
  private:
   void Run();
   void ServeRequests(uint64_t now_ns);
-  void Send(const service::LiveFrame& frame);
+  void Send(const pipeline::LiveFrame& frame);
   nlohmann::json PublishLatencyJson() const;
 
   const UdpStreamOptions options_;

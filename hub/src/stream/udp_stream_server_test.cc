@@ -15,12 +15,12 @@ namespace mocap::stream {
 namespace {
 
 SharedFrame Frame(uint64_t number, size_t points) {
-  service::LiveFrame f;
+  pipeline::LiveFrame f;
   f.frame_number = number;
   f.cameras = 4;
   f.publish_ns = RealtimeNowNs();
   for (size_t i = 0; i < points; ++i) {
-    service::LivePoint p;
+    pipeline::LivePoint p;
     p.position = {static_cast<double>(i), 0.0, 0.0};
     p.marker = static_cast<int>(i);
     f.points.push_back(p);

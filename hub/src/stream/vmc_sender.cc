@@ -46,14 +46,14 @@ void VmcOptions::Check() const {
   if (queue_frames == 0) throw std::invalid_argument("VMC queue must hold at least one frame");
 }
 
-std::vector<VmcMessage> VmcBundle(const service::LiveFrame& frame, const VmcOptions& options) {
+std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOptions& options) {
   const Eigen::Matrix3d m = VmcAxes(options.up_axis);
   int tracked = 0;
-  for (const service::LiveBody& b : frame.bodies) tracked += b.tracked;
+  for (const pipeline::LiveBody& b : frame.bodies) tracked += b.tracked;
   std::vector<VmcMessage> out;
   out.push_back({"/VMC/Ext/OK", "iiii", {}, {1, 3, 0, tracked > 0 ? 1 : 0}, ""});
   out.push_back({"/VMC/Ext/T", "f", {static_cast<float>(static_cast<double>(frame.frame_number) / options.rate_hz)}, {}, ""});
-  for (const service::LiveBody& b : frame.bodies) {
+  for (const pipeline::LiveBody& b : frame.bodies) {
     if (!b.tracked) continue;
     const Eigen::Vector3d p = m * b.position * kMetresPerMm;
     const Eigen::Quaterniond q(Eigen::Matrix3d(m * b.orientation.normalized().toRotationMatrix() * m.transpose()));

@@ -50,7 +50,7 @@ struct VmcMessage {
   std::string text;           // the s argument, if any
 };
 // The messages of one frame's bundle, in order: what the sender sends (tests read it here).
-std::vector<VmcMessage> VmcBundle(const service::LiveFrame& frame, const VmcOptions& options);
+std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOptions& options);
 
 struct VmcStats {
   uint64_t bundles = 0;

@@ -36,15 +36,15 @@ TEST(VmcAxes, PutUpOnUnityYAsAReflection) {
   EXPECT_THROW(o.Check(), std::invalid_argument);
 }
 
-service::LiveFrame Frame() {
-  service::LiveFrame f;
+pipeline::LiveFrame Frame() {
+  pipeline::LiveFrame f;
   f.frame_number = 250;
-  service::LiveBody fitted;
+  pipeline::LiveBody fitted;
   fitted.name = "drone";
   fitted.tracked = true;
   fitted.position = {100, 2000, -300};
   fitted.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
-  service::LiveBody lost;
+  pipeline::LiveBody lost;
   lost.name = "lost";
   f.bodies = {fitted, lost};
   return f;
@@ -55,7 +55,7 @@ TEST(VmcBundle, TrackersInUnityMetres) {
   o.target = "127.0.0.1:39539";
   o.rate_hz = 100;
   o.up_axis = "+Z";
-  const service::LiveFrame f = Frame();
+  const pipeline::LiveFrame f = Frame();
   const auto bundle = VmcBundle(f, o);
   ASSERT_EQ(bundle.size(), 3u);  // the lost body is left out
   EXPECT_EQ(bundle[0].path, "/VMC/Ext/OK");
@@ -73,7 +73,7 @@ TEST(VmcBundle, TrackersInUnityMetres) {
   const Eigen::Quaterniond q(t.floats[6], t.floats[3], t.floats[4], t.floats[5]);
   const Eigen::Vector3d v(0.3, -1.2, 0.8);
   EXPECT_TRUE((q * (m * v)).isApprox(m * (f.bodies[0].orientation * v), 1e-6));
-  service::LiveFrame none = Frame();
+  pipeline::LiveFrame none = Frame();
   none.bodies[0].tracked = false;
   EXPECT_EQ(VmcBundle(none, o)[0].ints[3], 0);
 }
@@ -104,7 +104,7 @@ TEST(VmcSender, SendsABundleLibloReceives) {
   o.rate_hz = 100;
   {
     VmcSender sender(o);
-    sender.Publish(std::make_shared<service::LiveFrame>(Frame()));
+    sender.Publish(std::make_shared<pipeline::LiveFrame>(Frame()));
     for (int i = 0; i < 50 && got.paths.size() < 3; ++i) lo_server_recv_noblock(server, 100);
     // Counted just after the bundle leaves.
     for (int i = 0; i < 100 && sender.stats().bundles < 1; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));

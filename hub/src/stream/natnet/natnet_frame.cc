@@ -77,13 +77,13 @@ void Dataset(Writer& w, const Version& v, int32_t type, Describe&& describe) {
   if (SizesSections(v)) w.PatchI32(at, static_cast<int32_t>(w.size() - at - 4));
 }
 
-const service::LivePoint* NamedPoint(const service::LiveFrame& frame, int label) {
-  for (const service::LivePoint& p : frame.points)
+const pipeline::LivePoint* NamedPoint(const pipeline::LiveFrame& frame, int label) {
+  for (const pipeline::LivePoint& p : frame.points)
     if (p.label == label) return &p;
   return nullptr;
 }
 
-std::string Encode(const service::LiveFrame& frame, const Model& model, const Version& v, const FrameStamps& stamps,
+std::string Encode(const pipeline::LiveFrame& frame, const Model& model, const Version& v, const FrameStamps& stamps,
                    size_t max_points) {
   Writer w(kFrameOfData);
   w.I32(static_cast<int32_t>(static_cast<uint32_t>(frame.frame_number)));
@@ -96,7 +96,7 @@ std::string Encode(const service::LiveFrame& frame, const Model& model, const Ve
       const RigidBodyDefinition& def = model.bodies[b];
       w.Str(def.name);
       w.I32(static_cast<int32_t>(def.markers.size()));
-      const service::LiveBody* pose = b < frame.bodies.size() ? &frame.bodies[b] : nullptr;
+      const pipeline::LiveBody* pose = b < frame.bodies.size() ? &frame.bodies[b] : nullptr;
       const bool placed = pose && (pose->tracked || pose->predicted);
       for (const Eigen::Vector3d& m : def.markers) {
         if (placed)
@@ -109,7 +109,7 @@ std::string Encode(const service::LiveFrame& frame, const Model& model, const Ve
       w.Str("all");
       w.I32(static_cast<int32_t>(model.label_names.size()));
       for (size_t l = 0; l < model.label_names.size(); ++l) {
-        const service::LivePoint* p = NamedPoint(frame, static_cast<int>(l));
+        const pipeline::LivePoint* p = NamedPoint(frame, static_cast<int>(l));
         if (p)
           Vec(w, p->position);
         else
@@ -126,7 +126,7 @@ std::string Encode(const service::LiveFrame& frame, const Model& model, const Ve
   }
   {  // rigid bodies
     Section s(w, v, static_cast<int32_t>(frame.bodies.size()));
-    for (const service::LiveBody& b : frame.bodies) {
+    for (const pipeline::LiveBody& b : frame.bodies) {
       w.I32(static_cast<int32_t>(b.id));
       Vec(w, b.position);
       const Eigen::Quaterniond q = b.orientation.normalized();
@@ -143,7 +143,7 @@ std::string Encode(const service::LiveFrame& frame, const Model& model, const Ve
   {  // labelled markers: every point
     Section s(w, v, static_cast<int32_t>(points));
     for (size_t i = 0; i < points; ++i) {
-      const service::LivePoint& p = frame.points[i];
+      const pipeline::LivePoint& p = frame.points[i];
       w.I32(p.marker >= 0 ? p.marker + 1 : 0);
       Vec(w, p.position);
       w.F32(0.0f);  // size: not measured
@@ -189,7 +189,7 @@ std::string EncodeModelDef(const Model& model, const Version& v) {
   return w.Finish();
 }
 
-std::string EncodeFrame(const service::LiveFrame& frame, const Model& model, const Version& version,
+std::string EncodeFrame(const pipeline::LiveFrame& frame, const Model& model, const Version& version,
                         const FrameStamps& stamps, uint64_t* points_dropped) {
   std::string packet = Encode(frame, model, version, stamps, frame.points.size());
   if (packet.size() <= kMaxPacket) return packet;

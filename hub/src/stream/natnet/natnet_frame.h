@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "bodies/body_definition.h"
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
 #include "stream/natnet/natnet_packet.h"
 
 namespace mocap::stream::natnet {
@@ -57,7 +57,7 @@ struct FrameStamps {
 };
 
 // points_dropped (optional) counts the points left out to fit kMaxPacket.
-std::string EncodeFrame(const service::LiveFrame& frame, const Model& model, const Version& version,
+std::string EncodeFrame(const pipeline::LiveFrame& frame, const Model& model, const Version& version,
                         const FrameStamps& stamps, uint64_t* points_dropped = nullptr);
 
 }  // namespace mocap::stream::natnet

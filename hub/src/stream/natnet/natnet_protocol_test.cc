@@ -66,26 +66,26 @@ Model TwoBodies() {
   return m;
 }
 
-service::LiveFrame OneFrame() {
-  service::LiveFrame f;
+pipeline::LiveFrame OneFrame() {
+  pipeline::LiveFrame f;
   f.frame_number = 1234;
   f.trigger_time_ns = 1'700'000'000'123'456'789ull;
   f.last_receive_ns = f.trigger_time_ns + 2'000'000;
   f.publish_ns = f.last_receive_ns + 300'000;
-  service::LivePoint confirmed;
+  pipeline::LivePoint confirmed;
   confirmed.position = {1000, 2000, 3000};
   confirmed.marker = 4;
-  service::LivePoint loose;
+  pipeline::LivePoint loose;
   loose.position = {-5, 6, -7};
   f.points = {confirmed, loose};
-  service::LiveBody drone;
+  pipeline::LiveBody drone;
   drone.id = 1;
   drone.name = "drone";
   drone.tracked = true;
   drone.position = {100, 200, 300};
   drone.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d(0, 0, 1)));
   drone.mean_error_mm = 0.25;
-  service::LiveBody wand;
+  pipeline::LiveBody wand;
   wand.id = 2;
   wand.name = "wand";
   f.bodies = {drone, wand};
@@ -252,7 +252,7 @@ TEST(NatNetFrame, CarriesMarkersBodiesAndStamps) {
   for (const Version v : {Version{3, 1}, Version{4, 0}, Version{4, 1}}) {
     SCOPED_TRACE(ToString(v));
     const Model model = TwoBodies();
-    const service::LiveFrame f = OneFrame();
+    const pipeline::LiveFrame f = OneFrame();
     const std::string p = EncodeFrame(f, model, v, FrameStamps{f.publish_ns + 50'000});
     const bool sized = v.major == 4 && v.minor == 1;
     Reader r{p};
@@ -334,7 +334,7 @@ TEST(NatNetFrame, CarriesMarkersBodiesAndStamps) {
 }
 
 TEST(NatNetFrame, ManyPointsAreCutToOneDatagram) {
-  service::LiveFrame f;
+  pipeline::LiveFrame f;
   f.points.resize(5000);
   uint64_t dropped = 0;
   const std::string p = EncodeFrame(f, Model{}, Version{}, FrameStamps{}, &dropped);

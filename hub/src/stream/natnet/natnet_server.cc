@@ -172,7 +172,7 @@ std::string NatNetServer::EncodeLatest(uint64_t* points_dropped) {
   return EncodeFrame(*latest_, model_, state_.version, FrameStamps{RealtimeNowNs()}, points_dropped);
 }
 
-void NatNetServer::Send(const service::LiveFrame& frame) {
+void NatNetServer::Send(const pipeline::LiveFrame& frame) {
   uint64_t points_dropped = 0;
   const std::string packet = EncodeLatest(&points_dropped);
   const auto* bytes = reinterpret_cast<const uint8_t*>(packet.data());

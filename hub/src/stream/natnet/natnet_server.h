@@ -76,7 +76,7 @@ class NatNetServer {
   void Run();
   void Serve(uint64_t now_ns);
   void Subscribe(const sockaddr_in& from, Subscription what, uint64_t now_ns);
-  void Send(const service::LiveFrame& frame);
+  void Send(const pipeline::LiveFrame& frame);
   std::string EncodeLatest(uint64_t* points_dropped);
 
   const NatNetOptions options_;

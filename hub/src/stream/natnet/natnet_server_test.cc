@@ -57,10 +57,10 @@ class Client {
 };
 
 SharedFrame Frame(uint64_t number) {
-  auto f = std::make_shared<service::LiveFrame>();
+  auto f = std::make_shared<pipeline::LiveFrame>();
   f->frame_number = number;
   f->publish_ns = RealtimeNowNs();
-  service::LiveBody b;
+  pipeline::LiveBody b;
   b.id = 1;
   b.name = "drone";
   b.tracked = true;

@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   peer.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   q::RtOutput out;
   q::RtSession session(peer, &out);
-  auto frame = std::make_shared<mocap::service::LiveFrame>();
+  auto frame = std::make_shared<mocap::pipeline::LiveFrame>();
   frame->points.resize(3);
   frame->points[1].marker = 2;
   const q::RtEncoder encode = [&](uint32_t c) {

@@ -86,11 +86,11 @@ RtSystem TwoCameras() {
 }
 
 SharedFrame MakeFrame(uint64_t number, int points) {
-  auto f = std::make_shared<service::LiveFrame>();
+  auto f = std::make_shared<pipeline::LiveFrame>();
   f->frame_number = number;
   f->cameras = 2;
   for (int i = 0; i < points; ++i) {
-    service::LivePoint p;
+    pipeline::LivePoint p;
     p.position = {double(i), 1, 2};
     p.marker = i;
     f->points.push_back(p);

@@ -20,7 +20,7 @@ void PutVector(std::string* out, const Eigen::Vector3d& v) {
 }
 
 // Point id of 3D no labels (rt_frame.h).
-uint32_t PointId(const service::LivePoint& p) {
+uint32_t PointId(const pipeline::LivePoint& p) {
   if (p.marker >= 0) return static_cast<uint32_t>(p.marker) + 1;
   if (p.provisional_track) return 0x40000000u + static_cast<uint32_t>(p.provisional_track & 0x3fffffffu);
   return 0;
@@ -43,14 +43,14 @@ void Finish(std::string* component, std::string* packet_body) {
   *packet_body += *component;
 }
 
-std::string Labelled3d(const service::LiveFrame& frame, const RtNames& names, bool residual, uint16_t drop) {
-  std::vector<const service::LivePoint*> by_label(names.label_count(), nullptr);
-  for (const service::LivePoint& p : frame.points) {
+std::string Labelled3d(const pipeline::LiveFrame& frame, const RtNames& names, bool residual, uint16_t drop) {
+  std::vector<const pipeline::LivePoint*> by_label(names.label_count(), nullptr);
+  for (const pipeline::LivePoint& p : frame.points) {
     const int label = names.LabelOf(p);
     if (label >= 0 && static_cast<size_t>(label) < by_label.size()) by_label[static_cast<size_t>(label)] = &p;
   }
   std::string out = ComponentStart(residual ? k3dRes : k3d, static_cast<uint32_t>(by_label.size()), drop);
-  for (const service::LivePoint* p : by_label) {
+  for (const pipeline::LivePoint* p : by_label) {
     if (p) {
       PutVector(&out, p->position);
     } else {
@@ -64,10 +64,10 @@ std::string Labelled3d(const service::LiveFrame& frame, const RtNames& names, bo
   return out;
 }
 
-std::string Unlabelled3d(const service::LiveFrame& frame, bool residual, uint16_t drop) {
+std::string Unlabelled3d(const pipeline::LiveFrame& frame, bool residual, uint16_t drop) {
   std::string out = ComponentStart(residual ? k3dNoLabelsRes : k3dNoLabels,
                                    static_cast<uint32_t>(frame.points.size()), drop);
-  for (const service::LivePoint& p : frame.points) {
+  for (const pipeline::LivePoint& p : frame.points) {
     PutVector(&out, p.position);
     PutU32(&out, PointId(p));
     if (residual) PutF32(&out, static_cast<float>(p.rms_px));
@@ -75,13 +75,13 @@ std::string Unlabelled3d(const service::LiveFrame& frame, bool residual, uint16_
   return out;
 }
 
-std::string SixD(const service::LiveFrame& frame, const RtNames& names, Component c, uint16_t drop) {
+std::string SixD(const pipeline::LiveFrame& frame, const RtNames& names, Component c, uint16_t drop) {
   const bool euler = c == k6dEuler || c == k6dEulerRes;
   const bool residual = c == k6dRes || c == k6dEulerRes;
   std::string out = ComponentStart(c, static_cast<uint32_t>(names.bodies().size()), drop);
   for (const auto& [id, name] : names.bodies()) {
     const auto it = std::find_if(frame.bodies.begin(), frame.bodies.end(),
-                                 [id = id](const service::LiveBody& b) { return b.id == id; });
+                                 [id = id](const pipeline::LiveBody& b) { return b.id == id; });
     const bool tracked = it != frame.bodies.end() && it->tracked;
     const int values = 3 + (euler ? 3 : 9) + (residual ? 1 : 0);
     if (!tracked) {
@@ -103,18 +103,18 @@ std::string SixD(const service::LiveFrame& frame, const RtNames& names, Componen
 
 }  // namespace
 
-void RtNames::Update(const service::LiveFrame& frame) {
+void RtNames::Update(const pipeline::LiveFrame& frame) {
   if (frame.label_names && !set_names_) set_names_ = frame.label_names;
-  for (const service::LivePoint& p : frame.points) {
+  for (const pipeline::LivePoint& p : frame.points) {
     if (p.marker < 0 || index_of_column_.count(p.marker) || columns_.size() >= kMaxLabels) continue;
     index_of_column_[p.marker] = static_cast<int>(columns_.size());
     columns_.push_back(p.marker);
   }
-  for (const service::LiveBody& b : frame.bodies)
+  for (const pipeline::LiveBody& b : frame.bodies)
     if (!bodies_.count(b.id) && bodies_.size() < kMaxBodies) bodies_[b.id] = b.name;
 }
 
-int RtNames::LabelOf(const service::LivePoint& point) const {
+int RtNames::LabelOf(const pipeline::LivePoint& point) const {
   if (set_names_) return point.label;
   if (point.marker < 0) return -1;
   const auto it = index_of_column_.find(point.marker);
@@ -146,7 +146,7 @@ Eigen::Vector3d EulerDegrees(const Eigen::Matrix3d& r) {
   return {roll * kDeg, pitch * kDeg, yaw * kDeg};
 }
 
-std::string EncodeDataPacket(const service::LiveFrame& frame, uint32_t components, const RtNames& names,
+std::string EncodeDataPacket(const pipeline::LiveFrame& frame, uint32_t components, const RtNames& names,
                              int expected_cameras) {
   uint16_t drop = 0;
   if (expected_cameras > 0 && frame.cameras < expected_cameras)

@@ -32,7 +32,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "service/live_reconstruction.h"
+#include "pipeline/live_frame.h"
 
 namespace mocap::stream::qtm {
 
@@ -43,13 +43,13 @@ class RtNames {
   static constexpr size_t kMaxLabels = 4096;
   static constexpr size_t kMaxBodies = 1024;
 
-  void Update(const service::LiveFrame& frame);
+  void Update(const pipeline::LiveFrame& frame);
   // The labels are a marker set's names from now on (serve --labels: known before any frame).
   void UseMarkerSet(std::shared_ptr<const std::vector<std::string>> names) { set_names_ = std::move(names); }
   size_t label_count() const { return set_names_ ? set_names_->size() : columns_.size(); }
   std::string label_name(size_t label) const;
   // Label index of a point, -1 if it has none.
-  int LabelOf(const service::LivePoint& point) const;
+  int LabelOf(const pipeline::LivePoint& point) const;
   static std::string ColumnName(int column);
   // Bodies by id: id -> name.
   const std::map<uint32_t, std::string>& bodies() const { return bodies_; }
@@ -66,7 +66,7 @@ Eigen::Vector3d EulerDegrees(const Eigen::Matrix3d& rotation);
 
 // One data packet (header included) with the components in `components` (rt_command.h bits),
 // in ascending protocol type order. expected_cameras: the rig's camera count (for the drop rate).
-std::string EncodeDataPacket(const service::LiveFrame& frame, uint32_t components, const RtNames& names,
+std::string EncodeDataPacket(const pipeline::LiveFrame& frame, uint32_t components, const RtNames& names,
                              int expected_cameras);
 
 }  // namespace mocap::stream::qtm

@@ -156,8 +156,8 @@ TEST(RtCommand, EveryWrongCommandGetsAReason) {
   EXPECT_FALSE(ParseCommand(many).ok);
 }
 
-service::LivePoint Point(double x, double y, double z, int marker, uint64_t provisional = 0, double rms = 0.25) {
-  service::LivePoint p;
+pipeline::LivePoint Point(double x, double y, double z, int marker, uint64_t provisional = 0, double rms = 0.25) {
+  pipeline::LivePoint p;
   p.position = {x, y, z};
   p.marker = marker;
   p.provisional_track = provisional;
@@ -167,14 +167,14 @@ service::LivePoint Point(double x, double y, double z, int marker, uint64_t prov
 }
 
 TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
-  service::LiveFrame first;
+  pipeline::LiveFrame first;
   first.frame_number = 7;
   first.trigger_time_ns = 1'234'567'890;
   first.cameras = 4;
   first.points = {Point(1, 2, 3, 4), Point(4, 5, 6, 1)};
   RtNames names;
   names.Update(first);
-  service::LiveFrame second = first;
+  pipeline::LiveFrame second = first;
   second.frame_number = 8;
   second.cameras = 3;
   second.points = {Point(7, 8, 9, 1), Point(10, 11, 12, -1, 5), Point(13, 14, 15, 9)};
@@ -208,7 +208,7 @@ TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
 }
 
 TEST(RtFrame, WithAMarkerSetTheLabelsAreItsNames) {
-  service::LiveFrame frame;
+  pipeline::LiveFrame frame;
   frame.frame_number = 3;
   frame.cameras = 4;
   frame.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"R.ASIS", "L&ASIS", "Head"});
@@ -238,7 +238,7 @@ TEST(RtFrame, WithAMarkerSetTheLabelsAreItsNames) {
 }
 
 TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
-  service::LiveFrame frame;
+  pipeline::LiveFrame frame;
   frame.points = {Point(1, 2, 3, 4), Point(4, 5, 6, -1, 77, 0.5), Point(7, 8, 9, -1)};
   RtNames names;
   names.Update(frame);
@@ -255,7 +255,7 @@ TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
 }
 
 TEST(RtFrame, SixDComponentsWithAndWithoutBodies) {
-  service::LiveFrame frame;
+  pipeline::LiveFrame frame;
   RtNames names;
   names.Update(frame);
   std::string packet = EncodeDataPacket(frame, k6d | k6dEuler | k6dRes | k6dEulerRes, names, 0);
@@ -271,14 +271,14 @@ TEST(RtFrame, SixDComponentsWithAndWithoutBodies) {
   const Eigen::Matrix3d r = (Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) *
                              Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
                              Eigen::AngleAxisd(1.1, Eigen::Vector3d::UnitZ())).toRotationMatrix();
-  service::LiveBody tracked;
+  pipeline::LiveBody tracked;
   tracked.id = 2;
   tracked.name = "wand";
   tracked.tracked = true;
   tracked.position = {10, 20, 30};
   tracked.orientation = Eigen::Quaterniond(r);
   tracked.mean_error_mm = 0.4;
-  service::LiveBody lost;
+  pipeline::LiveBody lost;
   lost.id = 1;
   lost.name = "hat";
   frame.bodies = {tracked, lost};
@@ -352,9 +352,9 @@ TEST(RtParameters, XmlBlocksAsAsked) {
   system.rig = RingRig(Eigen::Vector3d::UnitZ());
   system.axis_upwards = AxisUpwards(system.rig);
   RtNames names;
-  service::LiveFrame frame;
+  pipeline::LiveFrame frame;
   frame.points = {Point(0, 0, 0, 2)};
-  service::LiveBody body;
+  pipeline::LiveBody body;
   body.id = 1;
   body.name = "a<b&c";
   frame.bodies = {body};

@@ -29,8 +29,8 @@ class Client {
   void SendBytes(const std::string& bytes) {
     session_.Receive(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), *state_, &out_);
   }
-  void Frame(const service::LiveFrame& frame) {
-    state_->latest = std::make_shared<service::LiveFrame>(frame);
+  void Frame(const pipeline::LiveFrame& frame) {
+    state_->latest = std::make_shared<pipeline::LiveFrame>(frame);
     state_->names.Update(frame);
     const RtEncoder encode = [&](uint32_t c) {
       return std::make_shared<const std::string>(EncodeDataPacket(frame, c, state_->names, 2));
@@ -57,11 +57,11 @@ class Client {
   RtSession session_;
 };
 
-service::LiveFrame FrameNumber(uint64_t n) {
-  service::LiveFrame f;
+pipeline::LiveFrame FrameNumber(uint64_t n) {
+  pipeline::LiveFrame f;
   f.frame_number = n;
   f.cameras = 2;
-  service::LivePoint p;
+  pipeline::LivePoint p;
   p.position = {1, 2, 3};
   p.marker = 0;
   f.points.push_back(p);

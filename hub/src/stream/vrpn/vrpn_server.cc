@@ -305,12 +305,12 @@ void VrpnServer::Flush(Client& c) {
   }
 }
 
-void VrpnServer::SendFrame(const service::LiveFrame& frame) {
+void VrpnServer::SendFrame(const pipeline::LiveFrame& frame) {
   const uint64_t stamp_ns = frame.trigger_time_ns ? frame.trigger_time_ns : frame.publish_ns;
   const Timestamp time = FromNs(stamp_ns);
   std::string bytes;
   uint64_t reports = 0;
-  for (const service::LiveBody& b : frame.bodies) {
+  for (const pipeline::LiveBody& b : frame.bodies) {
     const size_t i = b.id - 1;
     if (!b.tracked || b.id == 0 || i >= trackers_.size()) continue;
     const Eigen::Vector3d position = b.position * kMetresPerMm;

@@ -88,7 +88,7 @@ class VrpnServer {
   void Read(Client& c);
   void Queue(Client& c, std::shared_ptr<const std::string> bytes, bool droppable);
   void Flush(Client& c);
-  void SendFrame(const service::LiveFrame& frame);
+  void SendFrame(const pipeline::LiveFrame& frame);
   void CloseDead();
 
   const VrpnOptions options_;

@@ -52,16 +52,16 @@ std::vector<ReceivedMessage> ReadUntil(int fd, int32_t type, size_t want) {
 }
 
 SharedFrame Frame(bool tracked) {
-  auto f = std::make_shared<service::LiveFrame>();
+  auto f = std::make_shared<pipeline::LiveFrame>();
   f->frame_number = 5;
   f->trigger_time_ns = 1'700'000'000'250'000'000ull;
   f->publish_ns = RealtimeNowNs();
-  service::LiveBody b;
+  pipeline::LiveBody b;
   b.id = 2;
   b.name = "wand";
   b.tracked = tracked;
   b.position = {1000, 2000, 3000};
-  f->bodies = {service::LiveBody{}, b};
+  f->bodies = {pipeline::LiveBody{}, b};
   f->bodies[0].id = 1;
   return f;
 }
@@ -144,9 +144,9 @@ TEST(VrpnServer, VelocityFromTheLastTwoFittedPoses) {
   ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
   for (int i = 0; i < 100 && server.stats().connections < 1; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   for (int n = 0; n < 2; ++n) {
-    auto f = std::make_shared<service::LiveFrame>();
+    auto f = std::make_shared<pipeline::LiveFrame>();
     f->trigger_time_ns = 1'000'000'000ull + static_cast<uint64_t>(n) * 10'000'000ull;  // 10 ms apart
-    service::LiveBody b;
+    pipeline::LiveBody b;
     b.id = 1;
     b.tracked = true;
     b.position = {100.0 + 5.0 * n, 0, 0};  // 5 mm in 10 ms: 0.5 m/s
@@ -171,11 +171,11 @@ TEST(VrpnServer, FiftyTrackers) {
   VrpnOptions o;
   o.listen = "127.0.0.1:0";
   std::vector<std::string> names;
-  auto f = std::make_shared<service::LiveFrame>();
+  auto f = std::make_shared<pipeline::LiveFrame>();
   f->trigger_time_ns = 1'000'000'000;
   for (uint32_t i = 1; i <= 50; ++i) {
     names.push_back("body" + std::to_string(i));
-    service::LiveBody b;
+    pipeline::LiveBody b;
     b.id = i;
     b.tracked = true;
     b.position = {1000.0 * i, 0, 0};

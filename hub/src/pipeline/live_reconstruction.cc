@@ -1,9 +1,9 @@
 // Live reconstruction + tracking (see live_reconstruction.h).
-#include "service/live_reconstruction.h"
+#include "pipeline/live_reconstruction.h"
 
 #include <algorithm>
 
-namespace mocap::service {
+namespace mocap::pipeline {
 namespace {
 
 TrackerOptions TrackerAt(double rate_hz) {
@@ -78,4 +78,4 @@ void LiveReconstruction::Run(const FrameSet& set) {
   }
 }
 
-}  // namespace mocap::service
+}  // namespace mocap::pipeline
