@@ -1,9 +1,9 @@
 // Every frame set's 3D result the moment it is assembled, shared by `serve` and `record`:
 // reconstruction with the tracker's predictions, tracking, and one LiveFrame holding every
 // point with whose it is. Nothing is held back: a point of a track not yet confirmed is
-// published as provisional (with the tentative track's serial) in its own frame, a point no
-// track took is published without an id; the confirmed samples (with the frames of a track
-// confirmed now) come with it for writers of labelled files.
+// published as provisional (under the id its track keeps when confirmed) in its own frame, a
+// point no track took is published without an id; the confirmed samples (with the frames of a
+// track confirmed now) come with it for writers of labelled files.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +29,7 @@ struct LivePoint {
   double rms_px = 0.0;                 // reprojection RMS over its views (the hub's rms_px)
   int views = 0;
   int marker = -1;                     // confirmed track's marker (0-based column), else -1
-  uint64_t provisional_track = 0;      // tentative track's serial, 0 when none
+  uint64_t id = 0;                     // its track's id from the first frame on (tracker.h), 0 when none
   int label = -1;                      // index into LiveFrame::label_names (--labels), -1: unnamed
   bool provisional() const { return marker < 0; }
 };

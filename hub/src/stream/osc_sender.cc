@@ -58,7 +58,7 @@ struct BundleSink {
     if (p.marker >= 0)
       lo_message_add_int32(m, p.marker + 1);
     else
-      lo_message_add_int64(m, p.provisional_track ? static_cast<int64_t>(p.provisional_track) : -1);
+      lo_message_add_int64(m, p.id ? static_cast<int64_t>(p.id) : -1);
     lo_message_add_float(m, static_cast<float>(p.position.x()));
     lo_message_add_float(m, static_cast<float>(p.position.y()));
     lo_message_add_float(m, static_cast<float>(p.position.z()));

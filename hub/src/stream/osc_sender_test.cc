@@ -25,7 +25,7 @@ service::LiveFrame Frame() {
   service::LivePoint provisional;
   provisional.position = {-1.0, -2.0, -3.0};
   provisional.views = 2;
-  provisional.provisional_track = 12;
+  provisional.id = 12;
   service::LivePoint untracked;
   untracked.views = 2;
   f.points = {confirmed, provisional, untracked};

@@ -17,12 +17,16 @@ namespace {
 struct RunResult {
   std::map<uint64_t, std::vector<TrackSample>> rows;
   std::vector<std::vector<Eigen::Vector3d>> truth;
+  // Per frame and truth marker, the live id of the point published within 5 mm of it (0: none).
+  std::vector<std::vector<uint64_t>> live_ids;
   int markers_output = 0;
 };
 
-// hide(frame, marker) removes a marker's blobs from every camera.
+// hide(frame, marker) removes a marker's blobs from every camera; frames where skip(frame) holds
+// are never assembled (no frame set reaches the tracker).
 RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFaults& faults,
-              const std::function<bool(int, int)>& hide, TrackerOptions tracker_options = {}) {
+              const std::function<bool(int, int)>& hide, TrackerOptions tracker_options = {},
+              const std::function<bool(int)>& skip = nullptr) {
   const Rig rig = testing::MakeRingRig(8, 4000.0, 2200.0, Eigen::Vector3d(0, 0, 1000));
   testing::SyntheticMotion motion(24, 4, 41);
   testing::FrameProjector projector(rig, faults, 42);
@@ -40,6 +44,8 @@ RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFault
   for (int f = 0; f < frames; ++f) {
     const auto markers = motion.At(f / rate_hz);
     result.truth.push_back(markers);
+    result.live_ids.emplace_back(markers.size(), 0);
+    if (skip && skip(f)) continue;
     projector.Project(f, markers, &frame_set, &blob_truth);
     for (CameraFrame& camera : frame_set.cameras) {
       const int c = static_cast<int>(camera.camera_id) - 1;
@@ -54,6 +60,11 @@ RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFault
     samples.clear();
     tracker.Update(f, points, &samples);
     filler.Add(f, samples);
+    for (size_t p = 0; p < points.size(); ++p) {
+      for (size_t m = 0; m < markers.size(); ++m) {
+        if ((points[p].point_in_world - markers[m]).norm() < 5.0) result.live_ids[f][m] = tracker.point_identities()[p].id;
+      }
+    }
   }
   filler.Finish();
   result.markers_output = tracker.NumMarkers();
@@ -146,6 +157,33 @@ TEST(Tracker, IdSurvivesFullOcclusionThroughRigidModel) {
       EXPECT_LT((s.position - run.truth[200][hidden]).norm(), 2.0);
     }
   }
+}
+
+// Every camera loses every marker for 250 ms (the frame sets arrive empty, or none arrive): the
+// tracks are held and found again on their predictions, each marker under the id it had before,
+// live and in the output columns.
+void ExpectIdsKeptThroughDropOut(bool frame_sets_arrive) {
+  const double rate_hz = 120.0;
+  const int first = 150, last = first + static_cast<int>(0.25 * rate_hz);  // [first, last) lost
+  const auto lost = [&](int frame) { return frame >= first && frame < last; };
+  const RunResult run = RunPipeline(
+      300, rate_hz, testing::ProjectionFaults(), [&](int frame, int) { return frame_sets_arrive && lost(frame); }, {},
+      [&](int frame) { return !frame_sets_arrive && lost(frame); });
+  EXPECT_EQ(run.markers_output, 24);
+  const std::vector<uint64_t>& before = run.live_ids[first - 1];
+  for (size_t m = 0; m < before.size(); ++m) {
+    ASSERT_NE(before[m], 0u) << m;
+    for (int frame = first; frame < last; ++frame) EXPECT_EQ(run.live_ids[frame][m], 0u) << frame;
+    for (int frame = last; frame < 300; ++frame) EXPECT_EQ(run.live_ids[frame][m], before[m]) << m << " " << frame;
+  }
+  const Metrics metrics = Evaluate(run, 5);
+  EXPECT_EQ(metrics.swaps, 0);
+  EXPECT_EQ(metrics.ghosts, 0);
+}
+
+TEST(Tracker, IdsKeptThroughADropOutOfEveryCamera) {
+  ExpectIdsKeptThroughDropOut(true);
+  ExpectIdsKeptThroughDropOut(false);
 }
 
 TEST(Tracker, GreedyAssignmentAlsoTracks) {

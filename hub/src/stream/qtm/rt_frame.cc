@@ -21,9 +21,7 @@ void PutVector(std::string* out, const Eigen::Vector3d& v) {
 
 // Point id of 3D no labels (rt_frame.h).
 uint32_t PointId(const service::LivePoint& p) {
-  if (p.marker >= 0) return static_cast<uint32_t>(p.marker) + 1;
-  if (p.provisional_track) return 0x40000000u + static_cast<uint32_t>(p.provisional_track & 0x3fffffffu);
-  return 0;
+  return p.id ? static_cast<uint32_t>(1 + (p.id - 1) % 0xffffffffu) : 0;
 }
 
 // Component header: size (including this header and the count), type, count, drop rates.

@@ -9,8 +9,9 @@
 //    client that read the labels earlier still indexes the labelled components correctly; a
 //    label not seen in a frame is NaN (all bits set, as the protocol says).
 //  - 3D no labels carries every point of the frame, confirmed or not (the hub's labels are
-//    tracks, not an identified marker set): ID = column + 1 for a confirmed marker (matching its
-//    label), 0x40000000 + serial for a provisional track, 0 for a point no track took.
+//    tracks, not an identified marker set): ID = the point's track id (LivePoint id, the same
+//    from the track's first frame on, provisional or confirmed; past 2^32 - 1 it wraps to 1), 0
+//    for a point no track took.
 //  - Residuals are the hub's reprojection RMS in pixels for points, the body fit's mean error
 //    in mm for bodies.
 //  - 6D lists the bodies seen so far (by id); a body not tracked in the frame is NaN. Rotation

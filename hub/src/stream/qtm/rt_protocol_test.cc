@@ -156,11 +156,11 @@ TEST(RtCommand, EveryWrongCommandGetsAReason) {
   EXPECT_FALSE(ParseCommand(many).ok);
 }
 
-service::LivePoint Point(double x, double y, double z, int marker, uint64_t provisional = 0, double rms = 0.25) {
+service::LivePoint Point(double x, double y, double z, int marker, uint64_t id = 0, double rms = 0.25) {
   service::LivePoint p;
   p.position = {x, y, z};
   p.marker = marker;
-  p.provisional_track = provisional;
+  p.id = id;
   p.rms_px = rms;
   p.views = 3;
   return p;
@@ -239,7 +239,7 @@ TEST(RtFrame, WithAMarkerSetTheLabelsAreItsNames) {
 
 TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
   service::LiveFrame frame;
-  frame.points = {Point(1, 2, 3, 4), Point(4, 5, 6, -1, 77, 0.5), Point(7, 8, 9, -1)};
+  frame.points = {Point(1, 2, 3, 4, 40), Point(4, 5, 6, -1, 77, 0.5), Point(7, 8, 9, -1)};
   RtNames names;
   names.Update(frame);
   std::string packet = EncodeDataPacket(frame, k3dNoLabels | k3dNoLabelsRes, names, 0);
@@ -247,11 +247,17 @@ TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
   ASSERT_EQ(f.components.size(), 2u);
   EXPECT_EQ(f.components[0].type, 2u);
   EXPECT_EQ(f.components[0].count, 3u);
-  EXPECT_EQ(U32(f.components[0].data, 12), 5u);
-  EXPECT_EQ(U32(f.components[0].data, 28), 0x40000000u + 77);
+  EXPECT_EQ(U32(f.components[0].data, 12), 40u);
+  EXPECT_EQ(U32(f.components[0].data, 28), 77u);
   EXPECT_EQ(U32(f.components[0].data, 44), 0u);
   EXPECT_EQ(f.components[1].type, 10u);
   EXPECT_FLOAT_EQ(F32(f.components[1].data, 20 + 16), 0.5f);
+  // Track 77 confirmed (as marker column 6) keeps its id; ids past 32 bits wrap past 0.
+  frame.points = {Point(4, 5, 7, 6, 77), Point(0, 0, 0, -1, (uint64_t{1} << 32) + 2)};
+  packet = EncodeDataPacket(frame, k3dNoLabels, names, 0);
+  const testing::Frame g = testing::ReadFrame(testing::SplitPackets(&packet).at(0).body);
+  EXPECT_EQ(U32(g.components[0].data, 12), 77u);
+  EXPECT_EQ(U32(g.components[0].data, 28), 3u);
 }
 
 TEST(RtFrame, SixDComponentsWithAndWithoutBodies) {
