@@ -95,8 +95,10 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
     }
     // Confirmed tracks, and tentative ones measured twice: a track seen once has no velocity,
     // and its wide search would gather other markers' blobs; its next point comes from the
-    // matcher.
-    if (track.state == State::kActive || (track.state == State::kTentative && track.hits >= 2)) {
+    // matcher. A track held through a drop-out is left out too: a prediction that old would
+    // make the reconstruction pair other markers' blobs near it into a ghost; the tracker's own
+    // search finds its point among the points reconstructed without it.
+    if ((track.state == State::kActive && track.held == 0) || (track.state == State::kTentative && track.hits >= 2)) {
       order.emplace_back(-track.age, slot);
     }
   }
