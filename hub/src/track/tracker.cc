@@ -83,6 +83,7 @@ TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleK
 }
 
 const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
+  const uint64_t coast = static_cast<uint64_t>(std::lround(options_.coast_s * options_.rate_hz));
   predictions_.clear();
   std::vector<std::pair<int, int>>& order = order_;  // (-age, slot)
   order.clear();
@@ -95,10 +96,12 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
     }
     // Confirmed tracks, and tentative ones measured twice: a track seen once has no velocity,
     // and its wide search would gather other markers' blobs; its next point comes from the
-    // matcher. A track held through a drop-out is left out too: a prediction that old would
-    // make the reconstruction pair other markers' blobs near it into a ghost; the tracker's own
-    // search finds its point among the points reconstructed without it.
-    if ((track.state == State::kActive && track.held == 0) || (track.state == State::kTentative && track.hits >= 2)) {
+    // matcher. A track held through a drop-out longer than a coast is left out too (without the
+    // hold it would be lost, and out): a prediction that old would make the reconstruction pair
+    // other markers' blobs near it into a ghost; the tracker's own search finds its point among
+    // the points reconstructed without it.
+    const bool stale = track.held > 0 && frame_number - track.last_measured > coast;
+    if ((track.state == State::kActive && !stale) || (track.state == State::kTentative && track.hits >= 2)) {
       order.emplace_back(-track.age, slot);
     }
   }
