@@ -59,6 +59,7 @@ static bool decode_point(pb_istream_t *stream, const pb_field_t *field, void **a
     out->views = p.views;
     out->marker = p.marker;
     out->provisional_track = p.provisional_track;
+    out->id = p.id;
     memcpy(out->label, p.label, sizeof out->label);
     out->label[sizeof out->label - 1] = '\0';
     return true;

@@ -34,8 +34,9 @@ typedef struct {
     float residual_px;          /* reprojection RMS over its views */
     uint32_t views;
     int32_t marker;             /* confirmed marker, 1-based; 0 when provisional */
-    uint64_t provisional_track; /* tentative track's serial; 0 for none */
+    uint64_t provisional_track; /* the track's id while provisional; 0 once confirmed or none */
     char label[64];             /* name once labelled, else "" */
+    uint64_t id;                /* the track's id, the same from its first frame on; 0 for none */
 } mocap_stream_point;
 
 typedef struct {

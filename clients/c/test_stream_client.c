@@ -49,6 +49,7 @@ static void decodes_what_protoc_wrote(void **state)
     assert_true(points[1].x == -1.0f && points[1].z == 900.0f);
     assert_int_equal(points[1].marker, 0);
     assert_int_equal(points[1].provisional_track, 77);
+    assert_true(points[1].id == 0); /* written before the field existed: no id */
     assert_string_equal(points[1].label, "LASI");
     assert_int_equal(f.body_count, 1);
     assert_string_equal(bodies[0].name, "wand");

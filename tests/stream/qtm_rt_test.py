@@ -150,7 +150,7 @@ class QtmRtTest(unittest.TestCase):
         labels = [l.findtext("Name") for l in three_d.findall("The_3D/Label")]
         self.assertEqual(len(labels), int(three_d.findtext("The_3D/Labels")))
         self.assertGreater(len(labels), 0)
-        self.assertTrue(all(re.fullmatch(r"M\d{3}", n) for n in labels))
+        self.assertTrue(all(re.fullmatch(r"T\d+", n) for n in labels))  # confirmed tracks by id
         self.assertEqual(six_d.findtext("The_6D/Bodies"), "0")
         self.assertEqual([b.tag for b in everything], ["General", "The_3D", "The_6D"])
 
@@ -210,12 +210,11 @@ class QtmRtTest(unittest.TestCase):
                 self.assertAlmostEqual(m.x, q[0], delta=2e-3)
                 self.assertAlmostEqual(m.y, q[1], delta=2e-3)
                 self.assertAlmostEqual(m.z, q[2], delta=2e-3)
+                self.assertEqual(m.id, max(q[3], 0))  # the track's id, provisional or confirmed
                 if not q[4]:
-                    self.assertEqual(m.id, q[3] + 1)
                     by_marker[q[3]] = q
             for i, (m, r) in enumerate(zip(labelled, residual)):
-                column = int(labels[i][1:]) - 1
-                q = by_marker.get(column)
+                q = by_marker.get(int(labels[i][1:]))  # T17: track 17
                 if q is None:
                     self.assertTrue(math.isnan(m.x) and math.isnan(m.y) and math.isnan(m.z))
                 else:

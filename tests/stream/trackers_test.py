@@ -268,9 +268,9 @@ class TrackersTest(unittest.TestCase):
                 self.assertLessEqual(deg, DEG_TOLERANCE, f"frame {number} body {rb.id_num}")
                 self.assertAlmostEqual(rb.error * 1000, b[10], delta=0.0011)
                 bodies += 1
-            # Every point is a labelled marker; confirmed ones carry their marker column + 1.
+            # Every point is a labelled marker under its track's id, provisional or confirmed.
             got = [(m.id_num, [1000 * v for v in m.pos]) for m in data.labeled_marker_data.labeled_marker_list]
-            want = [(p[3] + 1 if not p[4] else 0, p[:3]) for p in live["points"]]
+            want = [(max(p[3], 0), p[:3]) for p in live["points"]]
             self.assertEqual(len(got), len(want), f"frame {number}")
             for gid, gpos in got:
                 nearest = min((math.dist(gpos, wpos) for wid, wpos in want if wid == gid), default=math.inf)

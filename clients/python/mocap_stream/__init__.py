@@ -33,8 +33,9 @@ class Point:
     residual_px: float = 0.0
     views: int = 0
     marker: int = 0             # confirmed marker, 1-based; 0 when provisional
-    provisional_track: int = 0  # tentative track's serial; 0 for none
+    provisional_track: int = 0  # the track's id while provisional; 0 once confirmed or none
     label: str = ""
+    id: int = 0                 # the track's id, the same from its first frame on; 0 for none
 
 
 @dataclasses.dataclass
@@ -134,6 +135,8 @@ def _point(data):
             p.provisional_track = value
         elif number == 8 and kind == 2:
             p.label = value.decode("utf-8", "replace")
+        elif number == 9 and kind == 0:
+            p.id = value
     return p
 
 

@@ -121,8 +121,7 @@ std::string FrameMessage(const LiveFrame& frame) {
   out += buffer;
   for (size_t i = 0; i < frame.points.size(); ++i) {
     const LivePoint& p = frame.points[i];
-    const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
-                                         : static_cast<long long>(p.marker);
+    const long long id = p.id ? static_cast<long long>(p.id) : -1;
     std::snprintf(buffer, sizeof(buffer), "%s[%.3f,%.3f,%.3f,%lld,%d,%d,%.3f", i ? "," : "", p.position.x(),
                   p.position.y(), p.position.z(), id, p.provisional() ? 1 : 0, p.views, p.rms_px);
     out += buffer;

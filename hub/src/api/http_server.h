@@ -6,8 +6,8 @@
 //     {"frame": N, "trigger_ns": T, "publish_ns": P, "cameras": C,
 //      "points": [[x, y, z, id, provisional, views, rms_px], ...],
 //      "bodies": [[id, tracked, predicted, x, y, z, qx, qy, qz, qw, mean_error_mm, markers], ...]}
-//     (mm, world frame; id is the confirmed marker number or, when provisional is 1, the
-//     tentative track's serial, -1 for a point no track took)
+//     (mm, world frame; id is the point's track, the same from its first frame on, provisional
+//     1 until the track is confirmed; -1 for a point no track took)
 //     /api/live?max_fps=N sends at most N frames per second (api/live_query.h).
 //   /api/stream  binary messages, one StreamFrame (proto/mocap_stream.proto) per frame, with the
 //     parts asked for in the query: /api/stream?parts=points,bodies (default points,bodies).

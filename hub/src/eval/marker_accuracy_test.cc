@@ -2,6 +2,7 @@
 #include "eval/marker_accuracy.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -269,6 +270,39 @@ TEST(MarkerAccuracyTest, LiveIdsAndNamesChangedPerTrack) {
   EXPECT_EQ(report.swaps, 0u);
   // A track renamed back and forth: every change counts.
   EXPECT_EQ(EvaluateLive({0, 1, 0, 1, 0, 0, 0, 0, 0, 0}).name_changes, 4u);
+}
+
+// A live_points.tsv as serve writes it: two markers published provisional for two frames, then
+// confirmed. Its ids are scored as published: one id per track from its first frame (version 2)
+// is no change; a version 1 file's new number on confirmation is one per marker.
+MarkerEvalReport EvaluateLivePointsFile(const std::string& header, const long long provisional_ids[2],
+                                        const long long confirmed_ids[2]) {
+  MarkerTrajectories truth = Truth(2, 6);
+  std::string text = header;
+  for (size_t f = 0; f < truth.NumFrames(); ++f) {
+    for (size_t m = 0; m < 2; ++m) {
+      const Eigen::Vector3d p = truth.At(f, m);
+      text += LivePointLine(truth.frame_numbers[f], p.x(), p.y(), p.z(), f < 2 ? provisional_ids[m] : confirmed_ids[m],
+                            f < 2, 3, 0.1);
+    }
+  }
+  std::istringstream in(text);
+  const LivePoints live = ParseLivePoints(in, "live_points.tsv");
+  return EvaluateMarkers(truth, live.points, nullptr, {}, &live.identity);
+}
+
+TEST(MarkerAccuracyTest, LivePointsFilesScoredAsPublished) {
+  const long long ids[2] = {7, 9};
+  const MarkerEvalReport kept = EvaluateLivePointsFile(LivePointsHeader(100), ids, ids);
+  EXPECT_EQ(kept.id_changes, 0u);
+  EXPECT_EQ(kept.trajectories, 2u);
+  EXPECT_EQ(kept.matched, 12u);
+  const long long markers[2] = {0, 1};
+  const MarkerEvalReport renumbered =
+      EvaluateLivePointsFile("# mocap live points v1 rate_hz=100\n", ids, markers);
+  EXPECT_EQ(renumbered.id_changes, 2u);
+  EXPECT_EQ(renumbered.max_id_changes, 1u);
+  EXPECT_EQ(renumbered.trajectories, 4u);
 }
 
 TEST(MarkerAccuracyTest, NamesCountFromEachMarkersChosenFrame) {

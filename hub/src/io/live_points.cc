@@ -17,7 +17,9 @@
 namespace mocap {
 namespace {
 
-constexpr const char* kMagic = "# mocap live points v1 rate_hz=";
+constexpr const char* kMagic = "# mocap live points v2 rate_hz=";
+constexpr const char* kMagicV1 = "# mocap live points v1 rate_hz=";
+constexpr long long kMaxTrackId = 1LL << 60;
 constexpr size_t kMaxColumns = 10000;   // points present at once, far above any real volume
 constexpr uint64_t kMaxFrameGap = 1u << 20;
 constexpr size_t kMaxCells = 50'000'000;  // frames x columns of the table (1.2 GB of points)
@@ -72,8 +74,11 @@ LivePoints ReadLivePoints(const std::string& path) {
 LivePoints ParseLivePoints(std::istream& in, const std::string& path) {
   std::string text;
   size_t line = 1;
-  if (ReadBoundedLine(in, &text, kMaxTextLineBytes) != LineRead::kLine || text.rfind(kMagic, 0) != 0)
+  if (ReadBoundedLine(in, &text, kMaxTextLineBytes) != LineRead::kLine ||
+      (text.rfind(kMagic, 0) != 0 && text.rfind(kMagicV1, 0) != 0))
     Fail(path, 1, "not a live points file (header)");
+  // Version 1 numbered a confirmed track apart from its tentative frames.
+  const bool version1 = text.rfind(kMagicV1, 0) == 0;
   LivePoints live;
   MarkerTrajectories& out = live.points;
   std::map<std::string, int32_t> name_index;
@@ -123,10 +128,12 @@ LivePoints ParseLivePoints(std::istream& in, const std::string& path) {
     last_frame = r.frame;
     size_t column = 0;
     if (!r.provisional) {
-      if (r.id < 0 || r.id >= static_cast<long long>(kMaxColumns)) Fail(path, line, "marker id out of range");
+      if (r.id < 0 || r.id >= (version1 ? static_cast<long long>(kMaxColumns) : kMaxTrackId))
+        Fail(path, line, "marker id out of range");
       confirmed.insert(r.id);
+      if (confirmed.size() > kMaxColumns) Fail(path, line, "more than 10000 confirmed tracks");
     } else {
-      if (r.id < -1 || r.id > (1LL << 60)) Fail(path, line, "track serial out of range");
+      if (r.id < -1 || r.id > kMaxTrackId) Fail(path, line, "track serial out of range");
       // A provisional track keeps its column while it is seen (a frame's miss included); a
       // column is free again once unused for more than a frame. An untracked point (-1) takes
       // any free column for its one frame.
@@ -156,7 +163,7 @@ LivePoints ParseLivePoints(std::istream& in, const std::string& path) {
   std::map<long long, size_t> confirmed_index;
   for (long long id : confirmed) {
     confirmed_index[id] = out.names.size();
-    out.names.push_back(DefaultMarkerName(static_cast<size_t>(id)));
+    out.names.push_back(version1 ? DefaultMarkerName(static_cast<size_t>(id)) : "T" + std::to_string(id));
   }
   const size_t pool_base = out.names.size();
   for (size_t c = 0; c < last_used.size(); ++c) out.names.push_back("P" + std::to_string(c + 1));
@@ -174,7 +181,10 @@ LivePoints ParseLivePoints(std::istream& in, const std::string& path) {
     const size_t column = r.provisional ? pool_base + pool_column[i] : confirmed_index[r.id];
     const size_t cell = (out.NumFrames() - 1) * out.NumMarkers() + column;
     out.points[cell] = r.p;
-    live.identity.track[cell] = r.id < 0 ? -1 : 2 * static_cast<int64_t>(r.id) + (r.provisional ? 1 : 0);
+    if (r.id < 0)
+      live.identity.track[cell] = -1;
+    else
+      live.identity.track[cell] = version1 ? 2 * static_cast<int64_t>(r.id) + (r.provisional ? 1 : 0) : r.id;
     live.identity.name[cell] = r.name;
   }
   return live;

@@ -1,10 +1,12 @@
 // What `serve` published, frame by frame, as a capture keeps it (SESSION/live_points.tsv), so the
 // live result itself can be judged by `eval`, not only the TRC made afterwards:
-//   # mocap live points v1 rate_hz=240
+//   # mocap live points v2 rate_hz=240
 //   frame  x  y  z  id  provisional  views  rms_px  [name]      (tab-separated, mm)
-// id: a confirmed marker's number (provisional 0), a tentative track's serial (provisional 1),
-// or -1 for a point no track took. name: the marker set's name published on the point (serve
-// --labels); absent when unnamed (files written before names were kept have none).
+// id: the track's id, the same from its first point on (provisional 1 until the track is
+// confirmed, then 0), or -1 for a point no track took. name: the marker set's name published on
+// the point (serve --labels); absent when unnamed (files written before names were kept have
+// none). Version 1 files (still read) numbered a track anew when it was confirmed: id was a
+// confirmed marker's number (provisional 0) or a tentative track's serial (provisional 1).
 // Errors: std::runtime_error "<file>:<line>: <why>".
 #pragma once
 
@@ -27,12 +29,14 @@ struct PublishedIdentity {
 };
 
 struct LivePoints {
-  // Each confirmed marker its own column ("M001" for id 0); provisional and untracked points in a
-  // pool of columns ("P1", "P2", ...) reused once their track is gone, so memory follows the
-  // points present at once, not the number of tracks ever tried.
+  // Each confirmed track its own column ("T17" for id 17; version 1: "M001" for marker 0);
+  // provisional and untracked points in a pool of columns ("P1", "P2", ...) reused once their
+  // track is gone, so memory follows the points present at once, not the number of tracks ever
+  // tried.
   MarkerTrajectories points;
-  // Tracks: confirmed marker m is 2m, tentative serial s is 2s + 1 (the file numbers them apart,
-  // so a client sees a track's confirmation as a change of id, and so does eval).
+  // Tracks: the id as published. Version 1: confirmed marker m is 2m, tentative serial s is
+  // 2s + 1 (that file numbered them apart, so a client saw a track's confirmation as a change of
+  // id, and so does eval).
   PublishedIdentity identity;
 };
 

@@ -34,7 +34,7 @@ TEST(LivePoints, WrittenLinesReadBack) {
   const MarkerTrajectories t = Parse(text);
   EXPECT_EQ(t.rate_hz, 120.0);
   ASSERT_EQ(t.frame_numbers, (std::vector<uint64_t>{10, 11}));
-  ASSERT_EQ(t.names, (std::vector<std::string>{"M001", "P1", "P2"}));
+  ASSERT_EQ(t.names, (std::vector<std::string>{"T0", "P1", "P2"}));
   EXPECT_EQ(t.At(1, 0), Eigen::Vector3d(1.5, 2, 3));
   EXPECT_EQ(t.At(0, 1), Eigen::Vector3d(100, 0, 0));  // the provisional track keeps its column
   EXPECT_EQ(t.At(1, 1), Eigen::Vector3d(101, 0, 0));
@@ -42,25 +42,48 @@ TEST(LivePoints, WrittenLinesReadBack) {
   EXPECT_EQ(t.At(1, 2), Eigen::Vector3d(500, 0, 0));
 }
 
-TEST(LivePoints, NamesAndTracksReadBackPerPoint) {
-  std::string text = LivePointsHeader(100);
-  text += LivePointLine(1, 0, 0, 0, 4, true, 2, 0.1);             // tentative serial 4, unnamed
-  text += LivePointLine(1, 50, 0, 0, 2, false, 3, 0.1, "R.ASIS");  // marker 2, named
+std::string NamedRows() {
+  std::string text;
+  text += LivePointLine(1, 0, 0, 0, 4, true, 2, 0.1);             // tentative track 4, unnamed
+  text += LivePointLine(1, 50, 0, 0, 2, false, 3, 0.1, "R.ASIS");  // confirmed track 2, named
   text += LivePointLine(2, 0, 0, 1, 0, false, 3, 0.1, "L.Knee Lat");
-  text += LivePointLine(2, 50, 0, 1, 2, false, 3, 0.1, "L.ASIS");  // marker 2 renamed
+  text += LivePointLine(2, 50, 0, 1, 2, false, 3, 0.1, "L.ASIS");  // track 2 renamed
   text += LivePointLine(2, 90, 0, 1, -1, true, 2, 0.1);
-  const LivePoints live = ParseAll(text);
+  return text;
+}
+
+TEST(LivePoints, NamesAndTracksReadBackPerPoint) {
+  const LivePoints live = ParseAll(LivePointsHeader(100) + NamedRows());
   const MarkerTrajectories& t = live.points;
   // The untracked point cannot take P1 (its track was there a frame before): P2.
-  ASSERT_EQ(t.names, (std::vector<std::string>{"M001", "M003", "P1", "P2"}));
+  ASSERT_EQ(t.names, (std::vector<std::string>{"T0", "T2", "P1", "P2"}));
   ASSERT_EQ(live.identity.names, (std::vector<std::string>{"R.ASIS", "L.Knee Lat", "L.ASIS"}));
-  // Cells frame-major: frame 1 (M001, M003, P1, P2), frame 2.
-  EXPECT_EQ(live.identity.track, (std::vector<int64_t>{-1, 4, 9, -1, 0, 4, -1, -1}));
+  // Cells frame-major: frame 1 (T0, T2, P1, P2), frame 2.
+  EXPECT_EQ(live.identity.track, (std::vector<int64_t>{-1, 2, 4, -1, 0, 2, -1, -1}));
   EXPECT_EQ(live.identity.name, (std::vector<int32_t>{-1, 0, -1, -1, 1, 2, -1, -1}));
   EXPECT_EQ(t.At(1, 3), Eigen::Vector3d(90, 0, 1));
   // A name that would break the row is refused when written.
   EXPECT_THROW(LivePointLine(1, 0, 0, 0, 0, false, 2, 0.1, "a\tb"), std::invalid_argument);
   EXPECT_THROW(LivePointLine(1, 0, 0, 0, 0, false, 2, 0.1, " a"), std::invalid_argument);
+}
+
+TEST(LivePoints, AConfirmedTrackKeepsTheIdItWasProvisionalUnder) {
+  std::string text = LivePointsHeader(100);
+  text += LivePointLine(1, 0, 0, 0, 12345678901, true, 3, 0.1);
+  text += LivePointLine(2, 0, 0, 1, 12345678901, true, 3, 0.1);
+  text += LivePointLine(3, 0, 0, 2, 12345678901, false, 3, 0.1);
+  const LivePoints live = ParseAll(text);
+  ASSERT_EQ(live.points.names, (std::vector<std::string>{"T12345678901", "P1"}));
+  EXPECT_EQ(live.identity.track, (std::vector<int64_t>{-1, 12345678901, -1, 12345678901, 12345678901, -1}));
+}
+
+TEST(LivePoints, Version1NumberedAConfirmedTrackApart) {
+  const LivePoints live = ParseAll("# mocap live points v1 rate_hz=100\n" + NamedRows());
+  ASSERT_EQ(live.points.names, (std::vector<std::string>{"M001", "M003", "P1", "P2"}));
+  // Confirmed marker m is 2m, tentative serial s is 2s + 1.
+  EXPECT_EQ(live.identity.track, (std::vector<int64_t>{-1, 4, 9, -1, 0, 4, -1, -1}));
+  std::istringstream big("# mocap live points v1 rate_hz=100\n1\t0\t0\t0\t10000\t0\t3\t0.1\n");
+  EXPECT_THROW(ParseLivePoints(big, "t.tsv"), std::runtime_error);
 }
 
 TEST(LivePoints, PoolColumnsAreReusedSoTheTableFollowsConcurrentPoints) {
@@ -88,6 +111,7 @@ TEST(LivePoints, DamageIsRefusedWithItsLine) {
                                  header + "5\t1\t2\t3\t0\t0\t3\t0.1\tA\x01B\n",
                                  header + "5\t1\t2\t3\t0\t0\t3\t0.1\t" + std::string(300, 'n') + "\n",
                                  header + "1\t1\t2\t3\t0\t0\t3\t0.1\n99999999999\t1\t2\t3\t0\t0\t3\t0.1\n",
+                                 header + "5\t1\t2\t3\t2000000000000000000\t0\t3\t0.1\n",
                                  std::string("# mocap live points v1 rate_hz=-3\n"),
                                  std::string(kMaxTextLineBytes + 1, '#'), header + std::string(kMaxTextLineBytes + 1, '5')}) {
     try {

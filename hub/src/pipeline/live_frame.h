@@ -20,7 +20,7 @@ struct LivePoint {
   double rms_px = 0.0;                 // reprojection RMS over its views (the hub's rms_px)
   int views = 0;
   int marker = -1;                     // confirmed track's marker (0-based column), else -1
-  uint64_t provisional_track = 0;      // tentative track's serial, 0 when none
+  uint64_t id = 0;                     // its track's id from the first frame on (tracker.h), 0 when none
   int label = -1;                      // index into LiveFrame::label_names (--labels), -1: unnamed
   bool provisional() const { return marker < 0; }
 };

@@ -45,7 +45,7 @@ void LiveReconstruction::Run(const FrameSet& set) {
     out.rms_px = points_[i].rms_px;
     out.views = points_[i].num_views;
     out.marker = identities[i].marker;
-    out.provisional_track = identities[i].provisional_track;
+    out.id = identities[i].id;
     out.label = -1;
   }
   if (labeller_) {

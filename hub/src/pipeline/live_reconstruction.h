@@ -1,8 +1,8 @@
 // Every frame set's 3D result the moment it is assembled, shared by `serve` and `record`:
 // reconstruction with the tracker's predictions, tracking, and one LiveFrame holding every
 // point with whose it is. Nothing is held back: a point of a track not yet confirmed is
-// published as provisional (with the tentative track's serial) in its own frame, a point no
-// track took is published without an id; the confirmed samples (with the frames of a track
+// published as provisional (under the id its track keeps when confirmed) in its own frame, a
+// point no track took is published without an id; the confirmed samples (with the frames of a track
 // confirmed now) come with it for writers of labelled files.
 #pragma once
 

@@ -19,8 +19,8 @@ pipeline::LiveFrame Frame(size_t points) {
     p.position = {static_cast<double>(i), -5.5, 1000.0};
     p.rms_px = 0.125;
     p.views = 4;
+    p.id = 70 + i;
     if (i % 2) p.marker = static_cast<int>(i);
-    else p.provisional_track = 70 + i;
     f.points.push_back(p);
   }
   pipeline::LiveBody body;
@@ -62,6 +62,7 @@ TEST(CClient, ReadsEveryFieldTheHubWrites) {
     EXPECT_EQ(points[i].views, 4u);
     EXPECT_EQ(points[i].marker, i % 2 ? static_cast<int32_t>(i) + 1 : 0);
     EXPECT_EQ(points[i].provisional_track, i % 2 ? 0u : 70u + i);
+    EXPECT_EQ(points[i].id, 70u + i);
     EXPECT_STREQ(points[i].label, "");
   }
   ASSERT_EQ(f.body_count, 1u);

@@ -56,9 +56,9 @@ struct BundleSink {
   void Point(const pipeline::LivePoint& p, const std::vector<std::string>* names) {
     lo_message m = lo_message_new();
     if (p.marker >= 0)
-      lo_message_add_int32(m, p.marker + 1);
+      lo_message_add_int32(m, static_cast<int32_t>(1 + (p.id - 1) % 0x7fffffffu));
     else
-      lo_message_add_int64(m, p.provisional_track ? static_cast<int64_t>(p.provisional_track) : -1);
+      lo_message_add_int64(m, p.id ? static_cast<int64_t>(p.id) : -1);
     lo_message_add_float(m, static_cast<float>(p.position.x()));
     lo_message_add_float(m, static_cast<float>(p.position.y()));
     lo_message_add_float(m, static_cast<float>(p.position.z()));

@@ -2,8 +2,10 @@
 // target, for VR, game engines, show control and patchers (Max, Pure Data, TouchDesigner).
 // The address space (documented in docs/streams.md; millimetres, world frame):
 //   /mocap/frame      h:frame_number h:trigger_time_ns i:points i:bodies
-//   /mocap/marker     i:marker f:x f:y f:z f:residual_px i:views     (confirmed; marker 1-based)
-//   /mocap/point      h:track f:x f:y f:z f:residual_px i:views      (provisional; track -1: none)
+//   /mocap/marker     i:track f:x f:y f:z f:residual_px i:views      (confirmed)
+//   /mocap/point      h:track f:x f:y f:z f:residual_px i:views      (provisional; -1: none)
+// track: the track's id (the stream's id), the same number from its first frame as a point to
+// its frames as a confirmed marker (an id past 2^31 - 1 wraps to 1 in /mocap/marker's int32).
 //   /mocap/rigidbody  s:name f:x f:y f:z f:qx f:qy f:qz f:qw f:mean_error_mm   (tracked bodies)
 // /mocap/frame comes first in its bundle. A bundle holds at most kMaxOscPoints points (the
 // rest are counted as dropped: one UDP datagram per frame). Its own thread builds and sends, so

@@ -22,10 +22,11 @@ pipeline::LiveFrame Frame() {
   confirmed.rms_px = 0.5;
   confirmed.views = 3;
   confirmed.marker = 4;
+  confirmed.id = 9;
   pipeline::LivePoint provisional;
   provisional.position = {-1.0, -2.0, -3.0};
   provisional.views = 2;
-  provisional.provisional_track = 12;
+  provisional.id = 12;
   pipeline::LivePoint untracked;
   untracked.views = 2;
   f.points = {confirmed, provisional, untracked};
@@ -108,7 +109,7 @@ TEST(OscSender, LibloReceivesTheBundle) {
   EXPECT_EQ(received.numbers[0][0], 77.0);
   EXPECT_EQ(received.numbers[0][2], 3.0);  // points
   EXPECT_EQ(received.numbers[0][3], 1.0);  // tracked bodies
-  EXPECT_EQ(received.numbers[1], (std::vector<double>{5, 10, 20, 30, 0.5, 3}));
+  EXPECT_EQ(received.numbers[1], (std::vector<double>{9, 10, 20, 30, 0.5, 3}));  // its track's id
   EXPECT_EQ(received.numbers[2][0], 12.0);
   EXPECT_EQ(received.numbers[3][0], -1.0);
   EXPECT_EQ(received.strings, std::vector<std::string>{"wand"});

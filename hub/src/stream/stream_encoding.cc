@@ -16,7 +16,8 @@ void FillPoint(const pipeline::LivePoint& in, const std::vector<std::string>* na
   out->set_residual_px(static_cast<float>(in.rms_px));
   out->set_views(static_cast<uint32_t>(in.views));
   if (in.marker >= 0) out->set_marker(in.marker + 1);
-  out->set_provisional_track(in.provisional_track);
+  out->set_id(in.id);
+  if (in.marker < 0) out->set_provisional_track(in.id);
   if (names != nullptr && in.label >= 0 && static_cast<size_t>(in.label) < names->size())
     out->set_label((*names)[static_cast<size_t>(in.label)].substr(0, 63));  // the field's nanopb limit
 }

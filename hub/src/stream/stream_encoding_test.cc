@@ -21,8 +21,8 @@ pipeline::LiveFrame Frame(size_t points) {
     p.position = {100.0 + static_cast<double>(i), -200.5, 1500.25};
     p.rms_px = 0.25;
     p.views = 3 + static_cast<int>(i % 4);
-    if (i % 3 == 0) p.provisional_track = 900 + i;  // provisional
-    else p.marker = static_cast<int>(i);            // confirmed column i
+    p.id = 900 + i;
+    if (i % 3 != 0) p.marker = static_cast<int>(i);  // confirmed column i, else provisional
     f.points.push_back(p);
   }
   pipeline::LiveBody body;
@@ -62,6 +62,7 @@ TEST(StreamEncoding, EveryFieldSurvivesTheRoundTrip) {
     EXPECT_FLOAT_EQ(p.z(), 1500.25f);
     EXPECT_FLOAT_EQ(p.residual_px(), 0.25f);
     EXPECT_EQ(p.views(), static_cast<uint32_t>(3 + i % 4));
+    EXPECT_EQ(p.id(), 900u + static_cast<uint64_t>(i));  // provisional or confirmed
     if (i % 3 == 0) {
       EXPECT_EQ(p.marker(), 0);
       EXPECT_EQ(p.provisional_track(), 900u + static_cast<uint64_t>(i));

@@ -1,6 +1,5 @@
-// Live output holds nothing back: every point of a frame says whose it is, a confirmed marker,
-// a provisional (tentative) track, or no track, and a provisional track keeps its serial until it
-// is confirmed under the marker its samples carry.
+// Live output holds nothing back: every point of a frame says whose it is, a track (by the id
+// it was first published with, kept when it is confirmed: provisional is a flag) or none.
 #include <gtest/gtest.h>
 
 #include "track/tracker.h"
@@ -15,12 +14,12 @@ ReconstructedPoint PointAt(double x, int views) {
   return point;
 }
 
-TEST(PointIdentity, ProvisionalUntilConfirmedThenTheMarkerOfItsSamples) {
+TEST(PointIdentity, OneIdFromTheFirstFrameConfirmedUnderTheMarkerOfItsSamples) {
   TrackerOptions options;
   options.rate_hz = 100.0;
   Tracker tracker(options);
   std::vector<TrackSample> samples;
-  uint64_t serial = 0;
+  uint64_t id = 0;
   for (uint64_t frame = 0; frame < 6; ++frame) {
     // A marker moving 2 mm per frame seen by 4 cameras, a far point seen by 2 (too few to start a
     // track), both reported in every frame.
@@ -31,18 +30,15 @@ TEST(PointIdentity, ProvisionalUntilConfirmedThenTheMarkerOfItsSamples) {
     const std::vector<PointIdentity>& ids = tracker.point_identities();
     ASSERT_EQ(ids.size(), points.size());
     EXPECT_FALSE(ids[1].confirmed());
-    EXPECT_EQ(ids[1].provisional_track, 0u);
+    EXPECT_EQ(ids[1].id, 0u);
+    ASSERT_NE(ids[0].id, 0u) << frame;
+    if (frame == 0) id = ids[0].id;
+    EXPECT_EQ(ids[0].id, id) << frame;
     if (frame + 1 < static_cast<uint64_t>(options.birth_frames)) {
       EXPECT_FALSE(ids[0].confirmed()) << frame;
-      ASSERT_NE(ids[0].provisional_track, 0u) << frame;
-      if (serial != 0) {
-        EXPECT_EQ(ids[0].provisional_track, serial) << frame;
-      }
-      serial = ids[0].provisional_track;
       EXPECT_TRUE(samples.empty());
     } else {
       ASSERT_TRUE(ids[0].confirmed()) << frame;
-      EXPECT_EQ(ids[0].provisional_track, 0u);
       ASSERT_FALSE(samples.empty());
       for (const TrackSample& s : samples) EXPECT_EQ(s.marker, ids[0].marker);
     }
@@ -59,7 +55,7 @@ TEST(PointIdentity, SerialsAreNeverReused) {
     tracker.Predict(frame);
     tracker.Update(frame, {PointAt(500.0 * static_cast<double>(frame), 4)}, &samples);
     ASSERT_EQ(tracker.point_identities().size(), 1u);
-    serials.push_back(tracker.point_identities()[0].provisional_track);
+    serials.push_back(tracker.point_identities()[0].id);
     tracker.Predict(frame + 1);
     tracker.Update(frame + 1, {}, &samples);
     EXPECT_TRUE(tracker.point_identities().empty());

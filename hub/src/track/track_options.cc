@@ -54,7 +54,7 @@ void TrackerOptions::Check() const {
           "tracker gates: need 0 < min_gate_mm <= max_gate_mm");
   Require(birth_frames >= 1, "tracker.birth_frames must be >= 1");
   Require(birth_min_views >= 2, "tracker.birth_min_views must be >= 2");
-  Require(max_predicted_s >= 0.0 && coast_s >= 0.0 && reacquire_s >= 0.0,
+  Require(max_predicted_s >= 0.0 && coast_s >= 0.0 && reacquire_s >= 0.0 && dropout_hold_s >= 0.0,
           "tracker durations must be >= 0");
   Require(reacquire_gate_mm > 0.0, "tracker.reacquire_gate_mm must be > 0");
   Require(wide_gate_mm > 0.0, "tracker.wide_gate_mm must be > 0");

@@ -99,6 +99,11 @@ struct TrackerOptions {
   double coast_s = 0.1;
   double reacquire_s = 3.0;
   double reacquire_gate_mm = 50.0;
+  // A drop-out: frames in which no confirmed track is measured (every camera lost, too few left
+  // to triangulate, or no frame set at all). Up to this long (s) of them do not count toward
+  // coast_s: the tracks are held on their predictions and found again there (the whole search,
+  // wide gate included), not lost and renumbered.
+  double dropout_hold_s = 0.3;
   // Seed 001 section 5.2's second, global search: predictions and points left unpaired by the
   // gated step are paired again (optimal assignment) within this wider radius, around the rigid
   // model's position when it has one. Catches markers that accelerate hard (a serve's hand).

@@ -83,6 +83,7 @@ TrackSample Tracker::SampleOf(const Track& track, uint64_t frame_number, SampleK
 }
 
 const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
+  const uint64_t coast = static_cast<uint64_t>(std::lround(options_.coast_s * options_.rate_hz));
   predictions_.clear();
   std::vector<std::pair<int, int>>& order = order_;  // (-age, slot)
   order.clear();
@@ -95,8 +96,12 @@ const std::vector<PointPrediction>& Tracker::Predict(uint64_t frame_number) {
     }
     // Confirmed tracks, and tentative ones measured twice: a track seen once has no velocity,
     // and its wide search would gather other markers' blobs; its next point comes from the
-    // matcher.
-    if (track.state == State::kActive || (track.state == State::kTentative && track.hits >= 2)) {
+    // matcher. A track held through a drop-out longer than a coast is left out too (without the
+    // hold it would be lost, and out): a prediction that old would make the reconstruction pair
+    // other markers' blobs near it into a ghost; the tracker's own search finds its point among
+    // the points reconstructed without it.
+    const bool stale = track.held > 0 && frame_number - track.last_measured > coast;
+    if ((track.state == State::kActive && !stale) || (track.state == State::kTentative && track.hits >= 2)) {
       order.emplace_back(-track.age, slot);
     }
   }
@@ -274,11 +279,8 @@ void Tracker::IdentifyPoints(const FrameMatch& match, size_t num_points) {
 }
 
 void Tracker::Identify(const Track& track, PointIdentity* identity) const {
-  if (track.state == State::kActive || track.state == State::kLost) {
-    identity->marker = track.marker;
-  } else if (track.state == State::kTentative) {
-    identity->provisional_track = track.serial;
-  }
+  identity->id = track.serial;
+  identity->marker = track.marker;  // -1 until confirmed
 }
 
 void Tracker::FrameMatch::Reset(size_t num_slots, size_t num_points) {
@@ -436,6 +438,7 @@ void Tracker::ApplyMeasurements(uint64_t frame_number, const std::vector<Reconst
     }
     track.last_point = point;
     track.last_measured = frame_number;
+    track.held = 0;
     track.reference = track.filter.position();
     ++track.hits;
     ++track.age;
@@ -455,17 +458,30 @@ void Tracker::ApplyMeasurements(uint64_t frame_number, const std::vector<Reconst
 }
 
 // 6. Tracks without a point this frame: tentative ones die, active ones continue on the rigid
-// model or coast and get lost, lost ones wait for reacquisition and then are freed.
+// model or coast (not counting a drop-out's frames) and get lost, lost ones wait for
+// reacquisition and then are freed.
 void Tracker::HandleUnmeasured(uint64_t frame_number, const FrameMatch& match, std::vector<TrackSample>* samples) {
   const int num_slots = static_cast<int>(tracks_.size());
   const double noise = options_.kalman.measurement_noise_mm;
   const uint64_t max_predicted = static_cast<uint64_t>(std::lround(options_.max_predicted_s * options_.rate_hz));
   const uint64_t coast = static_cast<uint64_t>(std::lround(options_.coast_s * options_.rate_hz));
   const uint64_t reacquire = static_cast<uint64_t>(std::lround(options_.reacquire_s * options_.rate_hz));
+  const uint64_t hold = static_cast<uint64_t>(std::lround(options_.dropout_hold_s * options_.rate_hz));
+  // Frames without a frame set since the last Update measured nothing; this one measured nothing
+  // when no confirmed track holds a point.
+  const uint64_t skipped = updated_ && frame_number > last_update_frame_ ? frame_number - last_update_frame_ - 1 : 0;
+  bool dropout = true;
+  for (int slot = 0; slot < num_slots && dropout; ++slot) {
+    dropout = !(match.point_of_slot[slot] >= 0 && tracks_[slot].state == State::kActive);
+  }
+  const uint64_t dropout_frames = skipped + (dropout ? 1 : 0);
+  updated_ = true;
+  last_update_frame_ = frame_number;
   for (int slot = 0; slot < num_slots; ++slot) {
     Track& track = tracks_[slot];
     if (track.state == State::kFree || match.point_of_slot[slot] >= 0) continue;
-    const uint64_t missing = frame_number - track.last_measured;
+    if (track.state == State::kActive) track.held = std::min(hold, track.held + dropout_frames);
+    const uint64_t missing = frame_number - track.last_measured - track.held;
     if (track.state == State::kTentative) {
       FreeTrack(slot);
       continue;

@@ -31,12 +31,15 @@ struct TrackSample {
   SampleKind kind = SampleKind::kMeasured;
 };
 
-// Who a point of the last Update belongs to, for live output that holds nothing back: a
-// confirmed track's marker, or a tentative track (provisional: its marker number is not given
-// until it is confirmed), or no track at all (seen by too few cameras to start one).
+// Who a point of the last Update belongs to, for live output that holds nothing back. Every
+// track has an id from the frame it is born in (its first point is published then), kept while
+// it is tentative, confirmed, lost and found again: provisional is a flag on that id, not
+// another number. A confirmed track also has its marker (the output column of its samples,
+// numbered in order of confirmation). A point without a track (seen by too few cameras to start
+// one) has neither.
 struct PointIdentity {
-  int marker = -1;                 // output column of a confirmed track, else -1
-  uint64_t provisional_track = 0;  // tentative track's serial (never reused), 0 when none
+  uint64_t id = 0;   // the track's id (never reused), 0 when none
+  int marker = -1;   // output column of a confirmed track, else -1
   bool confirmed() const { return marker >= 0; }
 };
 
@@ -80,7 +83,8 @@ class Tracker {
     uint64_t last_measured = 0;
     int hits = 0;
     int age = 0;  // frames measured in total, orders predictions by trust
-    uint64_t serial = 0;  // unique over the tracker's life (a slot is reused, a serial never)
+    uint64_t held = 0;  // drop-out frames since last measured (at most dropout_hold_s of them)
+    uint64_t serial = 0;  // the track's id, unique over the tracker's life (a slot is reused, a serial never)
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // where a lost track is looked for
     Eigen::Vector3d last_point = Eigen::Vector3d::Zero();  // last measured position
     std::vector<std::pair<uint64_t, Eigen::Vector3d>> history;  // tentative frames
@@ -169,6 +173,8 @@ class Tracker {
   std::vector<std::pair<int, int>> born_;  // (point, slot) of this frame's new tracks
   uint64_t predicted_frame_ = 0;
   bool predicted_ = false;
+  bool updated_ = false;  // last_update_frame_ is set
+  uint64_t last_update_frame_ = 0;
   std::vector<PointPrediction> predictions_;
   TrackerStats stats_;
 };

@@ -39,7 +39,7 @@ export function parseTrc(text) {
 
 export function parseLivePoints(text) {
   const lines = text.split(/\r?\n/);
-  const match = /^# mocap live points v1 rate_hz=([0-9.]+)/.exec(lines[0] || '');
+  const match = /^# mocap live points v[12] rate_hz=([0-9.]+)/.exec(lines[0] || '');
   if (!match) throw new Error('not a live points file (line 1)');
   const rate = parseFloat(match[1]);
   const frames = [];

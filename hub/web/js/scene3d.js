@@ -36,11 +36,10 @@ function softwareGl() {
 }
 export const SOFTWARE_GL = softwareGl();
 
-// A live point's label: confirmed markers as Qualisys names them (M001 for marker 0), a
-// provisional track by its serial, '?' for a point no track took.
-export function markerLabel(id, provisional) {
-  if (id < 0) return '?';
-  return provisional ? `p${id}` : `M${String(id + 1).padStart(3, '0')}`;
+// A live point's label: its track's id, the same while provisional (drawn in another colour)
+// and once confirmed; '?' for a point no track took.
+export function markerLabel(id) {
+  return id < 0 ? '?' : String(id);
 }
 
 export class Scene3D {
@@ -246,7 +245,7 @@ export class Scene3D {
     for (const p of this.points) {
       const id = p[3];
       // A live point's name (serve --labels: its eighth element) wins; playback names by column.
-      const text = p[7] || (this.names ? this.names[id] || '?' : markerLabel(id, p[4]));
+      const text = p[7] || (this.names ? this.names[id] || '?' : markerLabel(id));
       put(v.set(p[0], p[1], p[2]).clone(), text, p[4] ? '#f0c07a' : '#bdf0d2');
     }
   }

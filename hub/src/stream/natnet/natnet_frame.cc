@@ -144,7 +144,7 @@ std::string Encode(const pipeline::LiveFrame& frame, const Model& model, const V
     Section s(w, v, static_cast<int32_t>(points));
     for (size_t i = 0; i < points; ++i) {
       const pipeline::LivePoint& p = frame.points[i];
-      w.I32(p.marker >= 0 ? p.marker + 1 : 0);
+      w.I32(p.id ? static_cast<int32_t>(1 + (p.id - 1) % 0x7fffffffu) : 0);
       Vec(w, p.position);
       w.F32(0.0f);  // size: not measured
       int16_t params = kMarkerPointCloudSolved;

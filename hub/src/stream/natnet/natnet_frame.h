@@ -18,10 +18,11 @@
 //  - rigid bodies: ID, position, quaternion (x, y, z, w: body -> world), mean marker error (m),
 //    params bit 0 = tracking valid (fitted in this frame; a pose predicted through an occlusion
 //    is sent with the bit clear);
-//  - labelled markers: every point. ID = confirmed marker column + 1 (the marker's label
-//    number), 0 for a point without a confirmed track; params 0x02 point-cloud solved, 0x08 has
-//    a name (marker set), 0x10 unlabelled (no confirmed track); size 0 and residual 0 (the hub
-//    measures reprojection error in pixels, not the metres Motive reports here);
+//  - labelled markers: every point. ID = the point's track id (LivePoint id, the same from the
+//    track's first frame on, provisional or confirmed; past 2^31 - 1 it wraps to 1), 0 for a
+//    point no track took; params 0x02 point-cloud solved, 0x08 has a name (marker set), 0x10
+//    unlabelled (no confirmed track); size 0 and residual 0 (the hub measures reprojection error
+//    in pixels, not the metres Motive reports here);
 //  - no skeletons, assets, force plates or devices (counts 0);
 //  - timecode 0; timestamp = frame number / rate (s since the session epoch, frame 0);
 //  - the stamps on the hub's clock (CLOCK_REALTIME ns; ServerInfo's clock frequency is 1e9):

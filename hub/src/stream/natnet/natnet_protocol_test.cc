@@ -75,6 +75,7 @@ pipeline::LiveFrame OneFrame() {
   pipeline::LivePoint confirmed;
   confirmed.position = {1000, 2000, 3000};
   confirmed.marker = 4;
+  confirmed.id = 9;
   pipeline::LivePoint loose;
   loose.position = {-5, 6, -7};
   f.points = {confirmed, loose};
@@ -305,7 +306,7 @@ TEST(NatNetFrame, CarriesMarkersBodiesAndStamps) {
     end = section(0);  // skeletons
     if (sized) section(0);  // assets
     end = section(2);  // labelled markers: every point
-    EXPECT_EQ(r.Get<int32_t>(), 5);  // marker column 4
+    EXPECT_EQ(r.Get<int32_t>(), 9);  // its track's id
     EXPECT_FLOAT_EQ(r.Get<float>(), 1.0f);
     r.at += 8;
     EXPECT_EQ(r.Get<float>(), 0.0f);

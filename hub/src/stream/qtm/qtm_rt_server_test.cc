@@ -93,6 +93,7 @@ SharedFrame MakeFrame(uint64_t number, int points) {
     pipeline::LivePoint p;
     p.position = {double(i), 1, 2};
     p.marker = i;
+    p.id = static_cast<uint64_t>(i) + 1;
     f->points.push_back(p);
   }
   return f;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "stream/qtm/rt_command.h"
@@ -21,9 +20,7 @@ void PutVector(std::string* out, const Eigen::Vector3d& v) {
 
 // Point id of 3D no labels (rt_frame.h).
 uint32_t PointId(const pipeline::LivePoint& p) {
-  if (p.marker >= 0) return static_cast<uint32_t>(p.marker) + 1;
-  if (p.provisional_track) return 0x40000000u + static_cast<uint32_t>(p.provisional_track & 0x3fffffffu);
-  return 0;
+  return p.id ? static_cast<uint32_t>(1 + (p.id - 1) % 0xffffffffu) : 0;
 }
 
 // Component header: size (including this header and the count), type, count, drop rates.
@@ -106,9 +103,9 @@ std::string SixD(const pipeline::LiveFrame& frame, const RtNames& names, Compone
 void RtNames::Update(const pipeline::LiveFrame& frame) {
   if (frame.label_names && !set_names_) set_names_ = frame.label_names;
   for (const pipeline::LivePoint& p : frame.points) {
-    if (p.marker < 0 || index_of_column_.count(p.marker) || columns_.size() >= kMaxLabels) continue;
-    index_of_column_[p.marker] = static_cast<int>(columns_.size());
-    columns_.push_back(p.marker);
+    if (p.provisional() || p.id == 0 || index_of_track_.count(p.id) || tracks_.size() >= kMaxLabels) continue;
+    index_of_track_[p.id] = static_cast<int>(tracks_.size());
+    tracks_.push_back(p.id);
   }
   for (const pipeline::LiveBody& b : frame.bodies)
     if (!bodies_.count(b.id) && bodies_.size() < kMaxBodies) bodies_[b.id] = b.name;
@@ -116,21 +113,17 @@ void RtNames::Update(const pipeline::LiveFrame& frame) {
 
 int RtNames::LabelOf(const pipeline::LivePoint& point) const {
   if (set_names_) return point.label;
-  if (point.marker < 0) return -1;
-  const auto it = index_of_column_.find(point.marker);
-  return it == index_of_column_.end() ? -1 : it->second;
+  if (point.provisional()) return -1;
+  const auto it = index_of_track_.find(point.id);
+  return it == index_of_track_.end() ? -1 : it->second;
 }
 
 std::string RtNames::label_name(size_t label) const {
   if (set_names_) return label < set_names_->size() ? (*set_names_)[label] : std::string();
-  return label < columns_.size() ? ColumnName(columns_[label]) : std::string();
+  return label < tracks_.size() ? TrackName(tracks_[label]) : std::string();
 }
 
-std::string RtNames::ColumnName(int column) {
-  char name[16];
-  std::snprintf(name, sizeof name, "M%03d", column + 1);
-  return name;
-}
+std::string RtNames::TrackName(uint64_t id) { return "T" + std::to_string(id); }
 
 Eigen::Vector3d EulerDegrees(const Eigen::Matrix3d& r) {
   const double pitch = std::asin(std::clamp(r(0, 2), -1.0, 1.0));

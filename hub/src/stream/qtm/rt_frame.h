@@ -3,14 +3,15 @@
 //
 // How the hub's result maps onto them:
 //  - With a marker set (serve --labels) the labels are its names, in its order, and a point
-//    carries the label of its name. Without one, labels are the confirmed markers (LiveFrame
-//    marker columns) in the order they were first seen, named M001, M002, ... after the column
-//    (column 0 is M001). The list only grows, so a
+//    carries the label of its name. Without one, labels are the confirmed tracks in the order
+//    they were first confirmed, named T and their id (T17 for the track every stream calls 17).
+//    The list only grows, so a
 //    client that read the labels earlier still indexes the labelled components correctly; a
 //    label not seen in a frame is NaN (all bits set, as the protocol says).
 //  - 3D no labels carries every point of the frame, confirmed or not (the hub's labels are
-//    tracks, not an identified marker set): ID = column + 1 for a confirmed marker (matching its
-//    label), 0x40000000 + serial for a provisional track, 0 for a point no track took.
+//    tracks, not an identified marker set): ID = the point's track id (LivePoint id, the same
+//    from the track's first frame on, provisional or confirmed; past 2^32 - 1 it wraps to 1), 0
+//    for a point no track took.
 //  - Residuals are the hub's reprojection RMS in pixels for points, the body fit's mean error
 //    in mm for bodies.
 //  - 6D lists the bodies seen so far (by id); a body not tracked in the frame is NaN. Rotation
@@ -46,18 +47,18 @@ class RtNames {
   void Update(const pipeline::LiveFrame& frame);
   // The labels are a marker set's names from now on (serve --labels: known before any frame).
   void UseMarkerSet(std::shared_ptr<const std::vector<std::string>> names) { set_names_ = std::move(names); }
-  size_t label_count() const { return set_names_ ? set_names_->size() : columns_.size(); }
+  size_t label_count() const { return set_names_ ? set_names_->size() : tracks_.size(); }
   std::string label_name(size_t label) const;
   // Label index of a point, -1 if it has none.
   int LabelOf(const pipeline::LivePoint& point) const;
-  static std::string ColumnName(int column);
+  static std::string TrackName(uint64_t id);
   // Bodies by id: id -> name.
   const std::map<uint32_t, std::string>& bodies() const { return bodies_; }
 
  private:
   std::shared_ptr<const std::vector<std::string>> set_names_;  // the marker set's names, or null
-  std::vector<int> columns_;
-  std::map<int, int> index_of_column_;
+  std::vector<uint64_t> tracks_;  // confirmed tracks' ids, in the order first seen
+  std::map<uint64_t, int> index_of_track_;
   std::map<uint32_t, std::string> bodies_;
 };
 

@@ -156,11 +156,11 @@ TEST(RtCommand, EveryWrongCommandGetsAReason) {
   EXPECT_FALSE(ParseCommand(many).ok);
 }
 
-pipeline::LivePoint Point(double x, double y, double z, int marker, uint64_t provisional = 0, double rms = 0.25) {
+pipeline::LivePoint Point(double x, double y, double z, int marker, uint64_t id = 0, double rms = 0.25) {
   pipeline::LivePoint p;
   p.position = {x, y, z};
   p.marker = marker;
-  p.provisional_track = provisional;
+  p.id = id;
   p.rms_px = rms;
   p.views = 3;
   return p;
@@ -171,18 +171,18 @@ TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
   first.frame_number = 7;
   first.trigger_time_ns = 1'234'567'890;
   first.cameras = 4;
-  first.points = {Point(1, 2, 3, 4), Point(4, 5, 6, 1)};
+  first.points = {Point(1, 2, 3, 4, 50), Point(4, 5, 6, 1, 20)};
   RtNames names;
   names.Update(first);
   pipeline::LiveFrame second = first;
   second.frame_number = 8;
   second.cameras = 3;
-  second.points = {Point(7, 8, 9, 1), Point(10, 11, 12, -1, 5), Point(13, 14, 15, 9)};
+  second.points = {Point(7, 8, 9, 1, 20), Point(10, 11, 12, -1, 5), Point(13, 14, 15, 9, 90)};
   names.Update(second);
   ASSERT_EQ(names.label_count(), 3u);
-  EXPECT_EQ(names.label_name(0), "M005");
-  EXPECT_EQ(names.label_name(1), "M002");
-  EXPECT_EQ(names.label_name(2), "M010");
+  EXPECT_EQ(names.label_name(0), "T50");  // confirmed tracks by id, provisional ones left out
+  EXPECT_EQ(names.label_name(1), "T20");
+  EXPECT_EQ(names.label_name(2), "T90");
 
   std::string packet = EncodeDataPacket(second, k3d | k3dRes, names, 4);
   const std::vector<testing::Packet> packets = testing::SplitPackets(&packet);
@@ -197,10 +197,10 @@ TEST(RtFrame, LabelledComponentsFollowTheLabelsWithNanForUnseen) {
   EXPECT_EQ(c3.count, 3u);
   EXPECT_EQ(c3.drop, 250);  // one camera of four missing
   ASSERT_EQ(c3.data.size(), 3u * 12);
-  EXPECT_EQ(U32(c3.data, 0), 0xffffffffu);  // M005 not seen: all bits set
+  EXPECT_EQ(U32(c3.data, 0), 0xffffffffu);  // T50 not seen: all bits set
   EXPECT_TRUE(std::isnan(F32(c3.data, 4)));
-  EXPECT_FLOAT_EQ(F32(c3.data, 12), 7.0f);  // M002
-  EXPECT_FLOAT_EQ(F32(c3.data, 32), 15.0f);  // M010's z
+  EXPECT_FLOAT_EQ(F32(c3.data, 12), 7.0f);  // T20
+  EXPECT_FLOAT_EQ(F32(c3.data, 32), 15.0f);  // T90's z
   const testing::Component& res = f.components[1];
   EXPECT_EQ(res.type, 9u);
   ASSERT_EQ(res.data.size(), 3u * 16);
@@ -239,7 +239,7 @@ TEST(RtFrame, WithAMarkerSetTheLabelsAreItsNames) {
 
 TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
   pipeline::LiveFrame frame;
-  frame.points = {Point(1, 2, 3, 4), Point(4, 5, 6, -1, 77, 0.5), Point(7, 8, 9, -1)};
+  frame.points = {Point(1, 2, 3, 4, 40), Point(4, 5, 6, -1, 77, 0.5), Point(7, 8, 9, -1)};
   RtNames names;
   names.Update(frame);
   std::string packet = EncodeDataPacket(frame, k3dNoLabels | k3dNoLabelsRes, names, 0);
@@ -247,11 +247,17 @@ TEST(RtFrame, NoLabelsCarryEveryPointWithItsTrackId) {
   ASSERT_EQ(f.components.size(), 2u);
   EXPECT_EQ(f.components[0].type, 2u);
   EXPECT_EQ(f.components[0].count, 3u);
-  EXPECT_EQ(U32(f.components[0].data, 12), 5u);
-  EXPECT_EQ(U32(f.components[0].data, 28), 0x40000000u + 77);
+  EXPECT_EQ(U32(f.components[0].data, 12), 40u);
+  EXPECT_EQ(U32(f.components[0].data, 28), 77u);
   EXPECT_EQ(U32(f.components[0].data, 44), 0u);
   EXPECT_EQ(f.components[1].type, 10u);
   EXPECT_FLOAT_EQ(F32(f.components[1].data, 20 + 16), 0.5f);
+  // Track 77 confirmed (as marker column 6) keeps its id; ids past 32 bits wrap past 0.
+  frame.points = {Point(4, 5, 7, 6, 77), Point(0, 0, 0, -1, (uint64_t{1} << 32) + 2)};
+  packet = EncodeDataPacket(frame, k3dNoLabels, names, 0);
+  const testing::Frame g = testing::ReadFrame(testing::SplitPackets(&packet).at(0).body);
+  EXPECT_EQ(U32(g.components[0].data, 12), 77u);
+  EXPECT_EQ(U32(g.components[0].data, 28), 3u);
 }
 
 TEST(RtFrame, SixDComponentsWithAndWithoutBodies) {
@@ -353,7 +359,7 @@ TEST(RtParameters, XmlBlocksAsAsked) {
   system.axis_upwards = AxisUpwards(system.rig);
   RtNames names;
   pipeline::LiveFrame frame;
-  frame.points = {Point(0, 0, 0, 2)};
+  frame.points = {Point(0, 0, 0, 2, 3)};
   pipeline::LiveBody body;
   body.id = 1;
   body.name = "a<b&c";
@@ -366,7 +372,7 @@ TEST(RtParameters, XmlBlocksAsAsked) {
   EXPECT_NE(all.find("<ID>4</ID>"), std::string::npos);
   EXPECT_NE(all.find("<AxisUpwards>+Z</AxisUpwards>"), std::string::npos);
   EXPECT_NE(all.find("<Labels>1</Labels>"), std::string::npos);
-  EXPECT_NE(all.find("<Name>M003</Name>"), std::string::npos);
+  EXPECT_NE(all.find("<Name>T3</Name>"), std::string::npos);
   EXPECT_NE(all.find("<RGBColor>255</RGBColor>"), std::string::npos);  // red, as a decimal integer
   EXPECT_NE(all.find("<RealTime_Processing_Actions>"), std::string::npos);
   EXPECT_NE(all.find("<Marker_Threshold><Current>0</Current>"), std::string::npos);
