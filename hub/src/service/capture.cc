@@ -322,7 +322,7 @@ nlohmann::json Captures::Disk() const {
 
 void Captures::AddPublished(const pipeline::LiveFrame& frame) {
   ++frame_sets_;
-  for (const LivePoint& p : frame.points) {
+  for (const pipeline::LivePoint& p : frame.points) {
     const long long id = p.id ? static_cast<long long>(p.id) : -1;
     const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;
     live_ << LivePointLine(frame.frame_number, p.position.x(), p.position.y(), p.position.z(), id, p.provisional(),
