@@ -46,8 +46,9 @@ def evaluate(hub, truth, result, session=None):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--bin", default="build/bin")
-    parser.add_argument("--data", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                                       "../../../shared/data"))
+    checkout = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    parser.add_argument("--data", default=os.environ.get("MOCAP_SHARED_DATA", os.path.join(checkout, "../shared/data")),
+                        help="the shared data directory (default $MOCAP_SHARED_DATA or CHECKOUT/../shared/data)")
     parser.add_argument("--motions", default="motions/walk.trc")
     parser.add_argument("--cameras", default="2,3,4,8")
     parser.add_argument("--noise", default="0.05,0.2,0.5,1,2")

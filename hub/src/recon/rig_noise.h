@@ -45,8 +45,10 @@ ReconstructorOptions GatesForNoise(const ReconstructorOptions& configured, doubl
 
 // Measures the centroid noise from triangulated points: a point of n views whose residuals'
 // squares sum to S has 2n - 3 degrees of freedom, so S / (2n - 3) estimates sigma^2. A frame's
-// estimate is the median over its points of that ratio over the chi-square median for its
-// degrees of freedom (wrong matches and merged blobs are a minority); frames are averaged with
+// estimate is the lower quartile over its points of that ratio over the chi-square lower
+// quartile for its degrees of freedom (wrong matches, merged blobs and gates still too tight
+// all act on the upper part; with the median, wrong matches in gates opened by them ran away to
+// 11 px on seed 001's 2 px protocol); frames are averaged with
 // a weight that starts at the first frame's and settles at 1 / kSettleFrames, so a rig noisier
 // than the gates it starts with opens them within a few dozen frames.
 class CentroidNoiseMeter {

@@ -123,7 +123,7 @@ TEST(RigNoise, CalibratedNoiseSetsTheGatesFromTheFirstFrame) {
   EXPECT_GT(run.found, 0.98);
 }
 
-TEST(CentroidNoiseMeter, MedianOverPointsOfTheirDegreesOfFreedom) {
+TEST(CentroidNoiseMeter, LowerQuartileOverPointsOfTheirDegreesOfFreedom) {
   CentroidNoiseMeter meter(0.5);
   EXPECT_EQ(meter.sigma_px(), 0.5);  // the prior until a frame is measured
   std::vector<TriangulatedPoint> points(2);
@@ -136,7 +136,8 @@ TEST(CentroidNoiseMeter, MedianOverPointsOfTheirDegreesOfFreedom) {
   points.resize(9, points[0]);
   // Four views: 8 residuals, 5 degrees of freedom; the sum of squares is 4 px^2.
   meter.AddFrame(points);
-  const double t = 1.0 - 2.0 / 45.0;
+  const double v = 2.0 / 45.0;
+  const double t = 1.0 - v - 0.6745 * std::sqrt(v);
   EXPECT_NEAR(meter.sigma_px(), std::sqrt(4.0 / 5.0 / (t * t * t)), 1e-12);
 }
 
