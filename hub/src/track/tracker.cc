@@ -14,7 +14,12 @@ Tracker::Tracker(const TrackerOptions& options)
     : configured_((options.Check(), options)), options_(options), rigid_(options.rigid), swaps_(options.swaps) {}
 
 void Tracker::FollowPointNoise(double point_noise_mm) {
-  if (!(point_noise_mm > 0.0)) return;
+  // The configured values were tuned on 0.05-0.3 px rigs, whose points come out at 0.2-0.7 mm:
+  // within a factor of two of them they stand (the figures of those rigs stay as they were).
+  if (!(point_noise_mm > 2.0 * configured_.kalman.measurement_noise_mm)) {
+    options_ = configured_;
+    return;
+  }
   options_.kalman.measurement_noise_mm = std::max(configured_.kalman.measurement_noise_mm, point_noise_mm);
   options_.min_gate_mm = std::max(configured_.min_gate_mm, kGateNoiseSigmas * point_noise_mm);
   options_.max_gate_mm = std::max(configured_.max_gate_mm, options_.min_gate_mm);

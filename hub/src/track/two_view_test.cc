@@ -3,6 +3,7 @@
 // finds nothing, as it did before two-view points existed.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <vector>
 
@@ -89,6 +90,9 @@ TwoViewRun RunTwoCameras(double noise_px, int min_views) {
   }
   run.found = total > 0 ? static_cast<double>(found) / total : 0.0;
   run.ghosts_per_frame = static_cast<double>(ghosts) / (frames - 100);
+  std::printf("two cameras, %.1f px, --min-views %d: %.2f %% found, %.3f ghosts/frame, %d trajectories for %zu markers\n",
+              noise_px, min_views, 100.0 * run.found, run.ghosts_per_frame, run.markers_output,
+              motion.At(0.0).size());
   return run;
 }
 
