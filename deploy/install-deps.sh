@@ -24,8 +24,14 @@ HOST_PACKAGES=(
     libcivetweb-dev libjs-three
     # OSC streaming (liblo)
     liblo-dev
+    # registration (hub/src/registration): the k-d tree of rigid ICP
+    libnanoflann-dev
+    # the point-cache test imports mesh driving's .mdd/.pc2 into Blender itself, headless
+    blender
     # the web console's browser test (tests/web): headless Chromium and its WebDriver
     chromium chromium-driver
+    # the skeleton test's other side for BVH (tests/skeleton): Blender's own importer, headless
+    blender
     # node hardware backends
     libgpiod-dev libcamera-dev libsystemd-dev
     # the authenticated wire between hub and nodes (HMAC-SHA-512/256, keys from its CSPRNG)
@@ -37,6 +43,11 @@ HOST_PACKAGES=(
     # the vivid test: Debian's kernel (with the vivid module) booted in qemu with a busybox
     # initramfs (tests/vivid)
     linux-image-amd64 qemu-system-x86 busybox-static cpio kmod
+    # the kernel tests (tests/kernel): vimc.ko and gpio-sim.ko built out of tree from the kernel's
+    # source against its headers; libcamera's vimc IPA and cam tool and udevd in the VM
+    linux-source-6.1 linux-headers-amd64 libcamera-ipa libcamera-tools udev
+    # MJPEG webcams: libjpeg-turbo's TurboJPEG API
+    libturbojpeg0-dev
     # measurement
     time zlib1g-dev
     # network namespaces, veth and tc for the node fault tests and the simulated rig
@@ -59,6 +70,8 @@ CROSS_PACKAGES=(
     libsodium-dev:arm64
     # the node's libcamera source, built and linked for the boards it runs on
     libcamera-dev:arm64
+    # MJPEG webcams on the boards
+    libturbojpeg0-dev:arm64
 )
 
 missing() {

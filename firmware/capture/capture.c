@@ -35,6 +35,7 @@ struct mn_capture *mn_capture_open(const struct mn_config *cfg, const struct mn_
     case MN_SOURCE_V4L2:
         c->ops = &mn_capture_v4l2_ops;
         c->impl = mn_capture_v4l2_new(cfg->source_arg, cfg->width, cfg->height, cfg->buffers,
+                                      cfg->pixel_format,
                                       &c->width, &c->height, err, errlen);
         break;
     case MN_SOURCE_LIBCAMERA:
@@ -117,6 +118,12 @@ int mn_capture_set_exposure(struct mn_capture *c, uint32_t exposure_us)
 int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli)
 {
     return c->ops->set_gain(c->impl, gain_milli);
+}
+
+int mn_capture_set_picture(struct mn_capture *c, enum mn_picture_control which, uint32_t pct,
+                           double *value_out)
+{
+    return c->ops->set_picture(c->impl, which, pct, value_out);
 }
 
 void mn_capture_max_size(const struct mn_capture *c, uint32_t *width, uint32_t *height)

@@ -21,6 +21,9 @@ struct mn_frame {
     int slot;                /* source's buffer index, given back on release */
 };
 
+/* Picture controls the seeds' webcams set (seed 000), where the driver has them. */
+enum mn_picture_control { MN_PICTURE_BRIGHTNESS, MN_PICTURE_CONTRAST };
+
 struct mn_capture_ops {
     const char *name;
     int (*start)(void *impl);
@@ -28,12 +31,17 @@ struct mn_capture_ops {
     /* Pollable descriptor (POLLIN = a frame may be ready); -1: always ready (unpaced replay). */
     int (*fd)(void *impl);
     /* 1: *frame filled; 0: no frame yet (EAGAIN); -1: error, errno set (device gone ...);
-     * -1 with errno ENODATA: a recording ended (not an error: the run is over). */
+     * -1 with errno ENODATA: a recording ended (not an error: the run is over);
+     * -1 with errno ENOTRECOVERABLE: the device is gone and this process cannot open it again
+     * (libcamera after an unplug): close still works, and the process should exit. */
     int (*dequeue)(void *impl, struct mn_frame *frame);
     int (*release)(void *impl, const struct mn_frame *frame);
     /* Controls: -1 with errno ENOTSUP where the device has no such control. */
     int (*set_exposure)(void *impl, uint32_t exposure_us);
     int (*set_gain)(void *impl, uint32_t gain_milli);
+    /* A picture control at pct percent of the camera's range (0 = its minimum, 100 = maximum);
+     * the value set goes to *value_out (driver units, for the log). */
+    int (*set_picture)(void *impl, enum mn_picture_control which, uint32_t pct, double *value_out);
     void (*close)(void *impl);
 };
 
@@ -62,6 +70,8 @@ int mn_capture_dequeue(struct mn_capture *c, struct mn_frame *frame);
 int mn_capture_release(struct mn_capture *c, const struct mn_frame *frame);
 int mn_capture_set_exposure(struct mn_capture *c, uint32_t exposure_us);
 int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli);
+int mn_capture_set_picture(struct mn_capture *c, enum mn_picture_control which, uint32_t pct,
+                           double *value_out);
 /* Largest frame the source can deliver (buffers sized for it); valid after open. */
 void mn_capture_max_size(const struct mn_capture *c, uint32_t *width, uint32_t *height);
 
@@ -75,8 +85,9 @@ void mn_capture_register_libcamera(const struct mn_capture_ops *ops,
                                    mn_capture_libcamera_new_fn fn);
 extern const struct mn_capture_ops mn_capture_v4l2_ops;
 extern const struct mn_capture_ops mn_capture_replay_ops;
+/* pixel_format: a V4L2 fourcc name ("NV12", "MJPG"), or "" for the best the device offers. */
 void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,
-                          uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen);
+                          const char *pixel_format, uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen);
 void *mn_capture_replay_new(const struct mn_replay_params *params, uint32_t *out_width,
                             uint32_t *out_height, char *err, size_t errlen);
 

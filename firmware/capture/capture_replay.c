@@ -219,6 +219,13 @@ static int no_control(void *impl, uint32_t value)
     return -1;
 }
 
+static int no_picture(void *impl, enum mn_picture_control which, uint32_t pct, double *value_out)
+{
+    (void)impl, (void)which, (void)pct, (void)value_out;
+    errno = ENOTSUP; /* a recording's picture is fixed */
+    return -1;
+}
+
 static void replay_close(void *impl)
 {
     struct replay *r = impl;
@@ -238,5 +245,6 @@ const struct mn_capture_ops mn_capture_replay_ops = {
     .release = replay_release,
     .set_exposure = no_control,
     .set_gain = no_control,
+    .set_picture = no_picture,
     .close = replay_close,
 };

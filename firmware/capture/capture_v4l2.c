@@ -1,7 +1,8 @@
 /* V4L2 capture: mmap streaming with the buffers owned by this handle (open / init / start / stop
  * / uninit / close), DQBUF -> process bytesused -> QBUF, EINTR retried, EAGAIN = no frame yet.
- * GREY is handed out in place; Y10, Y16 and YUYV are converted to Y8 into one buffer allocated
- * at open. Sensors in external-trigger mode simply deliver a buffer per pulse, so nothing here
+ * GREY and the Y plane of YUV420, YVU420, NV12 and NV21 are handed out in place; the packed
+ * formats (Y10, Y16, YUYV, UYVY, RGB24, BGR24, XRGB32, XBGR32) are converted to Y8, and MJPEG
+ * decoded to its luma (when built with libjpeg-turbo), into one buffer allocated at open. Sensors in external-trigger mode simply deliver a buffer per pulse, so nothing here
  * assumes a frame rate. V4L2 uAPI types stay inside this file and v4l2_buffers.h (the buffer
  * calls it shares with the vivid test's feeder). */
 #include <errno.h>
@@ -16,25 +17,60 @@
 #include "common/log.h"
 #include "capture/capture.h"
 #include "capture/pixfmt.h"
+#ifdef MN_HAVE_TURBOJPEG
+#include "capture/mjpeg.h"
+#endif
 #include "capture/v4l2_buffers.h"
 
 #define MAX_BUFFERS 32
 
+/* What the node does with a V4L2 pixel format. */
+enum handling { IN_PLACE, CONVERT, DECODE };
+
+struct format {
+    uint32_t fourcc;
+    enum handling how;
+    enum mn_pixfmt pixfmt;    /* CONVERT */
+    uint32_t bytes_per_pixel; /* of the first plane; 0 for a compressed format */
+};
+
+/* Formats we accept, best first: the in-place ones need no pass over the pixels, the packed
+ * ones one pass, MJPEG a decode. A configured pixel_format picks one of them instead. */
+static const struct format formats[] = {
+    {V4L2_PIX_FMT_GREY, IN_PLACE, MN_PIXFMT_Y16, 1},
+    {V4L2_PIX_FMT_NV12, IN_PLACE, MN_PIXFMT_Y16, 1},
+    {V4L2_PIX_FMT_NV21, IN_PLACE, MN_PIXFMT_Y16, 1},
+    {V4L2_PIX_FMT_YUV420, IN_PLACE, MN_PIXFMT_Y16, 1},
+    {V4L2_PIX_FMT_YVU420, IN_PLACE, MN_PIXFMT_Y16, 1},
+    {V4L2_PIX_FMT_Y10, CONVERT, MN_PIXFMT_Y10, 2},
+    {V4L2_PIX_FMT_Y16, CONVERT, MN_PIXFMT_Y16, 2},
+    {V4L2_PIX_FMT_YUYV, CONVERT, MN_PIXFMT_YUYV, 2},
+    {V4L2_PIX_FMT_UYVY, CONVERT, MN_PIXFMT_UYVY, 2},
+    {V4L2_PIX_FMT_XRGB32, CONVERT, MN_PIXFMT_XRGB32, 4},
+    {V4L2_PIX_FMT_XBGR32, CONVERT, MN_PIXFMT_XBGR32, 4},
+    {V4L2_PIX_FMT_RGB24, CONVERT, MN_PIXFMT_RGB24, 3},
+    {V4L2_PIX_FMT_BGR24, CONVERT, MN_PIXFMT_BGR24, 3},
+#ifdef MN_HAVE_TURBOJPEG
+    {V4L2_PIX_FMT_MJPEG, DECODE, MN_PIXFMT_Y16, 0},
+#endif
+};
+#define N_FORMATS (sizeof(formats) / sizeof(formats[0]))
+
 struct v4l2 {
     int fd;
     char device[MN_CONFIG_STR];
+    const struct format *format;
     uint32_t fourcc;
     uint32_t width, height, bytesperline, sizeimage;
     struct mn_v4l2_map maps[MAX_BUFFERS];
     uint32_t n_maps;
-    uint8_t *y8; /* conversion target for formats other than GREY */
+    uint8_t *y8; /* conversion target for formats not used in place */
+#ifdef MN_HAVE_TURBOJPEG
+    struct mn_mjpeg *mjpeg;
+#endif
     bool streaming;
     bool warned_stamps; /* said once that the driver has no monotonic time stamps */
 };
-
-/* Formats we accept, best first: GREY needs no conversion. */
-static const uint32_t preferred[] = {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_Y10, V4L2_PIX_FMT_Y16,
-                                     V4L2_PIX_FMT_YUYV};
 
 static bool device_offers(int fd, uint32_t fourcc)
 {
@@ -50,12 +86,63 @@ static bool device_offers(int fd, uint32_t fourcc)
     }
 }
 
-static uint32_t bytes_per_pixel(uint32_t fourcc)
+/* "Y10" -> v4l2_fourcc('Y', '1', '0', ' '): the name as v4l2-ctl --list-formats prints it. */
+static uint32_t fourcc_of(const char *name)
 {
-    return fourcc == V4L2_PIX_FMT_GREY ? 1 : 2;
+    char c[4] = {' ', ' ', ' ', ' '};
+    for (size_t i = 0; i < 4 && name[i] != '\0'; i++)
+        c[i] = name[i];
+    return v4l2_fourcc(c[0], c[1], c[2], c[3]);
 }
 
-static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err, size_t errlen)
+/* The format to ask for: the configured one (refused when the node cannot use it or the device
+ * does not offer it), else the first of the table the device offers. */
+static const struct format *choose_format(struct v4l2 *v, const char *wanted, char *err,
+                                          size_t errlen)
+{
+    if (wanted[0] != '\0') {
+        uint32_t fourcc = fourcc_of(wanted);
+        for (size_t i = 0; i < N_FORMATS; i++) {
+            if (formats[i].fourcc != fourcc)
+                continue;
+            if (device_offers(v->fd, fourcc))
+                return &formats[i];
+            snprintf(err, errlen, "%s: pixel_format %s is not offered by the device", v->device,
+                     wanted);
+            errno = ENOTSUP;
+            return NULL;
+        }
+        snprintf(err, errlen, "%s: pixel_format %s is not one this mocap-node reads", v->device,
+                 wanted);
+        errno = ENOTSUP;
+        return NULL;
+    }
+    for (size_t i = 0; i < N_FORMATS; i++)
+        if (device_offers(v->fd, formats[i].fourcc))
+            return &formats[i];
+    snprintf(err, errlen, "%s: offers none of the formats this mocap-node reads (GREY, NV12, NV21, "
+                          "YU12, YV12, Y10, Y16, YUYV, UYVY, BX24, XR24, RGB3, BGR3%s)",
+             v->device,
+#ifdef MN_HAVE_TURBOJPEG
+             ", MJPG"
+#else
+             ""
+#endif
+    );
+    errno = ENOTSUP;
+    return NULL;
+}
+
+/* Bytes a buffer must hold for the luma the node reads (a compressed frame: any). */
+static size_t luma_bytes(const struct v4l2 *v)
+{
+    if (v->format->how == DECODE)
+        return 1;
+    return (size_t)v->bytesperline * (v->height - 1) + (size_t)v->width * v->format->bytes_per_pixel;
+}
+
+static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, const char *want_format,
+                     char *err, size_t errlen)
 {
     struct v4l2_format fmt;
     memset(&fmt, 0, sizeof(fmt));
@@ -64,15 +151,10 @@ static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err
         snprintf(err, errlen, "%s: VIDIOC_G_FMT: %s", v->device, strerror(errno));
         return -1;
     }
-    uint32_t fourcc = 0;
-    for (size_t i = 0; i < sizeof(preferred) / sizeof(preferred[0]) && fourcc == 0; i++)
-        if (device_offers(v->fd, preferred[i]))
-            fourcc = preferred[i];
-    if (fourcc == 0) {
-        snprintf(err, errlen, "%s: offers none of GREY, Y10, Y16, YUYV", v->device);
-        errno = ENOTSUP;
+    v->format = choose_format(v, want_format, err, errlen);
+    if (v->format == NULL)
         return -1;
-    }
+    uint32_t fourcc = v->format->fourcc;
     fmt.fmt.pix.pixelformat = fourcc;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
     if (want_w != 0) {
@@ -96,11 +178,10 @@ static int negotiate(struct v4l2 *v, uint32_t want_w, uint32_t want_h, char *err
     v->height = fmt.fmt.pix.height;
     v->bytesperline = fmt.fmt.pix.bytesperline;
     /* Some drivers leave bytesperline 0 for packed formats. */
-    if (v->bytesperline < v->width * bytes_per_pixel(fourcc))
-        v->bytesperline = v->width * bytes_per_pixel(fourcc);
+    if (v->bytesperline < v->width * v->format->bytes_per_pixel)
+        v->bytesperline = v->width * v->format->bytes_per_pixel;
     v->sizeimage = fmt.fmt.pix.sizeimage;
-    if (v->width == 0 || v->height == 0 ||
-        v->sizeimage < (uint64_t)v->bytesperline * (v->height - 1) + v->width * bytes_per_pixel(fourcc)) {
+    if (v->width == 0 || v->height == 0 || v->sizeimage < luma_bytes(v)) {
         snprintf(err, errlen, "%s: driver reports an inconsistent format %ux%u/%u/%u", v->device,
                  v->width, v->height, v->bytesperline, v->sizeimage);
         errno = EPROTO;
@@ -120,7 +201,7 @@ static void unmap_buffers(struct v4l2 *v)
 }
 
 void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, uint32_t buffers,
-                          uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen)
+                          const char *pixel_format, uint32_t *out_width, uint32_t *out_height, char *err, size_t errlen)
 {
     struct v4l2 *v = calloc(1, sizeof(*v));
     if (v == NULL) {
@@ -149,11 +230,11 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
         e = ENOTSUP;
         goto fail_close;
     }
-    if (negotiate(v, width, height, err, errlen) < 0) {
+    if (negotiate(v, width, height, pixel_format, err, errlen) < 0) {
         e = errno;
         goto fail_close;
     }
-    if (v->fourcc != V4L2_PIX_FMT_GREY) {
+    if (v->format->how != IN_PLACE) {
         v->y8 = malloc((size_t)v->width * v->height);
         if (v->y8 == NULL) {
             e = ENOMEM;
@@ -161,6 +242,13 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
             goto fail_close;
         }
     }
+#ifdef MN_HAVE_TURBOJPEG
+    if (v->format->how == DECODE && (v->mjpeg = mn_mjpeg_new()) == NULL) {
+        e = ENOMEM;
+        snprintf(err, errlen, "%s: cannot start the JPEG decoder", device);
+        goto fail_y8;
+    }
+#endif
     if (mn_v4l2_map_buffers(v->fd, v->device, V4L2_BUF_TYPE_VIDEO_CAPTURE, buffers, v->maps,
                             MAX_BUFFERS, &v->n_maps, err, errlen) < 0) {
         e = errno;
@@ -174,6 +262,10 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
 
 fail_unmap:
     unmap_buffers(v);
+#ifdef MN_HAVE_TURBOJPEG
+    mn_mjpeg_free(v->mjpeg);
+fail_y8:
+#endif
     free(v->y8);
 fail_close:
     close(v->fd);
@@ -217,12 +309,25 @@ static int v4l2_fd(void *impl)
     return ((struct v4l2 *)impl)->fd;
 }
 
-static void convert(const struct v4l2 *v, const uint8_t *src)
+/* The frame's luma into v->y8; -1 when a compressed frame does not decode. */
+static int convert(struct v4l2 *v, const uint8_t *src, size_t bytesused)
 {
-    enum mn_pixfmt fmt = v->fourcc == V4L2_PIX_FMT_Y10   ? MN_PIXFMT_Y10
-                         : v->fourcc == V4L2_PIX_FMT_Y16 ? MN_PIXFMT_Y16
-                                                         : MN_PIXFMT_YUYV;
-    mn_pixfmt_to_y8(fmt, src, v->bytesperline, v->width, v->height, v->y8, v->width);
+    if (v->format->how == CONVERT) {
+        mn_pixfmt_to_y8(v->format->pixfmt, src, v->bytesperline, v->width, v->height, v->y8,
+                        v->width);
+        return 0;
+    }
+#ifdef MN_HAVE_TURBOJPEG
+    const char *why = NULL;
+    if (mn_mjpeg_to_y8(v->mjpeg, src, bytesused, v->width, v->height, v->y8, v->width, &why) < 0) {
+        mn_log_debug("%s: dropping a frame that does not decode: %s", v->device, why);
+        return -1;
+    }
+    return 0;
+#else
+    (void)bytesused;
+    return -1;
+#endif
 }
 
 static int v4l2_dequeue(void *impl, struct mn_frame *frame)
@@ -235,8 +340,8 @@ static int v4l2_dequeue(void *impl, struct mn_frame *frame)
         errno = EPROTO;
         return -1;
     }
-    size_t needed = (size_t)v->bytesperline * (v->height - 1) + v->width * bytes_per_pixel(v->fourcc);
-    if ((buf.flags & V4L2_BUF_FLAG_ERROR) || buf.bytesused < needed) {
+    if ((buf.flags & V4L2_BUF_FLAG_ERROR) || buf.bytesused < luma_bytes(v) ||
+        buf.bytesused > v->maps[buf.index].length) {
         /* A corrupted or short frame: give the buffer back and report "no frame". */
         mn_log_debug("%s: dropping buffer %u (flags 0x%x, %u bytes)", v->device, buf.index,
                      buf.flags, buf.bytesused);
@@ -258,11 +363,16 @@ static int v4l2_dequeue(void *impl, struct mn_frame *frame)
         frame->capture_mono_ns = mn_clock_mono_ns();
     }
     const uint8_t *data = v->maps[buf.index].start;
-    if (v->fourcc == V4L2_PIX_FMT_GREY) {
+    if (v->format->how == IN_PLACE) {
         frame->pixels = data;
         frame->stride = v->bytesperline;
     } else {
-        convert(v, data);
+        if (convert(v, data, buf.bytesused) < 0) {
+            if (queue(v, buf.index) < 0)
+                return -1;
+            errno = EAGAIN;
+            return 0;
+        }
         frame->pixels = v->y8;
         frame->stride = v->width;
     }
@@ -332,11 +442,31 @@ static int v4l2_set_gain(void *impl, uint32_t gain_milli)
     return -1;
 }
 
+static int v4l2_set_picture(void *impl, enum mn_picture_control which, uint32_t pct,
+                            double *value_out)
+{
+    struct v4l2 *v = impl;
+    struct v4l2_queryctrl q;
+    uint32_t id = which == MN_PICTURE_BRIGHTNESS ? V4L2_CID_BRIGHTNESS : V4L2_CID_CONTRAST;
+    if (query_ctrl(v, id, &q) < 0) {
+        errno = ENOTSUP;
+        return -1;
+    }
+    int64_t value = q.minimum + ((int64_t)q.maximum - q.minimum) * pct / 100;
+    if (q.step > 1)
+        value = q.minimum + (value - q.minimum) / q.step * q.step;
+    *value_out = (double)value;
+    return set_ctrl(v, id, clamp_ctrl(&q, value));
+}
+
 static void v4l2_close(void *impl)
 {
     struct v4l2 *v = impl;
     v4l2_stop(v);
     unmap_buffers(v);
+#ifdef MN_HAVE_TURBOJPEG
+    mn_mjpeg_free(v->mjpeg);
+#endif
     free(v->y8);
     close(v->fd);
     free(v);
@@ -351,5 +481,6 @@ const struct mn_capture_ops mn_capture_v4l2_ops = {
     .release = v4l2_release,
     .set_exposure = v4l2_set_exposure,
     .set_gain = v4l2_set_gain,
+    .set_picture = v4l2_set_picture,
     .close = v4l2_close,
 };

@@ -30,6 +30,7 @@ static int set_source(struct mn_config *cfg, const char *value, char *why, size_
 static int set_sync(struct mn_config *cfg, const char *value, char *why, size_t whylen);
 static int set_hub(struct mn_config *cfg, const char *value, char *why, size_t whylen);
 static int set_log_level(struct mn_config *cfg, const char *value, char *why, size_t whylen);
+static int set_pixel_format(struct mn_config *cfg, const char *value, char *why, size_t whylen);
 
 #define OFF(field) offsetof(struct mn_config, field)
 
@@ -48,8 +49,14 @@ static const struct setting settings[] = {
     {"width", T_U32, OFF(width), 0, 8192, NULL, "capture width (0 = source default)"},
     {"height", T_U32, OFF(height), 0, 8192, NULL, "capture height (0 = source default)"},
     {"buffers", T_U32, OFF(buffers), 2, 32, NULL, "V4L2 mmap buffers"},
+    {"pixel_format", T_CUSTOM, 0, 0, 0, set_pixel_format,
+     "V4L2 format as v4l2-ctl names it (GREY NV12 YUYV MJPG ...; unset = best offered)"},
     {"exposure_us", T_U32, OFF(exposure_us), 0, 1000000, NULL, "exposure (0 = camera's)"},
     {"gain_milli", T_U32, OFF(gain_milli), 0, 64000, NULL, "analogue gain x1000 (0 = camera's)"},
+    {"brightness", T_I32, OFF(brightness_pct), -1, 100, NULL,
+     "percent of the camera's brightness range (-1 = camera's)"},
+    {"contrast", T_I32, OFF(contrast_pct), -1, 100, NULL,
+     "percent of the camera's contrast range (-1 = camera's)"},
     {"threshold", T_U32, OFF(threshold), 1, 255, NULL, "binary threshold"},
     {"auto_threshold", T_BOOL, OFF(auto_threshold), 0, 1, NULL, "threshold from histogram"},
     {"min_area", T_U32, OFF(min_area), 1, 100000, NULL, "smallest blob, pixels"},
@@ -94,6 +101,8 @@ void mn_config_defaults(struct mn_config *cfg)
     cfg->sync_kind = MN_SYNC_NONE;
     cfg->announce_port = 7700;
     cfg->buffers = 4;
+    cfg->brightness_pct = -1;
+    cfg->contrast_pct = -1;
     cfg->threshold = 128;
     cfg->min_area = 2;
     cfg->max_area = 5000;
@@ -218,6 +227,21 @@ static int set_hub(struct mn_config *cfg, const char *value, char *why, size_t w
     memcpy(cfg->hub_host, value, n);
     cfg->hub_host[n] = '\0';
     cfg->hub_port = (uint16_t)port;
+    return 0;
+}
+
+/* A fourcc name: 1-4 of A-Z, 0-9 (the V4L2 backend pads it with spaces, "Y10" = 'Y10 '). Which
+ * formats a camera offers is the backend's to check when it opens the device. */
+static int set_pixel_format(struct mn_config *cfg, const char *value, char *why, size_t whylen)
+{
+    size_t n = strlen(value);
+    bool ok = n >= 1 && n <= 4;
+    for (size_t i = 0; ok && i < n; i++)
+        ok = (value[i] >= 'A' && value[i] <= 'Z') || (value[i] >= '0' && value[i] <= '9');
+    if (!ok)
+        return mn_fail(why, whylen, "'%s' is not a fourcc name (1-4 of A-Z, 0-9, e.g. NV12)",
+                       value);
+    memcpy(cfg->pixel_format, value, n + 1);
     return 0;
 }
 

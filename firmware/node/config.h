@@ -51,8 +51,11 @@ struct mn_config {
 
     uint32_t width, height;        /* requested capture size; 0 = the source's default */
     uint32_t buffers;              /* V4L2 mmap buffers */
+    char pixel_format[5];          /* V4L2 fourcc name ("NV12"); "" = the best the camera offers */
     uint32_t exposure_us;          /* 0 = leave the camera's setting */
     uint32_t gain_milli;           /* 0 = leave the camera's setting */
+    int32_t brightness_pct;        /* percent of the camera's range; -1 = leave the camera's */
+    int32_t contrast_pct;          /* percent of the camera's range; -1 = leave the camera's */
     uint32_t threshold;
     bool auto_threshold;
     uint32_t min_area, max_area;   /* blob area filter, pixels */

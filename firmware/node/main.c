@@ -61,8 +61,9 @@ int main(int argc, char **argv)
     mn_node_set_stop_fd(node, sfd);
     mn_notify_ready();
     int rc = mn_node_run(node);
+    bool lost = mn_node_hardware_lost(node);
     mn_notify_stopping();
     mn_node_free(node);
     close(sfd);
-    return rc < 0 ? 2 : 0;
+    return rc < 0 ? 2 : lost ? 3 : 0;
 }

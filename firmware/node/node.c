@@ -57,7 +57,7 @@ struct mn_node {
     struct mn_control *control;
     struct mn_sync *sync;        /* NULL while a failed trigger source is being reopened */
     bool free_run;               /* the configured sync source has no edges */
-    int64_t sync_reopen_at_ns;
+    bool hardware_lost;          /* camera or trigger gone for good: exit 3, systemd restarts */
     struct mn_pairing *pairing;
     struct mn_capture *capture;  /* NULL while the camera is being reopened */
     struct mn_detector *detector;
@@ -106,6 +106,20 @@ static void node_grid_init(struct mn_node *n)
     }
 }
 
+/* A picture control from the config (pct -1: left as the camera has it). */
+static void set_picture(struct mn_capture *c, enum mn_picture_control which, const char *name,
+                        int32_t pct)
+{
+    if (pct < 0)
+        return;
+    double value = 0;
+    if (mn_capture_set_picture(c, which, (uint32_t)pct, &value) < 0)
+        mn_log_warn("%s: cannot set %s: %s", mn_capture_name(c), name, strerror(errno));
+    else
+        mn_log_info("%s: %s %d %% of the camera's range = %g", mn_capture_name(c), name, pct,
+                    value);
+}
+
 static int open_capture(struct mn_node *n, char *err, size_t errlen)
 {
     struct mn_capture *c = mn_capture_open(&n->cfg, &n->grid, err, errlen);
@@ -125,6 +139,8 @@ static int open_capture(struct mn_node *n, char *err, size_t errlen)
     if (n->gain_milli != 0 && mn_capture_set_gain(c, n->gain_milli) < 0)
         mn_log_warn("%s: cannot set gain %u/1000: %s", mn_capture_name(c), n->gain_milli,
                     strerror(errno));
+    set_picture(c, MN_PICTURE_BRIGHTNESS, "brightness", n->cfg.brightness_pct);
+    set_picture(c, MN_PICTURE_CONTRAST, "contrast", n->cfg.contrast_pct);
     n->capture = c;
     n->have_last_sequence = false;
     return 0;
@@ -588,27 +604,18 @@ static void handle_datagrams(struct mn_node *n, int fd, bool announce_socket)
     }
 }
 
-/* A trigger source that fails (GPIO chip gone) is closed and reopened at the slowest camera
- * backoff; meanwhile frames are numbered from their time stamps and counted as unmatched. */
+/* A trigger source that fails (GPIO chip gone) ends the run as "hardware missing" (exit 3):
+ * frames without their edges would carry numbers guessed from time stamps, which the hub cannot
+ * tell from good ones in a synchronised rig, and systemd restarts the node, which then waits for
+ * the chip at start like any missing hardware. */
 static void sync_failed(struct mn_node *n, int e)
 {
-    mn_log_err("trigger %s: %s; frames are unmatched until it is reopened in %u ms",
-               mn_sync_name(n->sync), strerror(e), n->cfg.reopen_max_ms);
+    mn_log_err("trigger %s: %s; exiting (status 3) to be restarted", mn_sync_name(n->sync),
+               strerror(e));
     mn_sync_close(n->sync);
     n->sync = NULL;
-    n->sync_reopen_at_ns = mn_clock_mono_ns() + (int64_t)n->cfg.reopen_max_ms * 1000000;
-}
-
-static void try_reopen_sync(struct mn_node *n)
-{
-    char err[MN_CONFIG_ERR];
-    n->sync = mn_sync_open(&n->cfg, &n->grid, err, sizeof(err));
-    if (n->sync == NULL) {
-        mn_log_err("trigger reopen failed: %s; next try in %u ms", err, n->cfg.reopen_max_ms);
-        n->sync_reopen_at_ns = mn_clock_mono_ns() + (int64_t)n->cfg.reopen_max_ms * 1000000;
-        return;
-    }
-    mn_log_notice("trigger %s reopened", mn_sync_name(n->sync));
+    n->hardware_lost = true;
+    n->finished = true;
 }
 
 static void drain_sync(struct mn_node *n, int64_t until_mono_ns)
@@ -765,6 +772,13 @@ static void handle_capture(struct mn_node *n)
                 n->finished = true;
                 return;
             }
+            if (errno == ENOTRECOVERABLE) {
+                mn_log_err("camera %s: gone and not reopenable by this process; exiting "
+                           "(status 3) to be restarted", n->cfg.source_arg);
+                n->hardware_lost = true;
+                n->finished = true;
+                return;
+            }
             camera_failed(n, "capture failed", errno);
             return;
         }
@@ -794,8 +808,6 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
         deadline = min_deadline(deadline, n->next_watchdog_ns);
     if (n->capture == NULL)
         deadline = min_deadline(deadline, n->reopen_at_ns);
-    if (n->sync == NULL)
-        deadline = min_deadline(deadline, n->sync_reopen_at_ns);
     if (n->preview.sending || (n->capture != NULL && mn_capture_fd(n->capture) < 0))
         deadline = now; /* work is waiting: only look at the descriptors */
 
@@ -853,8 +865,6 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
     now = mn_clock_mono_ns();
     if (n->capture == NULL && now >= n->reopen_at_ns)
         try_reopen(n);
-    if (n->sync == NULL && now >= n->sync_reopen_at_ns)
-        try_reopen_sync(n);
     if (n->identify_until_ns != 0 && now >= n->identify_until_ns) {
         n->identify_until_ns = 0;
         if (n->cfg.identify_led[0])
@@ -871,6 +881,11 @@ int mn_node_step(struct mn_node *n, int max_wait_ms)
     if (n->end_ns != 0 && now >= n->end_ns)
         n->finished = true;
     return n->finished ? 0 : 1;
+}
+
+bool mn_node_hardware_lost(const struct mn_node *n)
+{
+    return n->hardware_lost;
 }
 
 int mn_node_run(struct mn_node *n)

@@ -48,6 +48,10 @@ int mn_node_step(struct mn_node *node, int max_wait_ms);
 /* Steps until the run is over; 0 or -1 as mn_node_step. Sends a last status on the way out. */
 int mn_node_run(struct mn_node *node);
 
+/* True when the run ended because the trigger chip or a camera that cannot be reopened in this
+ * process went away (main exits with 3, "hardware missing", for systemd to restart it). */
+bool mn_node_hardware_lost(const struct mn_node *node);
+
 void mn_node_get_stats(const struct mn_node *node, struct mn_node_stats *out);
 uint16_t mn_node_local_port(const struct mn_node *node);
 

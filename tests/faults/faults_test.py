@@ -208,7 +208,7 @@ class FaultsTest(unittest.TestCase):
     def test_03_loss_10_percent(self):
         r = self.loss_case(10, 10)
         # The done-when: >= 95 % of the frames reconstructed (held: all of them), rmse
-        # within 10 % of the loss-free run. Measured 1.06-1.07 x live (README, "Faults") and
+        # within 10 % of the loss-free run. Measured 1.06-1.07 x live (docs/faults.md) and
         # 1.06-1.11 x over 20 random 10 % drops of the loss-free capture's frames: what a point
         # pays for a tenth fewer views (about sqrt(E[8/n]) = 1.06 for n of 8 views kept), plus at
         # most a few points left with three views. Before recon set aside blobs two markers share
@@ -222,7 +222,7 @@ class FaultsTest(unittest.TestCase):
         # No crash and figures reported; the hub keeps assembling what arrives: a frame set keeps
         # about 6.4 of its 8 cameras, and every frame is reconstructed. (No rmse bound: a marker
         # left with fewer than two clean views in a frame is filled by the tracker, and one such
-        # fill can cost 2-3 x the loss-free rmse over 300 frames; README, "Faults".)
+        # fill can cost 2-3 x the loss-free rmse over 300 frames; docs/faults.md.)
         self.assertGreaterEqual(r["rows"], 0.95 * FRAMES)
         self.assertTrue(math.isfinite(r["final"]["rmse_mm"]))
 

@@ -237,9 +237,10 @@ def read_png_grey(data):
     return width, height, rows
 
 
-def websocket_messages(port, path, count, timeout=10.0):
+def websocket_messages(port, path, count, timeout=10.0, on_message=None):
     """The first `count` data messages of a WebSocket (RFC 6455 client, no extensions): text
-    messages parsed as JSON, binary ones as bytes."""
+    messages parsed as JSON, binary ones as bytes. With on_message, each is handed to it as it
+    arrives instead of being kept."""
     s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
     key = base64.b64encode(os.urandom(16)).decode()
     s.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
@@ -270,10 +271,14 @@ def websocket_messages(port, path, count, timeout=10.0):
         elif n == 127:
             n = struct.unpack(">Q", take(8))[0]
         payload = take(n)
-        if b0 & 15 == 1:
-            messages.append(json.loads(payload))
-        elif b0 & 15 == 2:
-            messages.append(payload)
+        if b0 & 15 not in (1, 2):
+            continue
+        message = json.loads(payload) if b0 & 15 == 1 else payload
+        if on_message:
+            on_message(message)
+            count -= 1
+        else:
+            messages.append(message)
     s.close()
     return messages
 

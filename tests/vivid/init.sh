@@ -4,14 +4,9 @@
 # the capture device with a receiver on loopback, removes the device under the running node and
 # brings it back. Every check prints "VIVID: PASS|FAIL <what>: <detail>" on the serial console,
 # then "VIVID: RESULT PASS|FAIL", and the VM powers off; the host script reads those lines.
-/bin/busybox mkdir -p /proc /sys /dev /tmp
-/bin/busybox mount -t devtmpfs devtmpfs /dev
-exec </dev/console >/dev/console 2>&1
-/bin/busybox --install -s /bin
-export PATH=/bin
-mount -t proc proc /proc
-mount -t sysfs sysfs /sys
-ip link set lo up
+VM_TAG=VIVID
+VM_FINISH_LOGS="node:/tmp/node.log feed:/tmp/feed.log"
+. /guest_lib.sh
 
 CAP=/dev/video0
 OUT=/dev/video1
@@ -20,34 +15,11 @@ PORT=7000
 # output (vivid loops only like to like; its S-Video input has no progressive format), at fixed
 # device numbers so that the node's --source path is right again after the module is reloaded.
 VIVID_OPTS="n_devs=1 node_types=0x101 num_inputs=1 input_types=0x3 num_outputs=1 output_types=0x1 vid_cap_nr=0 vid_out_nr=1"
-failed=0
-
-pass() { echo "VIVID: PASS $*"; }
-fail() { echo "VIVID: FAIL $*"; failed=$((failed + 1)); }
-show() { sed "s/^/  $1| /" "$2"; }
-finish() {
-    [ -f /tmp/node.log ] && show node /tmp/node.log
-    [ -f /tmp/feed.log ] && show feed /tmp/feed.log
-    if [ "$failed" -eq 0 ]; then echo "VIVID: RESULT PASS"; else echo "VIVID: RESULT FAIL ($failed failed)"; fi
-    sync
-    poweroff -f
-}
-# wait_for SECONDS FILE PATTERN: 0 once FILE holds a line matching PATTERN.
-wait_for() {
-    i=0
-    while [ "$i" -lt $(($1 * 10)) ]; do
-        grep -q "$3" "$2" 2>/dev/null && return 0
-        sleep 0.1
-        i=$((i + 1))
-    done
-    return 1
-}
 load_vivid() {
     insmod /lib/modules/vivid.ko $VIVID_OPTS || return 1
     wait_for 5 /sys/class/video4linux/video1/name vid-out
 }
 
-echo "VIVID: kernel $(uname -r), $(grep -c ^processor /proc/cpuinfo) cpu"
 for m in $(cat /lib/modules/order); do
     [ "$m" = vivid.ko ] && break
     insmod "/lib/modules/$m" || { fail "modules: insmod $m"; finish; }
@@ -73,7 +45,7 @@ fi
 # The subject here is the V4L2 backend: the node sends plain datagrams (the development wire) so
 # that mocap-vivid needs no key; the authenticated wire has its own tests (firmware/node/tests).
 mocap-node-static --source v4l2:$CAP --sync none --hub 127.0.0.1:$PORT --id 7 --threshold 100 \
-    --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
+    --brightness 75 --contrast 40 --insecure-dev-wire --min-area 4 --status-interval-ms 200 --reopen-min-ms 100 --reopen-max-ms 800 \
     --log-level info >/tmp/node.log 2>&1 &
 node_pid=$!
 sleep 4
@@ -128,7 +100,56 @@ grep "^VIVID:" /tmp/recv.log
 grep -v "^VIVID:" /tmp/recv.log | sed "s/^/  recv| /"
 [ "$recv_rc" -eq 0 ] || failed=$((failed + 1))
 
+# Every format vivid offers that the node reads: the spots fed in that format (chroma neutral,
+# R = G = B), the node told to use it (pixel_format), its markers at the fed positions.
+NODE_FORMATS="GREY NV12 NV21 YU12 YV12 Y10 Y16 YUYV UYVY BX24 XR24 RGB3 BGR3"
+offered=$(mocap-vivid formats $CAP | tr '\n' ' ')
+tested=""
+for f in $offered; do
+    case " $NODE_FORMATS " in *" $f "*) ;; *) continue ;; esac
+    mocap-vivid feed $CAP $OUT $f >/tmp/feed-$f.log 2>&1 &
+    feed_pid=$!
+    if wait_for 10 /tmp/feed-$f.log "feed: looping"; then
+        mocap-node-static --source v4l2:$CAP --pixel-format $f --sync none --hub 127.0.0.1:$PORT \
+            --id 7 --threshold 100 --insecure-dev-wire --min-area 4 --log-level info >/tmp/node-$f.log 2>&1 &
+        node_pid=$!
+        if mocap-vivid spots $PORT 3 20 >/tmp/spots-$f.log 2>&1 && grep -q "($f *)" /tmp/node-$f.log; then
+            pass "format $f: $(cat /tmp/spots-$f.log)"
+            tested="$tested $f"
+        else
+            fail "format $f: $(cat /tmp/spots-$f.log)"
+            show node-$f /tmp/node-$f.log
+        fi
+        kill -TERM $node_pid
+        wait $node_pid
+    else
+        fail "format $f: the feeder never streamed: $(tail -n 1 /tmp/feed-$f.log)"
+    fi
+    kill -TERM $feed_pid
+    wait $feed_pid
+done
+untested=""
+for f in $offered; do case " $tested " in *" $f "*) ;; *) untested="$untested $f" ;; esac; done
+echo "VIVID: formats vivid offers that the node does not read:$untested"
+# A format the device does not offer: refused at start, named, "hardware missing" (3).
+mocap-node-static --source v4l2:$CAP --pixel-format MJPG --sync none --hub 127.0.0.1:$PORT \
+    --id 7 --insecure-dev-wire >/tmp/node-mjpg.log 2>&1
+rc=$?
+if [ $rc -eq 3 ] && grep -q "pixel_format MJPG is not offered by the device" /tmp/node-mjpg.log; then
+    pass "format vivid lacks refused: $(grep -m1 'MJPG' /tmp/node-mjpg.log | sed 's/.*error: //')"
+else
+    fail "format vivid lacks: exit $rc, $(cat /tmp/node-mjpg.log)"
+fi
+
 # What the node itself says about the device.
+# Picture controls (vivid's Brightness and Contrast are 0..255): set at open, and again at the
+# reopen after the device came back.
+if [ "$(grep -c "v4l2: brightness 75 % of the camera's range = 191" /tmp/node.log)" -ge 2 ] &&
+    grep -q "v4l2: contrast 40 % of the camera's range = 102" /tmp/node.log; then
+    pass "picture controls: $(grep -m1 'v4l2: brightness' /tmp/node.log | sed 's/.*info: //'), $(grep -m1 'v4l2: contrast' /tmp/node.log | sed 's/.*info: //')"
+else
+    fail "picture controls: $(grep 'v4l2: \(brightness\|contrast\)' /tmp/node.log | tr '\n' ' ')"
+fi
 if grep -q "(GREY), [0-9]* mmap buffers" /tmp/node.log; then
     pass "format negotiation and mmap streaming: $(grep -m1 'mmap buffers' /tmp/node.log | sed 's/.*: \/dev/\/dev/')"
 else

@@ -12,7 +12,8 @@ node_bin=$1
 tool_bin=$2
 work=$3
 here=$(cd "$(dirname "$0")" && pwd)
-boot_timeout=${MOCAP_VIVID_TIMEOUT:-100}
+boot_timeout=${MOCAP_VIVID_TIMEOUT:-200}
+. "$here/../vm/host_lib.sh"
 
 skip() {
     echo "*** vivid test SKIPPED: $* ***"
@@ -20,12 +21,7 @@ skip() {
     exit 77
 }
 
-qemu=$(command -v qemu-system-x86_64) || skip "qemu-system-x86_64 is not installed"
-"$qemu" -version >/dev/null 2>&1 || skip "$qemu does not run on this machine"
-busybox=$(command -v busybox) || skip "busybox is not installed"
-if readelf -l "$busybox" 2>/dev/null | grep -q "program interpreter"; then
-    skip "$busybox is dynamically linked (the initramfs needs busybox-static)"
-fi
+vm_find_tools
 
 # The newest installed kernel that ships vivid.
 kver=""
@@ -45,57 +41,12 @@ for f in "$node_bin" "$tool_bin"; do
     fi
 done
 
-rm -rf "$work"
 root=$work/root
-mkdir -p "$root/bin" "$root/lib/modules" "$root/dev" "$root/proc" "$root/sys" "$root/tmp"
-cp "$busybox" "$root/bin/busybox"
+vm_new_root "$here/init.sh"
 cp "$node_bin" "$root/bin/mocap-node-static"
 cp "$tool_bin" "$root/bin/mocap-vivid"
-cp "$here/init.sh" "$root/init"
-chmod 755 "$root/init"
 
-# vivid and its dependencies in load order, decompressed where the package compresses them
-# (busybox insmod reads plain .ko).
-: >"$root/lib/modules/order"
-while read -r verb path _; do
-    [ "$verb" = insmod ] || continue
-    name=$(basename "$path")
-    case "$name" in
-    *.ko) cp "$path" "$root/lib/modules/$name" ;;
-    *.ko.xz) name=${name%.xz}; xz -dc "$path" >"$root/lib/modules/$name" ;;
-    *.ko.zst) name=${name%.zst}; zstd -qdc "$path" >"$root/lib/modules/$name" ;;
-    *.ko.gz) name=${name%.gz}; gzip -dc "$path" >"$root/lib/modules/$name" ;;
-    *) echo "FAIL: unknown module file $path" >&2; exit 1 ;;
-    esac
-    echo "$name" >>"$root/lib/modules/order"
-done < <(modprobe --show-depends -S "$kver" vivid)
+vm_add_tree_module vivid
 grep -qx vivid.ko "$root/lib/modules/order" || { echo "FAIL: vivid.ko not resolved" >&2; exit 1; }
 
-(cd "$root" && find . | cpio -o -H newc --quiet) >"$work/initramfs.cpio"
-
-console=$work/console.log
-echo "vivid: booting $kernel ($kver) under TCG, modules: $(tr '\n' ' ' <"$root/lib/modules/order")"
-start=$(date +%s.%N)
-set +e
-timeout "$boot_timeout" "$qemu" -accel tcg -m 384 -smp 1 -nodefaults -display none -no-reboot \
-    -serial "file:$console" -kernel "$kernel" -initrd "$work/initramfs.cpio" \
-    -append "console=ttyS0 rdinit=/init panic=-1 loglevel=4"
-qemu_rc=$?
-set -e
-end=$(date +%s.%N)
-cat "$console"
-echo "vivid: qemu exited with status $qemu_rc after $(awk -v a="$start" -v b="$end" 'BEGIN{printf "%.1f", b - a}') s"
-
-if [ "$qemu_rc" -eq 124 ]; then
-    echo "FAIL: the VM did not power off within $boot_timeout s"
-    exit 1
-fi
-if [ "$qemu_rc" -ne 0 ]; then
-    echo "FAIL: qemu exited with status $qemu_rc"
-    exit 1
-fi
-if grep -q "^VIVID: FAIL" "$console" || ! grep -q "^VIVID: RESULT PASS" "$console"; then
-    echo "FAIL: see the VIVID lines above"
-    exit 1
-fi
-echo "vivid: $(grep -c '^VIVID: PASS' "$console") checks passed"
+vm_boot vivid VIVID 384

@@ -1,7 +1,8 @@
 /* mocap-vivid: the half of the vivid test (run_vivid.sh) that runs inside the VM, linked -static
- * into its initramfs next to mocap-node-static. Two commands:
- *   feed CAPTURE OUTPUT  sets up vivid's output-to-capture loop (GREY, the capture's size on both
- *                        sides, "Loop Video" on, OSD text off) and streams a frame of five marker
+ * into its initramfs next to mocap-node-static. Commands:
+ *   feed CAPTURE OUTPUT [FOURCC]
+ *                        sets up vivid's output-to-capture loop (FOURCC, default GREY, and the
+ *                        capture's size on both sides, "Loop Video" on, OSD text off) and streams a frame of five marker
  *                        spots into OUTPUT through mmap buffers until SIGTERM. When the device
  *                        goes away it closes everything, waits for it to come back and starts
  *                        again, so the module can be removed and reloaded under it.
@@ -9,6 +10,8 @@
  *                        SIGTERM, then prints one "VIVID: PASS|FAIL" line per check (markers at
  *                        the fed positions, capture time stamps, camera loss and reopen seen in
  *                        NodeStatus) and exits 0 only if all passed.
+ *   formats CAPTURE      lists the capture device's pixel formats.
+ *   spots PORT N T       exits 0 once N frames with the fed spots came from the node, 1 after T s.
  * Both sides place the spots from the frame size alone (spot_position), so nothing else needs to
  * be passed between them. */
 #include <errno.h>
@@ -29,6 +32,7 @@
 
 #include "capture/v4l2_buffers.h"
 #include "wire/wire.h"
+#include "stop_signals.h"
 
 #define N_SPOTS 5
 #define SPOT_SIGMA 1.8
@@ -46,23 +50,6 @@
 #define MIN_CAPTURE_LAG_NS (-100000000LL)
 #define MAX_CAPTURE_LAG_NS 2000000000LL
 
-static volatile sig_atomic_t stop_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_requested = 1;
-}
-
-/* No SA_RESTART: a blocked poll or recv returns EINTR and the loop sees the flag. */
-static void catch_stop_signals(void)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof(sa));
-    sa.sa_handler = on_signal;
-    sigaction(SIGTERM, &sa, NULL);
-    sigaction(SIGINT, &sa, NULL);
-}
 
 /* Spot i of a w x h frame: spread over the image, at different sub-pixel phases. */
 static void spot_position(uint32_t w, uint32_t h, int i, double *x, double *y)
@@ -98,6 +85,7 @@ static void render_spots(uint8_t *img, uint32_t w, uint32_t h, uint32_t stride)
 
 struct feed {
     const char *cap_path, *out_path;
+    uint32_t fourcc; /* the same on both sides: vivid loops only like to like */
     int out_fd;
     uint32_t w, h, stride, sizeimage;
     struct mn_v4l2_map maps[OUT_BUFFERS];
@@ -163,17 +151,19 @@ static int setup_capture(struct feed *f)
         snprintf(f->err, sizeof(f->err), "%s: G_FMT: %s", f->cap_path, strerror(errno));
         goto out;
     }
-    fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_GREY;
+    fmt.fmt.pix.pixelformat = f->fourcc;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
     if (mn_v4l2_ioctl(fd, VIDIOC_S_FMT, &fmt) < 0 && errno != EBUSY) {
-        snprintf(f->err, sizeof(f->err), "%s: S_FMT GREY: %s", f->cap_path, strerror(errno));
+        snprintf(f->err, sizeof(f->err), "%s: S_FMT %.4s: %s", f->cap_path,
+                 (const char *)&f->fourcc, strerror(errno));
         goto out;
     }
-    if (mn_v4l2_ioctl(fd, VIDIOC_G_FMT, &fmt) < 0 || fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_GREY ||
+    if (mn_v4l2_ioctl(fd, VIDIOC_G_FMT, &fmt) < 0 || fmt.fmt.pix.pixelformat != f->fourcc ||
         fmt.fmt.pix.field != V4L2_FIELD_NONE) {
-        snprintf(f->err, sizeof(f->err), "%s: capture is %ux%u %.4s field %u, not progressive GREY",
+        snprintf(f->err, sizeof(f->err), "%s: capture is %ux%u %.4s field %u, not progressive %.4s",
                  f->cap_path, fmt.fmt.pix.width, fmt.fmt.pix.height,
-                 (const char *)&fmt.fmt.pix.pixelformat, fmt.fmt.pix.field);
+                 (const char *)&fmt.fmt.pix.pixelformat, fmt.fmt.pix.field,
+                 (const char *)&f->fourcc);
         goto out;
     }
     f->w = fmt.fmt.pix.width;
@@ -203,6 +193,52 @@ static int queue_out(struct feed *f, uint32_t index)
     return mn_v4l2_ioctl(f->out_fd, VIDIOC_QBUF, &b);
 }
 
+/* The Y8 picture in the feed's format, such that the node's luma of it is the picture again:
+ * chroma neutral (128), R = G = B, 10/16-bit words with the value in their top bits. */
+static void pack(const struct feed *f, const uint8_t *y8, uint8_t *buf)
+{
+    uint32_t w = f->w, h = f->h;
+    for (uint32_t y = 0; y < h; y++) {
+        const uint8_t *s = y8 + (size_t)y * w;
+        uint8_t *d = buf + (size_t)y * f->stride;
+        for (uint32_t x = 0; x < w; x++) {
+            switch (f->fourcc) {
+            case V4L2_PIX_FMT_Y10:
+            case V4L2_PIX_FMT_Y16: {
+                uint16_t v = f->fourcc == V4L2_PIX_FMT_Y10 ? (uint16_t)(s[x] << 2) : (uint16_t)(s[x] << 8);
+                d[2 * x] = (uint8_t)(v & 0xff);
+                d[2 * x + 1] = (uint8_t)(v >> 8);
+                break;
+            }
+            case V4L2_PIX_FMT_YUYV:
+                d[2 * x] = s[x];
+                d[2 * x + 1] = 128;
+                break;
+            case V4L2_PIX_FMT_UYVY:
+                d[2 * x] = 128;
+                d[2 * x + 1] = s[x];
+                break;
+            case V4L2_PIX_FMT_RGB24:
+            case V4L2_PIX_FMT_BGR24:
+                memset(d + 3 * x, s[x], 3);
+                break;
+            case V4L2_PIX_FMT_XRGB32:
+            case V4L2_PIX_FMT_XBGR32:
+                memset(d + 4 * x, s[x], 4);
+                break;
+            default: /* GREY and the Y plane of the planar formats */
+                d[x] = s[x];
+                break;
+            }
+        }
+    }
+    /* The planar formats' chroma after the Y plane. */
+    size_t luma = (size_t)f->stride * h;
+    if (f->sizeimage > luma && (f->fourcc == V4L2_PIX_FMT_NV12 || f->fourcc == V4L2_PIX_FMT_NV21 ||
+                                f->fourcc == V4L2_PIX_FMT_YUV420 || f->fourcc == V4L2_PIX_FMT_YVU420))
+        memset(buf + luma, 128, f->sizeimage - luma);
+}
+
 static int setup_output(struct feed *f)
 {
     f->out_fd = open(f->out_path, O_RDWR | O_NONBLOCK | O_CLOEXEC);
@@ -215,17 +251,17 @@ static int setup_output(struct feed *f)
     fmt.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
     fmt.fmt.pix.width = f->w;
     fmt.fmt.pix.height = f->h;
-    fmt.fmt.pix.pixelformat = V4L2_PIX_FMT_GREY;
+    fmt.fmt.pix.pixelformat = f->fourcc;
     fmt.fmt.pix.field = V4L2_FIELD_NONE;
     if (mn_v4l2_ioctl(f->out_fd, VIDIOC_S_FMT, &fmt) < 0) {
         snprintf(f->err, sizeof(f->err), "%s: S_FMT: %s", f->out_path, strerror(errno));
         return -1;
     }
-    if (fmt.fmt.pix.pixelformat != V4L2_PIX_FMT_GREY || fmt.fmt.pix.width != f->w ||
+    if (fmt.fmt.pix.pixelformat != f->fourcc || fmt.fmt.pix.width != f->w ||
         fmt.fmt.pix.height != f->h) {
-        snprintf(f->err, sizeof(f->err), "%s: output took %ux%u %.4s, capture is %ux%u GREY",
+        snprintf(f->err, sizeof(f->err), "%s: output took %ux%u %.4s, capture is %ux%u %.4s",
                  f->out_path, fmt.fmt.pix.width, fmt.fmt.pix.height,
-                 (const char *)&fmt.fmt.pix.pixelformat, f->w, f->h);
+                 (const char *)&fmt.fmt.pix.pixelformat, f->w, f->h, (const char *)&f->fourcc);
         return -1;
     }
     f->stride = fmt.fmt.pix.bytesperline;
@@ -233,8 +269,16 @@ static int setup_output(struct feed *f)
     if (mn_v4l2_map_buffers(f->out_fd, f->out_path, V4L2_BUF_TYPE_VIDEO_OUTPUT, OUT_BUFFERS,
                             f->maps, OUT_BUFFERS, &f->n_maps, f->err, sizeof(f->err)) < 0)
         return -1;
+    uint8_t *y8 = malloc((size_t)f->w * f->h);
+    if (y8 == NULL) {
+        snprintf(f->err, sizeof(f->err), "out of memory");
+        return -1;
+    }
+    render_spots(y8, f->w, f->h, f->w);
+    for (uint32_t i = 0; i < f->n_maps; i++)
+        pack(f, y8, f->maps[i].start);
+    free(y8);
     for (uint32_t i = 0; i < f->n_maps; i++) {
-        render_spots(f->maps[i].start, f->w, f->h, f->stride);
         if (queue_out(f, i) < 0) {
             snprintf(f->err, sizeof(f->err), "%s: QBUF: %s", f->out_path, strerror(errno));
             return -1;
@@ -275,14 +319,24 @@ static int feed_stream(struct feed *f)
     return 0;
 }
 
-static int cmd_feed(const char *cap_path, const char *out_path)
+static uint32_t fourcc_of(const char *name)
 {
-    struct feed f = {.cap_path = cap_path, .out_path = out_path, .out_fd = -1};
+    char c[4] = {' ', ' ', ' ', ' '};
+    for (size_t i = 0; i < 4 && name[i] != '\0'; i++)
+        c[i] = name[i];
+    return v4l2_fourcc(c[0], c[1], c[2], c[3]);
+}
+
+static int cmd_feed(const char *cap_path, const char *out_path, const char *format)
+{
+    struct feed f = {.cap_path = cap_path, .out_path = out_path, .out_fd = -1,
+                     .fourcc = fourcc_of(format)};
     char last_err[sizeof(f.err)] = "";
     catch_stop_signals();
     while (!stop_requested) {
         if (setup_capture(&f) == 0 && setup_output(&f) == 0) {
-            printf("feed: looping %ux%u GREY from %s into %s\n", f.w, f.h, out_path, cap_path);
+            printf("feed: looping %ux%u %.4s from %s into %s\n", f.w, f.h,
+                   (const char *)&f.fourcc, out_path, cap_path);
             fflush(stdout);
             last_err[0] = '\0';
             if (feed_stream(&f) < 0)
@@ -471,14 +525,89 @@ static int cmd_recv(const char *port_arg)
     return report(&s);
 }
 
+/* ---- formats, spots ------------------------------------------------------------------------ */
+
+/* The capture device's pixel formats, one fourcc a line. */
+static int cmd_formats(const char *cap_path)
+{
+    int fd = open(cap_path, O_RDWR | O_CLOEXEC);
+    if (fd < 0) {
+        fprintf(stderr, "formats: %s: %s\n", cap_path, strerror(errno));
+        return 2;
+    }
+    for (uint32_t i = 0;; i++) {
+        struct v4l2_fmtdesc d = {.index = i, .type = V4L2_BUF_TYPE_VIDEO_CAPTURE};
+        if (mn_v4l2_ioctl(fd, VIDIOC_ENUM_FMT, &d) < 0)
+            break;
+        /* Bit 31 marks a big-endian variant ("Y16" big-endian is 'Y16 ' | 1 << 31). */
+        uint32_t pf = d.pixelformat & ~(1u << 31);
+        char name[5];
+        memcpy(name, &pf, 4);
+        name[4] = '\0';
+        for (int k = 3; k > 0 && name[k] == ' '; k--)
+            name[k] = '\0';
+        printf("%s%s\n", name, (d.pixelformat & (1u << 31)) ? "-BE" : "");
+    }
+    close(fd);
+    return 0;
+}
+
+/* Receives the node's datagrams on PORT until `want` frames with the fed spots came (exit 0,
+ * the largest centroid error printed) or timeout_s passed (exit 1). */
+static int cmd_spots(const char *port_arg, const char *want_arg, const char *timeout_arg)
+{
+    long port = strtol(port_arg, NULL, 10), want = strtol(want_arg, NULL, 10);
+    double timeout_s = atof(timeout_arg);
+    int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    struct sockaddr_in a = {.sin_family = AF_INET, .sin_port = htons((uint16_t)port),
+                            .sin_addr.s_addr = htonl(INADDR_LOOPBACK)};
+    if (fd < 0 || port < 1 || port > 65535 || want < 1 ||
+        bind(fd, (struct sockaddr *)&a, sizeof(a)) < 0) {
+        fprintf(stderr, "spots: bind 127.0.0.1:%ld: %s\n", port, strerror(errno));
+        return 2;
+    }
+    struct timeval tv = {.tv_sec = 0, .tv_usec = 200000};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
+    static mocap_v1_Packet packet;
+    uint8_t buf[MN_WIRE_MAX_DATAGRAM + 1];
+    long good = 0, other = 0;
+    double worst = 0;
+    int64_t end = real_ns() + (int64_t)(timeout_s * 1e9);
+    while (good < want && real_ns() < end) {
+        ssize_t n = recv(fd, buf, sizeof(buf), 0);
+        const char *why = NULL;
+        if (n <= 0 || mn_wire_decode(buf, (size_t)n, &packet, &why) < 0 ||
+            packet.which_body != mocap_v1_Packet_marker_frame_tag ||
+            packet.body.marker_frame.chunk_index != 0)
+            continue;
+        double err = 0;
+        if (frame_matches(&packet.body.marker_frame, &err)) {
+            good++;
+            worst = err > worst ? err : worst;
+        } else {
+            other++;
+        }
+    }
+    close(fd);
+    printf("spots: %ld frames with the %d fed spots (largest centroid error %.3f px), %ld others\n",
+           good, N_SPOTS, worst, other);
+    return good >= want ? 0 : 1;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc == 4 && strcmp(argv[1], "feed") == 0)
-        return cmd_feed(argv[2], argv[3]);
+    if ((argc == 4 || argc == 5) && strcmp(argv[1], "feed") == 0)
+        return cmd_feed(argv[2], argv[3], argc == 5 ? argv[4] : "GREY");
     if (argc == 3 && strcmp(argv[1], "recv") == 0)
         return cmd_recv(argv[2]);
-    fprintf(stderr, "usage: %s feed CAPTURE_DEVICE OUTPUT_DEVICE\n"
-                    "       %s recv PORT\n",
-            argv[0], argv[0]);
+    if (argc == 3 && strcmp(argv[1], "formats") == 0)
+        return cmd_formats(argv[2]);
+    if (argc == 5 && strcmp(argv[1], "spots") == 0)
+        return cmd_spots(argv[2], argv[3], argv[4]);
+    fprintf(stderr, "usage: %s feed CAPTURE_DEVICE OUTPUT_DEVICE [FOURCC]\n"
+                    "       %s recv PORT\n"
+                    "       %s formats CAPTURE_DEVICE\n"
+                    "       %s spots PORT FRAMES TIMEOUT_S\n",
+            argv[0], argv[0], argv[0], argv[0]);
     return 2;
 }

@@ -15,6 +15,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "detect-bench/bench_formats.h"
+#include "detect-bench/bench_timing.h"
 #include "detect-bench/frame_set.h"
 #include "detect-bench/make_frames.h"
 #include "detect-bench/opencv_pipeline.h"
@@ -26,13 +28,14 @@ namespace {
 
 const char kUsage[] =
     "usage: mocap-detect-bench --frames DIR [--json] [--threshold T] [--morph-radius R]\n"
-    "                          [--max-frames N] [--repeat K]\n"
+    "                          [--max-frames N] [--repeat K] [--formats]\n"
     "       mocap-detect-bench --make-frames DIR [--count N] [--markers M] [--width W]\n"
     "                          [--height H] [--seed S]\n";
 
 struct Args {
   std::string frames_dir, make_dir;
   bool json = false;
+  bool formats = false;  // also time each camera pixel format's conversion + detection
   int threshold = 40;
   int morph_radius = 1;
   size_t max_frames = 60;
@@ -58,6 +61,10 @@ Args ParseArgs(int argc, char** argv) {
       a.json = true;
       continue;
     }
+    if (flag == "--formats") {
+      a.formats = true;
+      continue;
+    }
     if (flag == "--help" || flag == "-h") {
       std::fputs(kUsage, stdout);
       std::exit(0);
@@ -80,27 +87,6 @@ Args ParseArgs(int argc, char** argv) {
   if (a.frames_dir.empty() == a.make_dir.empty())
     throw std::invalid_argument("give exactly one of --frames DIR and --make-frames DIR");
   return a;
-}
-
-// This thread's CPU time in ms: on a shared machine, time spent preempted is not counted.
-double ThreadCpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
-}
-
-// Best (smallest) CPU time per frame in ms over `repeat` passes over all frames, after a
-// warm-up pass; the minimum is the figure least disturbed by other work on the machine.
-double TimePerFrame(const std::vector<BenchFrame>& frames, int repeat,
-                    const std::function<void(const BenchFrame&)>& work) {
-  for (const BenchFrame& f : frames) work(f);
-  double best = 1e300;
-  for (int r = 0; r < repeat; ++r) {
-    const double t0 = ThreadCpuMs();
-    for (const BenchFrame& f : frames) work(f);
-    best = std::min(best, ThreadCpuMs() - t0);
-  }
-  return best / static_cast<double>(frames.size());
 }
 
 struct Accuracy {
@@ -182,7 +168,11 @@ int RunBench(const Args& a) {
     cv_pipe.Run(f, &ref);
     sink = sink + ref.size();
   });
+  std::vector<FormatTiming> formats;
+  if (a.formats) formats = TimeFormats(frames, det, a.repeat);
   mn_detector_free(det);
+  bool formats_ok = true;
+  for (const FormatTiming& t : formats) formats_ok = formats_ok && t.same_blobs;
 
   const double per_frame = static_cast<double>(acc.ours) / frames.size();
   if (a.json) {
@@ -194,6 +184,11 @@ int RunBench(const Args& a) {
         "\"blobs_ours\": %zu, \"blobs_reference\": %zu, \"blobs_matched\": %zu}\n",
         frames.size(), max_w, max_h, per_frame, ours_ms, read_ms, cv_ms, ours_ms / read_ms,
         cv_ms / ours_ms, acc.max_diff, acc.ours, acc.reference, acc.matched);
+    for (const FormatTiming& t : formats)
+      std::printf("{\"format\": \"%s\", \"convert_ms_per_frame\": %.5f, "
+                  "\"total_ms_per_frame\": %.5f, \"same_blobs\": %s}\n",
+                  t.name.c_str(), t.convert_ms, t.total_ms,
+                  t.lossless ? (t.same_blobs ? "true" : "false") : "null");
   } else {
     std::printf("frames: %zu (up to %ux%u), %.1f blobs per frame, threshold %d, morph radius %d\n",
                 frames.size(), max_w, max_h, per_frame, a.threshold, a.morph_radius);
@@ -204,8 +199,14 @@ int RunBench(const Args& a) {
     std::printf("centroids: max difference from the double-precision reference %.3g px "
                 "(%zu of our %zu blobs paired, reference has %zu)\n",
                 acc.max_diff, acc.matched, acc.ours, acc.reference);
+    if (!formats.empty())
+      std::printf("format  to luma ms/frame  + detection ms/frame  blobs\n");
+    for (const FormatTiming& t : formats)
+      std::printf("%-6s  %16.4f  %20.4f  %s\n", t.name.c_str(), t.convert_ms, t.total_ms,
+                  !t.lossless ? "(lossy)" : t.same_blobs ? "same" : "DIFFERENT");
   }
-  return 0;
+  // A lossless format whose luma gives other blobs than the frame itself is a conversion bug.
+  return formats_ok ? 0 : 1;
 }
 
 int Main(int argc, char** argv) {

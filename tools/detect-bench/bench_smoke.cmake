@@ -8,7 +8,7 @@ execute_process(COMMAND ${BENCH} --make-frames ${DIR} --count 4 --markers 25 --w
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "--make-frames failed (${rc}): ${err}")
 endif()
-execute_process(COMMAND ${BENCH} --frames ${DIR} --json --repeat 1
+execute_process(COMMAND ${BENCH} --frames ${DIR} --json --repeat 1 --formats
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
     message(FATAL_ERROR "--frames failed (${rc}): ${err}")
@@ -30,6 +30,12 @@ string(REGEX MATCH "\"blobs_matched\": ([0-9]+)" _ "${out}")
 if(CMAKE_MATCH_1 LESS 80)
     message(FATAL_ERROR "too few blobs paired with the reference: ${out}")
 endif()
+# --formats: a line per camera pixel format, every lossless one giving the frame's own blobs.
+foreach(format GREY NV12 YU12 Y10 Y16 YUYV UYVY RGB3 BGR3 BX24 XR24)
+    if(NOT out MATCHES "\"format\": \"${format}\", \"convert_ms_per_frame\": [0-9.e+-]+, \"total_ms_per_frame\": [0-9.e+-]+, \"same_blobs\": true")
+        message(FATAL_ERROR "no timing with the same blobs for ${format}: ${out}")
+    endif()
+endforeach()
 execute_process(COMMAND ${BENCH} --frames ${DIR}/missing RESULT_VARIABLE rc
                 OUTPUT_QUIET ERROR_VARIABLE err)
 if(rc EQUAL 0 OR NOT err MATCHES "not found")

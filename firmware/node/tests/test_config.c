@@ -43,7 +43,9 @@ static void good_file(void **state)
                             "rate = 120\n"
                             "sim_missed = 0.25\n"
                             "log_level = debug\n"
-                            "key_file = /etc/mocap/node.key\n");
+                            "key_file = /etc/mocap/node.key\n"
+                            "pixel_format = Y10\n"
+                            "brightness = 60\n");
     struct mn_config cfg;
     char err[MN_CONFIG_ERR] = "";
     mn_config_defaults(&cfg);
@@ -58,6 +60,9 @@ static void good_file(void **state)
     assert_string_equal(cfg.hub_host, "10.0.0.2");
     assert_int_equal(cfg.hub_port, 7000);
     assert_int_equal(cfg.threshold, 90);
+    assert_string_equal(cfg.pixel_format, "Y10");
+    assert_int_equal(cfg.brightness_pct, 60);
+    assert_int_equal(cfg.contrast_pct, -1); /* unset: the camera's own */
     assert_true(cfg.auto_threshold);
     assert_int_equal(cfg.morph_radius, 2);
     assert_true(cfg.binary_centroid);
@@ -108,6 +113,9 @@ static void bad_files(void **state)
     expect_bad_line("log_level = loud\n", 1, "not error");
     expect_bad_line("trigger_delay_us = 99999999999999999999\n", 1, "not an integer");
     expect_bad_line("threshold = -5\n", 1, "out of range");
+    expect_bad_line("pixel_format = NV12X\n", 1, "'NV12X' is not a fourcc name");
+    expect_bad_line("pixel_format = nv12\n", 1, "1-4 of A-Z, 0-9");
+    expect_bad_line("contrast = 101\n", 1, "out of range -1..100");
 
     /* A NUL byte (a binary file given by mistake). */
     char path[] = "/tmp/mn_test_config_XXXXXX";

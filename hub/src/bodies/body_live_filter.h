@@ -2,7 +2,7 @@
 // session): the tracker's per-frame fits (body_tracker.h), then each frame's orientation refined
 // from that frame and the past ones only, so that the pose of frame N is published with frame N.
 // One frame's blobs bound its rotation at 0.22-0.30 deg median for bodies of 4-6 markers within
-// 120 mm (README, "Rigid bodies"); the past frames bring that down the way the offline
+// 120 mm (docs/rigid-bodies.md); the past frames bring that down the way the offline
 // refinement (body_smoothing.h) does from both sides, with the same pieces
 // (body_rotation_window.h):
 // - the orientation at frame N is the value at t = 0 of a polynomial in time fitted to the

@@ -2,7 +2,7 @@
 // --bodies). One frame's fit is already as good as its points allow: for bodies of 4-6 markers
 // within 120 mm seen by 8 cameras at 0.2 px, the rotation's Cramer-Rao bound from that frame's
 // blobs is 0.22-0.30 deg median, and a fit to the 2D rays instead of the triangulated points
-// reaches the same (README, "Rigid bodies"). Only more frames can do better, and offline they may
+// reaches the same (docs/rigid-bodies.md). Only more frames can do better, and offline they may
 // come from both sides, so there is no lag:
 // - the orientation at frame f is refitted to the per-frame orientations of frames f-k..f+k
 //   under a steady angular acceleration (a parabola in the rotation's tangent space at frame f;

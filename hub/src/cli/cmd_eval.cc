@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -33,7 +34,9 @@ void RunEval(const EvalArgs& args) {
   const MarkerTrajectories truth = ReadTrajectories(args.truth);
   // A capture's live_points.tsv judges what serve published live, frame by frame.
   const bool live = std::filesystem::path(args.result).extension() == ".tsv";
-  const MarkerTrajectories result = live ? ReadLivePoints(args.result) : ReadTrajectories(args.result);
+  std::optional<LivePoints> live_points;
+  if (live) live_points = ReadLivePoints(args.result);
+  const MarkerTrajectories result = live ? std::move(live_points->points) : ReadTrajectories(args.result);
   std::string visibility_path = args.visibility;
   if (visibility_path.empty() && !args.session.empty()) {
     visibility_path = (std::filesystem::path(args.session) / "visibility.tsv").string();
@@ -45,7 +48,8 @@ void RunEval(const EvalArgs& args) {
   if (!visibility_path.empty()) visibility = ReadVisibility(visibility_path);
   MarkerEvalReport report;
   try {
-    report = EvaluateMarkers(truth, result, visibility ? &*visibility : nullptr, args.options);
+    report = EvaluateMarkers(truth, result, visibility ? &*visibility : nullptr, args.options,
+                             live_points ? &live_points->identity : nullptr);
   } catch (const std::invalid_argument& error) {
     throw std::runtime_error(std::string("cannot compare ") + args.truth + " and " + args.result + ": " +
                              error.what());
@@ -85,6 +89,9 @@ void AddEvalCommand(CLI::App& app) {
   command->add_option("--visibility", args->visibility, "visibility.tsv to use instead of --session's")
       ->excludes(session);
   command->add_option("--gate-mm", args->options.gate_mm, "Matching gate, mm")->capture_default_str();
+  command->add_option("--names-from-frame", args->options.names_from_frame,
+                      "Name shares count each truth marker's points from its Nth frame on (live: after settling)")
+      ->capture_default_str();
   command->add_option("--bodies-truth", args->bodies_truth,
                       "True rigid-body poses (SESSION/truth.bodies.tsv): pose errors of the result's bodies")
       ->check(CLI::ExistingFile);

@@ -18,10 +18,16 @@
 #include "api/http_server.h"
 #include "api/static_files.h"
 #include "service/hub_service.h"
+#include "io/calibration_json.h"
+#include "labels/marker_set.h"
+#include "stream/natnet/natnet_server.h"
 #include "stream/osc_sender.h"
 #include "stream/qtm/qtm_rt_server.h"
+#include "stream/qtm/rt_parameters.h"
 #include "stream/shared_frame.h"
 #include "stream/udp_stream_server.h"
+#include "stream/vmc_sender.h"
+#include "stream/vrpn/vrpn_server.h"
 #include "util/log.h"
 
 #ifdef MOCAP_HAVE_SYSTEMD
@@ -42,6 +48,10 @@ struct ServeArgs {
   std::string osc_targets;             // comma-separated HOST:PORT
   std::string osc_parts = "points,bodies";
   std::string qtm_rt;                  // HOST:PORT of the Qualisys RT server; empty: off
+  stream::natnet::NatNetOptions natnet;  // listen empty: off
+  bool natnet_unicast = false;
+  stream::vrpn::VrpnOptions vrpn;        // listen empty: off
+  std::string vmc;                     // HOST:PORT of a VMC receiver; empty: off
   std::string web_root = MOCAP_WEB_ROOT;  // the console's files; "off": none
   std::string three_root = "/usr/share/javascript/three";  // Debian's libjs-three
 };
@@ -100,6 +110,50 @@ struct Streams {
   }
 };
 
+// The NatNet, VRPN and VMC adapters serve asked for (each off unless asked), checked before any
+// starts. Their rigid bodies and names come from serve's bodies and marker-set files.
+struct TrackerStreams {
+  std::unique_ptr<stream::natnet::NatNetServer> natnet;
+  std::unique_ptr<stream::vrpn::VrpnServer> vrpn;
+  std::unique_ptr<stream::VmcSender> vmc;
+
+  explicit TrackerStreams(ServeArgs& args) {
+    const service::ServeOptions& o = args.options;
+    if (args.natnet_unicast) args.natnet.multicast.clear();
+    stream::VmcOptions vmc_options;
+    vmc_options.target = args.vmc;
+    vmc_options.rate_hz = o.rate_hz;
+    if (!args.natnet.listen.empty()) CheckOptions(args.natnet);
+    if (!args.vrpn.listen.empty()) CheckOptions(args.vrpn);
+    if (!args.vmc.empty()) {
+      vmc_options.up_axis = stream::qtm::AxisUpwards(LoadRigJson(o.calibration));
+      CheckOptions(vmc_options);
+    }
+    const std::vector<RigidBodyDefinition> bodies = o.bodies_file.empty() ? std::vector<RigidBodyDefinition>{}
+                                                                          : ReadBodiesFile(o.bodies_file);
+    if (!args.natnet.listen.empty()) {
+      stream::natnet::Model model;
+      model.rate_hz = o.rate_hz;
+      model.bodies = bodies;
+      if (!o.labels_file.empty()) model.label_names = ReadMarkerSetFile(o.labels_file).names;
+      natnet = std::make_unique<stream::natnet::NatNetServer>(args.natnet, std::move(model));
+    }
+    if (!args.vrpn.listen.empty()) {
+      std::vector<std::string> names;
+      for (const RigidBodyDefinition& b : bodies) names.push_back(b.name);
+      if (names.empty()) log::Warn("vrpn: no rigid bodies (--bodies): no trackers to serve");
+      vrpn = std::make_unique<stream::vrpn::VrpnServer>(args.vrpn, std::move(names));
+    }
+    if (!args.vmc.empty()) vmc = std::make_unique<stream::VmcSender>(vmc_options);
+  }
+
+  void Publish(const stream::SharedFrame& frame) {
+    if (natnet) natnet->Publish(frame);
+    if (vrpn) vrpn->Publish(frame);
+    if (vmc) vmc->Publish(frame);
+  }
+};
+
 // Watchdog pings at half the interval systemd asks for; nothing without systemd.
 class Watchdog {
  public:
@@ -145,16 +199,21 @@ void RunServe(ServeArgs& args, bool web_root_given) {
         rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz, args.options.bodies_file,
                                       args.options.labels_file));
   }
+  TrackerStreams trackers(args);
   hub.Subscribe([&](const service::LiveFrame& frame) {
     const stream::SharedFrame shared = stream::ShareFrame(frame);
     if (streams.udp) streams.udp->Publish(shared);  // first: it may send at once (the others queue)
     http.Publish(shared);
     if (streams.osc) streams.osc->Publish(shared);
     if (qtm_rt) qtm_rt->Publish(shared);
+    trackers.Publish(shared);
   });
   if (streams.udp) hub.AddStatusSection("stream", [&] { return streams.udp->StatsJson(); });
   if (streams.osc) hub.AddStatusSection("osc", [&] { return streams.osc->StatsJson(); });
   if (qtm_rt) hub.AddStatusSection("qtm_rt", [&] { return qtm_rt->StatsJson(); });
+  if (trackers.natnet) hub.AddStatusSection("natnet", [&] { return trackers.natnet->StatsJson(); });
+  if (trackers.vrpn) hub.AddStatusSection("vrpn", [&] { return trackers.vrpn->StatsJson(); });
+  if (trackers.vmc) hub.AddStatusSection("vmc", [&] { return trackers.vmc->StatsJson(); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
@@ -171,6 +230,12 @@ void RunServe(ServeArgs& args, bool web_root_given) {
     const HostPort rt = ParseHostPort(args.qtm_rt);
     log::Info("Qualisys RT on {}:{}", rt.host.empty() || rt.host == "*" ? "0.0.0.0" : rt.host, qtm_rt->port());
   }
+  if (trackers.natnet)
+    log::Info("NatNet on {}:{}, frames {}", ParseHostPort(args.natnet.listen).host, trackers.natnet->port(),
+              args.natnet.multicast.empty() ? std::string("unicast to connected clients")
+                                            : "to " + args.natnet.multicast + ":" + std::to_string(args.natnet.data_port));
+  if (trackers.vrpn) log::Info("VRPN on {}:{}", ParseHostPort(args.vrpn.listen).host, trackers.vrpn->port());
+  if (trackers.vmc) log::Info("VMC: bundles to {}", args.vmc);
   Watchdog watchdog;
   watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
   hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });
@@ -265,6 +330,25 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--qtm-rt", args->qtm_rt,
                       "HOST:PORT of a Qualisys-RT-compatible server (little-endian port; 0: any free); default off");
+  args->natnet.listen.clear();
+  command->add_option("--natnet", args->natnet.listen,
+                      "HOST:PORT of an OptiTrack-NatNet-compatible command port (Motive's is 1510; 0: any free); "
+                      "default off");
+  command->add_option("--natnet-multicast", args->natnet.multicast, "NatNet frames' multicast group")
+      ->capture_default_str();
+  command->add_option("--natnet-data-port", args->natnet.data_port, "NatNet frames' port (the group's)")
+      ->capture_default_str();
+  command->add_flag("--natnet-unicast", args->natnet_unicast,
+                    "NatNet frames by unicast to each connected client instead of multicast");
+  command->add_option("--natnet-version", args->natnet.version,
+                      "NatNet bitstream version until a client asks another: 3.0, 3.1, 4.0, 4.1")
+      ->capture_default_str();
+  args->vrpn.listen.clear();
+  command->add_option("--vrpn", args->vrpn.listen,
+                      "HOST:PORT of a VRPN tracker server, one tracker per rigid body (VRPN's port is 3883; TCP and "
+                      "the UDP lookup); default off");
+  command->add_flag("--vrpn-velocity", args->vrpn.velocity, "VRPN: also vrpn_Tracker Velocity reports");
+  command->add_option("--vmc", args->vmc, "Send rigid bodies as VMC trackers (OSC) to HOST:PORT (receivers: 39539)");
   CLI::Option* web_root = command->add_option("--web-root", args->web_root,
                                               "Directory of the web console's files (hub/web); off: API only")
                               ->capture_default_str();

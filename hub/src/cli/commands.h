@@ -69,8 +69,12 @@ void AddSimWandCommand(CLI::App& app);
 void AddCalibrateWandCommand(CLI::App& app);
 void AddEvalCalibrationCommand(CLI::App& app);
 void AddConvertCommand(CLI::App& app);
+void AddArchiveCommand(CLI::App& app);    // cmd_archive.cc
+void AddRegisterCommand(CLI::App& app);   // cmd_register.cc
+void AddMeshDriveCommand(CLI::App& app);  // cmd_mesh.cc: mesh drive
 void AddBodyCommands(CLI::App& app);
 void AddLabelsCommands(CLI::App& app);  // cmd_labels.cc: labels learn, labels apply
+void AddSkeletonCommands(CLI::App& app);  // cmd_skeleton.cc: skeleton template, calibrate, solve, sim, eval
 // cmd_sim_wand.cc, cmd_calibrate_wand.cc (wand, world), cmd_calibrate_camera.cc (intrinsics,
 // dlt), cmd_calibrate_import.cc (import-tsai, import-mcd), cmd_eval_calibration.cc.
 void AddCalibrateWorldCommand(CLI::App& app);

@@ -25,8 +25,12 @@ const AddCommand kCommands[] = {
     mocap::AddEvalCommand,
     mocap::AddReconstructCommand,
     mocap::AddConvertCommand,
+    mocap::AddArchiveCommand,
+    mocap::AddRegisterCommand,
+    mocap::AddMeshDriveCommand,
     mocap::AddBodyCommands,
     mocap::AddLabelsCommands,
+    mocap::AddSkeletonCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
     mocap::AddCalibrateWandCommand,
@@ -49,7 +53,9 @@ struct GroupEntry {
 const GroupEntry kGroups[] = {
     {"sim", "Simulator: motions, rigs, projected sessions with realistic faults, camera frames, wand waves"},
     {"keys", "Wire keys of the nodes: generate, rotate, retire, list (one file per node, mode 0600)"},
+    {"mesh", "Meshes driven by markers: bind an OBJ to a static frame, export the motion as a point cache"},
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
+    {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT and seed-format imports"},
 };
 

@@ -34,14 +34,22 @@ long AlignedTruthFrame(const std::unordered_map<uint64_t, size_t>& truth_index, 
 void MarkerEvalOptions::Check() const {
   if (!(gate_mm > 0.0 && gate_mm < 1e6)) throw std::invalid_argument("gate must be positive");
   if (min_cameras < 0) throw std::invalid_argument("min cameras must be >= 0");
+  if (names_from_frame < 1) {
+    throw std::invalid_argument("names_from_frame: " + std::to_string(names_from_frame) + " must be >= 1");
+  }
 }
 
 MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTrajectories& result,
-                                 const MarkerVisibility* visibility, const MarkerEvalOptions& options) {
+                                 const MarkerVisibility* visibility, const MarkerEvalOptions& options,
+                                 const PublishedIdentity* identity) {
   options.Check();
   if (!(truth.rate_hz > 0.0) || !(result.rate_hz > 0.0)) throw std::invalid_argument("truth and result need a rate");
   const size_t truth_markers = truth.NumMarkers();
   const size_t result_markers = result.NumMarkers();
+  if (identity != nullptr &&
+      (identity->track.size() != result.points.size() || identity->name.size() != result.points.size())) {
+    throw std::invalid_argument("point identities are not one per cell of the result");
+  }
 
   std::unordered_map<uint64_t, size_t> visibility_index;
   if (visibility != nullptr) {
@@ -51,15 +59,30 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     for (size_t f = 0; f < visibility->NumFrames(); ++f) visibility_index[visibility->frame_numbers[f]] = f;
   }
 
-  // Labelling: the truth marker of each result column's name (-1: not a truth name).
+  // Names: each point's name is an index into `names` (-1: unnamed); its truth marker, -1 for a
+  // name the truth does not have and for the hub's anonymous names.
+  const std::vector<std::string>& names = identity != nullptr ? identity->names : result.names;
   std::unordered_map<std::string, long> truth_marker_of_name;
   for (size_t m = 0; m < truth_markers; ++m) truth_marker_of_name[truth.names[m]] = static_cast<long>(m);
-  std::vector<long> named_as(result_markers, -1);
-  for (size_t k = 0; k < result_markers; ++k) {
-    const auto it = truth_marker_of_name.find(result.names[k]);
-    if (it != truth_marker_of_name.end()) named_as[k] = it->second;
+  std::vector<long> named_as(names.size(), -1);
+  std::vector<char> anonymous(names.size(), 0);
+  for (size_t k = 0; k < names.size(); ++k) {
+    anonymous[k] = IsAnonymousMarkerName(names[k]);
+    const auto it = truth_marker_of_name.find(names[k]);
+    if (it != truth_marker_of_name.end() && !anonymous[k]) named_as[k] = it->second;
   }
   const bool labels = std::any_of(named_as.begin(), named_as.end(), [](long m) { return m >= 0; });
+  const auto name_of = [&](size_t r, size_t column) -> long {
+    if (identity == nullptr) return anonymous[column] ? -1 : static_cast<long>(column);
+    return identity->name[r * result_markers + column];
+  };
+  // Tracks: a column of a TRC, a published id of a live result (dense indices in order seen).
+  std::unordered_map<int64_t, size_t> track_index;
+  const auto track_of = [&](size_t r, size_t column) -> long {
+    const int64_t key = identity == nullptr ? static_cast<int64_t>(column) : identity->track[r * result_markers + column];
+    if (key < 0) return -1;
+    return static_cast<long>(track_index.emplace(key, track_index.size()).first->second);
+  };
   double worst_share = 1.0;
 
   std::unordered_map<uint64_t, size_t> truth_index;
@@ -68,6 +91,7 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
   std::vector<long> result_of_truth(truth.NumFrames(), -1);
   MarkerEvalReport report;
   report.gate_mm = options.gate_mm;
+  report.names_from_frame = options.names_from_frame;
   report.visibility_used = visibility != nullptr;
   for (size_t r = 0; r < result.NumFrames(); ++r) {
     const long t = AlignedTruthFrame(truth_index, truth.rate_hz, result.TimeOf(r));
@@ -79,8 +103,16 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     }
   }
 
-  std::vector<char> truth_ever(truth_markers, 0), result_ever(result_markers, 0);
-  std::vector<long> last_match(result_markers, -1);
+  std::vector<char> truth_ever(truth_markers, 0);
+  std::vector<long> truth_frames_present(truth_markers, 0);
+  std::vector<long> last_track_of_marker(truth_markers, -1);
+  std::vector<size_t> id_changes_of_marker(truth_markers, 0);
+  struct TrackState {
+    long last_match = -1;  // truth marker
+    long last_name = -1;   // index into names
+    size_t name_changes = 0;
+  };
+  std::vector<TrackState> tracks;
   const TruthExchanges exchanges = FindTruthExchanges(truth);
   report.truth_exchanges = exchanges.count;
   std::vector<double> errors;
@@ -90,7 +122,10 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     present_truth.clear();
     present_result.clear();
     for (size_t m = 0; m < truth_markers; ++m) {
-      if (truth.Has(t, m)) present_truth.push_back(m);
+      if (truth.Has(t, m)) {
+        present_truth.push_back(m);
+        ++truth_frames_present[m];
+      }
     }
     const long r = result_of_truth[t];
     if (r >= 0) {
@@ -107,39 +142,59 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     const std::vector<int> match = SolveAssignment(cost, options.gate_mm);
 
     std::vector<char> truth_matched(present_truth.size(), 0);
-    size_t frame_correct = 0;
+    size_t frame_correct = 0, frame_points = 0;
     for (size_t i = 0; i < present_result.size(); ++i) {
       const size_t column = present_result[i];
-      result_ever[column] = 1;
       ++report.result_points;
-      if (named_as[column] >= 0) {
-        ++report.named_points;
-        if (match[i] >= 0 && static_cast<long>(present_truth[match[i]]) == named_as[column]) {
-          ++report.correctly_named;
-          ++frame_correct;
+      const long marker = match[i] >= 0 ? static_cast<long>(present_truth[match[i]]) : -1;
+      const long name = name_of(static_cast<size_t>(r), column);
+      const long track = track_of(static_cast<size_t>(r), column);
+      if (marker < 0 || truth_frames_present[marker] >= options.names_from_frame) {
+        ++report.label_points;
+        ++frame_points;
+        if (name >= 0 && named_as[name] >= 0) {
+          ++report.named_points;
+          if (named_as[name] == marker) {
+            ++report.correctly_named;
+            ++frame_correct;
+          } else {
+            ++report.wrongly_named;
+          }
         } else {
-          ++report.wrongly_named;
+          ++report.unnamed_points;
         }
       }
-      if (match[i] < 0) {
+      if (track >= 0) {
+        if (static_cast<size_t>(track) >= tracks.size()) tracks.resize(track + 1);
+        TrackState& state = tracks[track];
+        if (name >= 0 && !anonymous[name]) {
+          if (state.last_name >= 0 && state.last_name != name) ++state.name_changes;
+          state.last_name = name;
+        }
+      }
+      if (marker < 0) {
         ++report.ghosts;
         continue;
       }
       truth_matched[match[i]] = 1;
       errors.push_back(cost(i, match[i]));
-      const long marker = static_cast<long>(present_truth[match[i]]);
+      if (track < 0) continue;
+      // An id change: this truth marker is now followed by another track than it last was.
+      if (last_track_of_marker[marker] >= 0 && last_track_of_marker[marker] != track) ++id_changes_of_marker[marker];
+      last_track_of_marker[marker] = track;
       // A swap: this output trajectory now follows a different truth marker than it last did.
-      if (last_match[column] >= 0 && last_match[column] != marker) {
+      TrackState& state = tracks[track];
+      if (state.last_match >= 0 && state.last_match != marker) {
         ++report.swaps;
-        if (exchanges.Involves(t, marker) || exchanges.Involves(t, static_cast<size_t>(last_match[column]))) {
+        if (exchanges.Involves(t, marker) || exchanges.Involves(t, static_cast<size_t>(state.last_match))) {
           ++report.swaps_at_truth_exchanges;
         }
       }
-      last_match[column] = marker;
+      state.last_match = marker;
     }
 
-    if (labels && !present_result.empty())
-      worst_share = std::min(worst_share, static_cast<double>(frame_correct) / present_result.size());
+    if (labels && frame_points > 0)
+      worst_share = std::min(worst_share, static_cast<double>(frame_correct) / frame_points);
 
     long visibility_frame = -1;
     if (visibility != nullptr) {
@@ -161,13 +216,23 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
 
   report.matched = errors.size();
   report.labels_compared = labels;
-  if (labels && report.result_points > 0) {
-    report.correct_share = static_cast<double>(report.correctly_named) / report.result_points;
-    report.wrong_share = static_cast<double>(report.wrongly_named) / report.result_points;
+  if (labels && report.label_points > 0) {
+    report.correct_share = static_cast<double>(report.correctly_named) / report.label_points;
+    report.wrong_share = static_cast<double>(report.wrongly_named) / report.label_points;
+    report.unnamed_share = static_cast<double>(report.unnamed_points) / report.label_points;
     report.worst_frame_correct_share = worst_share;
   }
+  for (size_t changes : id_changes_of_marker) {
+    report.id_changes += changes;
+    report.max_id_changes = std::max(report.max_id_changes, changes);
+  }
+  for (const TrackState& state : tracks) {
+    report.name_changes += state.name_changes;
+    report.tracks_renamed += state.name_changes > 0;
+    report.max_name_changes = std::max(report.max_name_changes, state.name_changes);
+  }
+  report.trajectories = track_index.size();
   report.truth_markers = static_cast<size_t>(std::count(truth_ever.begin(), truth_ever.end(), 1));
-  report.trajectories = static_cast<size_t>(std::count(result_ever.begin(), result_ever.end(), 1));
   if (!errors.empty()) {
     double sum = 0.0, sum_squares = 0.0;
     for (double e : errors) {
@@ -188,6 +253,7 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
   }
   if (report.truth_markers > 0) {
     report.fragmentation = static_cast<double>(report.trajectories) / report.truth_markers;
+    report.id_changes_per_marker = static_cast<double>(report.id_changes) / report.truth_markers;
   }
   return report;
 }
@@ -216,12 +282,22 @@ nlohmann::json MarkerEvalReport::ToJson() const {
           {"swaps_at_truth_exchanges", swaps_at_truth_exchanges},
           {"visibility_used", visibility_used},
           {"gate_mm", gate_mm},
+          {"id_changes", id_changes},
+          {"id_changes_per_marker", id_changes_per_marker},
+          {"max_id_changes", max_id_changes},
+          {"name_changes", name_changes},
+          {"tracks_renamed", tracks_renamed},
+          {"max_name_changes", max_name_changes},
           {"labels_compared", labels_compared},
+          {"names_from_frame", names_from_frame},
+          {"label_points", label_points},
           {"named_points", named_points},
           {"correctly_named", correctly_named},
           {"wrongly_named", wrongly_named},
+          {"unnamed_points", unnamed_points},
           {"correct_share", correct_share},
           {"wrong_share", wrong_share},
+          {"unnamed_share", unnamed_share},
           {"worst_frame_correct_share", worst_frame_correct_share}};
 }
 
@@ -244,10 +320,14 @@ std::string MarkerEvalReport::ToText() const {
                        truth_exchanges);
   }
   out << "\n";
+  out << fmt::format("ids               {} changes of a marker's track ({:.3f} per marker, at most {}); {} name "
+                     "changes on a track ({} tracks renamed, at most {})\n",
+                     id_changes, id_changes_per_marker, max_id_changes, name_changes, tracks_renamed, max_name_changes);
   if (labels_compared) {
-    out << fmt::format("labels            {:.3f}% of output points correctly named, {:.3f}% wrongly ({} named of {}; "
-                       "worst frame {:.1f}% correct)\n",
-                       100.0 * correct_share, 100.0 * wrong_share, named_points, result_points,
+    out << fmt::format("labels            {:.3f}% of output points correctly named, {:.3f}% wrongly, {:.3f}% unnamed "
+                       "({} named of {}{}; worst frame {:.1f}% correct)\n",
+                       100.0 * correct_share, 100.0 * wrong_share, 100.0 * unnamed_share, named_points, label_points,
+                       names_from_frame > 1 ? fmt::format(", from each marker's frame {} on", names_from_frame) : "",
                        100.0 * worst_frame_correct_share);
   }
   return out.str();

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -104,6 +106,11 @@ TEST(MarkerAccuracyTest, SwapsAndFragmentation) {
   }
   const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
   EXPECT_EQ(report.swaps, 1u);
+  // Marker 0 moves from column a to c, marker 1 from b to a: one change of track each.
+  EXPECT_EQ(report.id_changes, 2u);
+  EXPECT_EQ(report.max_id_changes, 1u);
+  EXPECT_DOUBLE_EQ(report.id_changes_per_marker, 1.0);
+  EXPECT_EQ(report.name_changes, 0u);
   EXPECT_EQ(report.trajectories, 3u);
   EXPECT_DOUBLE_EQ(report.fragmentation, 1.5);
   EXPECT_EQ(report.missing, 0u);
@@ -192,11 +199,107 @@ TEST(MarkerAccuracyTest, FramesAlignByTime) {
   EXPECT_EQ(report.ghosts, 0u);
 }
 
+TEST(MarkerAccuracyTest, AnonymousColumnsAreUnnamedNeverWrong) {
+  // A synthetic truth calls its markers M001...; the result's columns, also M001..., follow other
+  // markers (the hub's anonymous numbering). No column is named: nothing is wrong.
+  const MarkerTrajectories truth = Truth(3, 5);
+  MarkerTrajectories result = truth;
+  for (size_t f = 0; f < 5; ++f) {
+    for (size_t m = 0; m < 3; ++m) result.At(f, m) = truth.At(f, (m + 1) % 3);
+  }
+  MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_FALSE(report.labels_compared);
+  EXPECT_EQ(report.wrongly_named, 0u);
+  EXPECT_EQ(report.named_points, 0u);
+  EXPECT_EQ(report.ToText().find("labels"), std::string::npos);
+}
+
+TEST(MarkerAccuracyTest, NamesAreRightWrongOrUnnamed) {
+  MarkerTrajectories truth = Truth(3, 10);
+  truth.names = {"A", "B", "C"};
+  MarkerTrajectories result = truth;
+  // Column A right, column "B" follows marker C (wrong), column M003 follows marker B (unnamed).
+  result.names = {"A", "B", "M003"};
+  for (size_t f = 0; f < 10; ++f) {
+    result.At(f, 1) = truth.At(f, 2);
+    result.At(f, 2) = truth.At(f, 1);
+  }
+  const MarkerEvalReport report = EvaluateMarkers(truth, result, nullptr);
+  EXPECT_TRUE(report.labels_compared);
+  EXPECT_EQ(report.label_points, 30u);
+  EXPECT_EQ(report.correctly_named, 10u);
+  EXPECT_EQ(report.wrongly_named, 10u);
+  EXPECT_EQ(report.unnamed_points, 10u);
+  EXPECT_DOUBLE_EQ(report.correct_share, 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(report.wrong_share, 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(report.unnamed_share, 1.0 / 3.0);
+}
+
+// A live result: one pool column holding marker A's points (marker B is not published),
+// published by track 1 (frames 0-4) then track 3; names per point as given.
+MarkerEvalReport EvaluateLive(const std::vector<int32_t>& names_of_frames, const MarkerEvalOptions& options = {}) {
+  MarkerTrajectories truth = Truth(2, names_of_frames.size());
+  truth.names = {"A", "B"};
+  MarkerTrajectories result;
+  result.rate_hz = truth.rate_hz;
+  result.names = {"P1"};
+  for (size_t f = 0; f < truth.NumFrames(); ++f) result.At(result.AddFrame(truth.frame_numbers[f]), 0) = truth.At(f, 0);
+  PublishedIdentity identity;
+  identity.names = {"A", "B", "M001"};
+  for (size_t f = 0; f < names_of_frames.size(); ++f) {
+    identity.track.push_back(f < 5 ? 1 : 3);
+    identity.name.push_back(names_of_frames[f]);
+  }
+  return EvaluateMarkers(truth, result, nullptr, options, &identity);
+}
+
+TEST(MarkerAccuracyTest, LiveIdsAndNamesChangedPerTrack) {
+  // Track 1: A, unnamed, A, B, B (one change; unnamed between does not count); track 3: M001
+  // (anonymous: unnamed) then A.
+  const MarkerEvalReport report = EvaluateLive({0, -1, 0, 1, 1, 2, 0, 0, 0, 0});
+  EXPECT_EQ(report.id_changes, 1u);
+  EXPECT_EQ(report.max_id_changes, 1u);
+  EXPECT_EQ(report.trajectories, 2u);
+  EXPECT_EQ(report.name_changes, 1u);
+  EXPECT_EQ(report.tracks_renamed, 1u);
+  EXPECT_EQ(report.max_name_changes, 1u);
+  EXPECT_EQ(report.correctly_named, 6u);
+  EXPECT_EQ(report.wrongly_named, 2u);
+  EXPECT_EQ(report.unnamed_points, 2u);
+  EXPECT_EQ(report.swaps, 0u);
+  // A track renamed back and forth: every change counts.
+  EXPECT_EQ(EvaluateLive({0, 1, 0, 1, 0, 0, 0, 0, 0, 0}).name_changes, 4u);
+}
+
+TEST(MarkerAccuracyTest, NamesCountFromEachMarkersChosenFrame) {
+  MarkerEvalOptions options;
+  options.names_from_frame = 3;
+  // Wrong on the marker's first two frames, right afterwards.
+  const MarkerEvalReport report = EvaluateLive({1, 1, 0, 0, 0, 0, 0, 0, 0, 0}, options);
+  EXPECT_EQ(report.label_points, 8u);
+  EXPECT_EQ(report.wrongly_named, 0u);
+  EXPECT_EQ(report.missing, 10u);  // marker B, never published
+  EXPECT_DOUBLE_EQ(report.correct_share, 1.0);
+  EXPECT_EQ(report.result_points, 10u);
+  EXPECT_EQ(EvaluateLive({1, 1, 0, 0, 0, 0, 0, 0, 0, 0}).wrongly_named, 2u);
+  options.names_from_frame = 0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+TEST(MarkerAccuracyTest, IdentityMustCoverTheResult) {
+  const MarkerTrajectories truth = Truth(2, 3);
+  PublishedIdentity identity;
+  identity.track.assign(5, 0);
+  identity.name.assign(5, -1);
+  EXPECT_THROW(EvaluateMarkers(truth, truth, nullptr, {}, &identity), std::invalid_argument);
+}
+
 TEST(MarkerAccuracyTest, JsonHasTheDesignNames) {
   const MarkerTrajectories truth = Truth(2, 3);
   const nlohmann::json json = EvaluateMarkers(truth, truth, nullptr).ToJson();
   for (const char* key : {"rmse_mm", "ghosts_per_frame", "missing_per_frame", "trajectories", "fragmentation",
-                          "swaps", "max_error_mm", "p95_error_mm"}) {
+                          "swaps", "max_error_mm", "p95_error_mm", "id_changes", "name_changes",
+                          "unnamed_share"}) {
     EXPECT_TRUE(json.contains(key)) << key;
   }
   EXPECT_EQ(json["trajectories"], 2);

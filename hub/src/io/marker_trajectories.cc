@@ -13,6 +13,11 @@ std::string DefaultMarkerName(size_t index) {
   return name;
 }
 
+bool IsAnonymousMarkerName(const std::string& name) {
+  return name.size() >= 2 && name[0] == 'M' &&
+         std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
 int DetectUpAxis(const MarkerTrajectories& motion) {
   std::vector<double> spreads[3];
   for (size_t f = 0; f < motion.NumFrames(); ++f) {

@@ -48,6 +48,9 @@ struct MarkerTrajectories {
 
 // M001, M002, ... (1-based) for output markers that have no name from a marker list.
 std::string DefaultMarkerName(size_t index);
+// True for the hub's anonymous names (M followed by digits, as DefaultMarkerName writes): such a
+// column carries no name, whatever a truth file happens to call its markers.
+bool IsAnonymousMarkerName(const std::string& name);
 
 // The axis along which a body is tallest: the median over frames of the spread of the markers
 // along each axis. A standing, walking or running person is 1.5-1.9 m tall and at most about

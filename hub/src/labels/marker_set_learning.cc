@@ -27,12 +27,6 @@ Eigen::Matrix3d UpToZ(int up_axis) {
 
 namespace {
 
-// The hub's own names for unlabelled columns: M followed by digits.
-bool Anonymous(const std::string& name) {
-  return name.size() >= 2 && name[0] == 'M' &&
-         std::all_of(name.begin() + 1, name.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-
 struct PairAccumulator {
   double sum = 0.0, sum_squares = 0.0, min = 1e300, max = -1e300;
   size_t n = 0;
@@ -98,7 +92,7 @@ MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const st
     if (up < 0) throw std::invalid_argument(source + ": no frame with three markers (cannot tell up)");
     to_z[t] = UpToZ(up);
     for (const std::string& name : trial.names) {
-      if (Anonymous(name)) {
+      if (IsAnonymousMarkerName(name)) {
         column_marker[t].push_back(-1);
         continue;
       }

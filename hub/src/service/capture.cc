@@ -14,6 +14,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr uint64_t kFlushEveryNs = 50'000'000;
+const std::string kUnnamed;
 
 }  // namespace
 
@@ -116,8 +117,9 @@ void Captures::AddPublished(const LiveFrame& frame) {
   for (const LivePoint& p : frame.points) {
     const long long id = p.provisional() ? (p.provisional_track ? static_cast<long long>(p.provisional_track) : -1)
                                          : static_cast<long long>(p.marker);
+    const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;
     live_ << LivePointLine(frame.frame_number, p.position.x(), p.position.y(), p.position.z(), id, p.provisional(),
-                           p.views, p.rms_px);
+                           p.views, p.rms_px, name);
   }
 }
 

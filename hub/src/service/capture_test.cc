@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -62,6 +64,8 @@ TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
   frame.points.resize(2);
   frame.points[0].marker = 3;
   frame.points[1].provisional_track = 12;
+  frame.label_names = std::make_shared<const std::vector<std::string>>(std::vector<std::string>{"R.ASIS", "L.ASIS"});
+  frame.points[0].label = 1;
   captures.AddPublished(frame);
   EXPECT_EQ(StatusOf([&] { captures.Start("take2", stats, 2); }), 409);
   stats.nodes[1].frames = 25;
@@ -76,9 +80,13 @@ TEST_F(CaptureTest, StartWriteStopGivesACompleteSession) {
   EXPECT_EQ(info.dropped_camera_frames, 2u);
   EXPECT_EQ(info.source, "serve");
   EXPECT_TRUE(fs::exists(dir_ / "sessions" / "take1" / "calibration.json"));
-  const MarkerTrajectories live = ReadLivePoints((dir_ / "sessions" / "take1" / "live_points.tsv").string());
-  EXPECT_EQ(live.frame_numbers, std::vector<uint64_t>{7});
-  EXPECT_EQ(live.names, (std::vector<std::string>{"M004", "P1"}));
+  const LivePoints live = ReadLivePoints((dir_ / "sessions" / "take1" / "live_points.tsv").string());
+  EXPECT_EQ(live.points.frame_numbers, std::vector<uint64_t>{7});
+  EXPECT_EQ(live.points.names, (std::vector<std::string>{"M004", "P1"}));
+  // The name published on the marker is kept with its point; the provisional one is unnamed.
+  EXPECT_EQ(live.identity.names, std::vector<std::string>{"L.ASIS"});
+  EXPECT_EQ(live.identity.name, (std::vector<int32_t>{0, -1}));
+  EXPECT_EQ(live.identity.track, (std::vector<int64_t>{6, 25}));
   EXPECT_EQ(StatusOf([&] { captures.Stop(stats, 4); }), 409);
   EXPECT_EQ(StatusOf([&] { captures.Start("take1", stats, 5); }), 409);  // exists
   EXPECT_EQ(StatusOf([&] { captures.Start("../escape", stats, 5); }), 400);

@@ -1,6 +1,6 @@
 // OSC output (liblo from Debian): every published frame as one OSC bundle to each configured
 // target, for VR, game engines, show control and patchers (Max, Pure Data, TouchDesigner).
-// The address space (documented in the README; millimetres, world frame):
+// The address space (documented in docs/streams.md; millimetres, world frame):
 //   /mocap/frame      h:frame_number h:trigger_time_ns i:points i:bodies
 //   /mocap/marker     i:marker f:x f:y f:z f:residual_px i:views     (confirmed; marker 1-based)
 //   /mocap/point      h:track f:x f:y f:z f:residual_px i:views      (provisional; track -1: none)

@@ -1,5 +1,6 @@
 // The UDP stream's thread (see udp_stream_server.h).
 #include "stream/udp_stream_server.h"
+#include "stream/publish_latency.h"
 
 #include <arpa/inet.h>
 #include <sys/socket.h>
@@ -74,16 +75,12 @@ nlohmann::json UdpStreamServer::StatsJson() const {
           {"frames_dropped", s.frames_dropped},
           {"bad_requests", s.bad_requests},
           {"points_dropped", s.points_dropped},
-          {"publish_to_sent_ms", PublishToSentJson()}};
+          {"publish_to_sent_ms", PublishLatencyJson()}};
 }
 
-nlohmann::json UdpStreamServer::PublishToSentJson() const {
+nlohmann::json UdpStreamServer::PublishLatencyJson() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  return {{"p50", publish_to_sent_ms_.Percentile(50)},
-          {"p99", publish_to_sent_ms_.Percentile(99)},
-          {"max", publish_to_sent_ms_.max()},
-          {"frames", publish_to_sent_ms_.count()},
-          {"definition", "3D result published -> its last datagram handed to the kernel"}};
+  return PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last datagram handed to the kernel");
 }
 
 void UdpStreamServer::Publish(SharedFrame frame) {

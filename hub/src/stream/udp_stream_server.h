@@ -67,7 +67,7 @@ class UdpStreamServer {
   void Run();
   void ServeRequests(uint64_t now_ns);
   void Send(const service::LiveFrame& frame);
-  nlohmann::json PublishToSentJson() const;
+  nlohmann::json PublishLatencyJson() const;
 
   const UdpStreamOptions options_;
   UdpSocket socket_;

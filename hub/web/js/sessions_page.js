@@ -1,7 +1,9 @@
 // Sessions: capture start/stop, the sessions directory, each session's files to download, and
-// playback of a marker file (a reconstructed TRC, or the capture's live_points.tsv: what serve
-// published) in a 3D view with a timeline: play, pause, scrub, speed.
+// playback of a marker file (a reconstructed TRC, the capture's live_points.tsv: what serve
+// published, or a .mca archive decoded in a Web Worker as it streams in) in a 3D view with a
+// timeline: play, pause, scrub, speed.
 import { el, getJson, getText, postJson } from './api.js';
+import { openArchive } from './archive_recording.js';
 import { parseMarkerFile } from './marker_files.js';
 import { Scene3D } from './scene3d.js';
 
@@ -13,8 +15,12 @@ function defaultName() {
 }
 
 function playable(name) {
-  return name.endsWith('.trc') || name === 'live_points.tsv';
+  return name.endsWith('.trc') || name.endsWith('.mca') || name === 'live_points.tsv';
 }
+
+// A parsed file holds its frames; an archive decodes them as they arrive (archive_recording.js).
+const frameCount = (r) => (r.pointsAt ? r.frameCount : r.frames.length);
+const pointsAt = (r, i) => (r.pointsAt ? r.pointsAt(i) : r.frames[i]);
 
 function kilobytes(bytes) {
   return bytes < 1024 ? `${bytes} B` : bytes < 1048576 ? `${(bytes / 1024).toFixed(1)} KiB` :
@@ -49,8 +55,8 @@ class Player {
     this.recording = recording;
     this.playing = false;
     this.scene.names = recording.markers.length ? recording.markers : null;
-    this.slider.max = String(Math.max(recording.frames.length - 1, 0));
-    this.title.textContent = `${title}: ${recording.frames.length} frames at ${recording.rate} Hz` +
+    this.slider.max = String(Math.max(frameCount(recording) - 1, 0));
+    this.title.textContent = `${title}: ${frameCount(recording)} frames at ${recording.rate} Hz` +
       (recording.markers.length ? `, ${recording.markers.length} markers` : '');
     this.seek(0);
     this.play();
@@ -62,15 +68,15 @@ class Player {
   }
 
   seek(index) {
-    if (!this.recording || !this.recording.frames.length) return;
-    this.index = Math.max(0, Math.min(index, this.recording.frames.length - 1));
+    if (!this.recording || !frameCount(this.recording)) return;
+    this.index = Math.max(0, Math.min(index, frameCount(this.recording) - 1));
     this.time = this.frameTime(this.index);
     this.last = performance.now();
     this.show();
   }
 
   show() {
-    this.scene.setPoints(this.recording.frames[this.index]);
+    this.scene.setPoints(pointsAt(this.recording, this.index));
     this.slider.value = String(this.index);
     this.label.textContent = `${this.time.toFixed(2)} s · frame ${this.recording.frameNumbers[this.index]}`;
     this.framesShown += 1;
@@ -78,7 +84,7 @@ class Player {
 
   play() {
     if (!this.recording) return;
-    if (this.index >= this.recording.frames.length - 1) this.seek(0);
+    if (this.index >= frameCount(this.recording) - 1) this.seek(0);
     this.playing = true;
     this.last = performance.now();
     this.playButton.textContent = 'Pause';
@@ -99,7 +105,7 @@ class Player {
     const now = performance.now();
     this.time += ((now - this.last) / 1000) * this.speed;
     this.last = now;
-    const frames = this.recording.frames.length;
+    const frames = frameCount(this.recording);
     let i = this.index;
     while (i + 1 < frames && this.frameTime(i + 1) <= this.time) ++i;
     if (i !== this.index) {
@@ -220,8 +226,18 @@ export class SessionsPage {
 
   async play(session, file) {
     this.player.title.textContent = `loading ${file}…`;
+    const url = `/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(file)}`;
     try {
-      const text = await getText(`/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(file)}`);
+      if (file.endsWith('.mca')) {
+        const recording = await openArchive(url, (r) => {
+          this.player.title.dataset.decoded = String(r.decodedFrames);
+          if (r.error) this.player.title.textContent = `${file}: ${r.error}`;
+        });
+        this.player.title.dataset.decoded = String(recording.decodedFrames);
+        this.player.load(recording, `${session}/${file}`);
+        return;
+      }
+      const text = await getText(url);
       this.player.load(parseMarkerFile(file, text), `${session}/${file}`);
     } catch (e) {
       this.player.title.textContent = `${file}: ${e.message}`;

@@ -5,7 +5,6 @@
 #include <fcntl.h>
 #include <netinet/tcp.h>
 #include <poll.h>
-#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -82,7 +81,7 @@ void QtmRtOptions::Check() const {
 }
 
 QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
-    : options_((options.Check(), std::move(options))), queue_(options_.queue_frames) {
+    : options_((options.Check(), std::move(options))), queue_(options_.queue_frames, "Qualisys RT") {
   state_.system = std::move(system);
   if (!state_.system.label_names.empty())
     state_.names.UseMarkerSet(std::make_shared<const std::vector<std::string>>(state_.system.label_names));
@@ -106,13 +105,10 @@ QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
   socklen_t len = sizeof addr;
   getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&addr), &len);
   port_ = ntohs(addr.sin_port);
-  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   udp_fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (wake_fd_ < 0 || udp_fd_ < 0) {
-    const std::runtime_error error = SocketError("eventfd/udp socket");
+  if (udp_fd_ < 0) {
+    const std::runtime_error error = SocketError("udp socket");
     close(listen_fd_);
-    if (wake_fd_ >= 0) close(wake_fd_);
-    if (udp_fd_ >= 0) close(udp_fd_);
     throw error;
   }
   thread_ = std::thread([this] { Run(); });
@@ -126,20 +122,14 @@ QtmRtServer::~QtmRtServer() {
   }
   watch_wake_.notify_all();
   if (watcher_.joinable()) watcher_.join();
-  const uint64_t one = 1;
-  (void)!write(wake_fd_, &one, sizeof one);
+  queue_.Wake();
   if (thread_.joinable()) thread_.join();
-  queue_.Close();
   close(listen_fd_);
-  close(wake_fd_);
   close(udp_fd_);
 }
 
 void QtmRtServer::Publish(SharedFrame frame) {
   queue_.Push(std::move(frame));
-  const uint64_t one = 1;
-  // A full counter (never in practice) still leaves the thread readable: nothing to handle.
-  (void)!write(wake_fd_, &one, sizeof one);
 }
 
 QtmRtStats QtmRtServer::stats() const {
@@ -162,7 +152,7 @@ void QtmRtServer::Run() {
   while (!stop_) {
     fds.clear();
     fds.push_back({listen_fd_, POLLIN, 0});
-    fds.push_back({wake_fd_, POLLIN, 0});
+    fds.push_back({queue_.fd(), POLLIN, 0});
     // A closing client is not read any more: its unread bytes must not wake the loop.
     for (const auto& c : clients_)
       fds.push_back({c->fd, static_cast<short>((c->closing ? 0 : POLLIN) | (c->queue.empty() ? 0 : POLLOUT)), 0});
@@ -170,10 +160,7 @@ void QtmRtServer::Run() {
       log::Error("Qualisys RT: poll failed: {}", std::strerror(errno));
       break;
     }
-    if (fds[1].revents & POLLIN) {
-      uint64_t count = 0;
-      (void)!read(wake_fd_, &count, sizeof count);
-    }
+    if (fds[1].revents & POLLIN) queue_.Acknowledge();
     TakeFrames();
     TakeCaptureState();
     // Clients accepted in this turn are not in fds yet: only the first fds.size() - 2 are polled.
@@ -327,7 +314,7 @@ void QtmRtServer::Flush(Client& c) {
 }
 
 void QtmRtServer::TakeFrames() {
-  while (SharedFrame frame = queue_.Pop(std::chrono::milliseconds(0))) {
+  while (SharedFrame frame = queue_.PopNow()) {
     last_frame_ns_ = SteadyNowNs();
     state_.names.Update(*frame);
     state_.latest = frame;
@@ -363,10 +350,7 @@ void QtmRtServer::WatchCapture() {
     } catch (const std::exception& e) {
       log::Debug("Qualisys RT: capture state unknown: {}", e.what());
     }
-    if (state && capture_state_.exchange(state) != state) {
-      const uint64_t one = 1;
-      (void)!write(wake_fd_, &one, sizeof one);
-    }
+    if (state && capture_state_.exchange(state) != state) queue_.Wake();
     lock.lock();
     watch_wake_.wait_for(lock, std::chrono::duration<double>(options_.capture_poll_s), [this] { return stop_.load(); });
   }

@@ -27,7 +27,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "stream/frame_queue.h"
+#include "stream/polled_frame_queue.h"
 #include "stream/qtm/rt_session.h"
 
 namespace mocap::stream::qtm {
@@ -100,10 +100,9 @@ class QtmRtServer {
 
   const QtmRtOptions options_;
   int listen_fd_ = -1;
-  int wake_fd_ = -1;
   int udp_fd_ = -1;
   uint16_t port_ = 0;
-  FrameQueue queue_;
+  PolledFrameQueue queue_;
   RtServerState state_;  // the thread's own
   std::vector<std::unique_ptr<Client>> clients_;
   uint64_t last_frame_ns_ = 0;  // steady clock

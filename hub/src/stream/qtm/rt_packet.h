@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <string>
 
+#include "util/little_endian.h"
+
 namespace mocap::stream::qtm {
 
 enum class PacketType : uint32_t {
@@ -39,11 +41,11 @@ constexpr size_t kMaxCommandPacket = 16 * 1024;
 // Anything claiming more than this is not a packet of this protocol: the connection is closed.
 constexpr size_t kMaxFramedPacket = 1024 * 1024;
 
-void PutU16(std::string* out, uint16_t v);
-void PutU32(std::string* out, uint32_t v);
-void PutU64(std::string* out, uint64_t v);
-void PutF32(std::string* out, float v);
-uint32_t GetU32(const uint8_t* p);
+using le::GetU32;
+using le::PutF32;
+using le::PutU16;
+using le::PutU32;
+using le::PutU64;
 
 // A whole packet: header + body.
 std::string MakePacket(PacketType type, const std::string& body);

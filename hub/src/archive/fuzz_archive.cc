@@ -1,0 +1,24 @@
+// libFuzzer entry for the .mca archive reader: any bytes must decode or throw runtime_error naming
+// the source; what decodes must expand to trajectories of the declared shape and encode back to
+// the same bytes.
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "archive/archive_format.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string bytes(reinterpret_cast<const char*>(data), size);
+  mocap::CompressedTrajectories archive;
+  try {
+    archive = mocap::DecodeArchive(bytes, "fuzz");
+  } catch (const std::runtime_error& error) {
+    if (std::string(error.what()).rfind("fuzz: ", 0) != 0) __builtin_trap();
+    return 0;
+  }
+  const mocap::MarkerTrajectories decoded = mocap::DecompressTrajectories(archive);
+  if (decoded.points.size() != decoded.NumFrames() * decoded.NumMarkers()) __builtin_trap();
+  if (mocap::EncodeArchive(archive) != bytes) __builtin_trap();
+  return 0;
+}

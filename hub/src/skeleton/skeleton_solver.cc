@@ -1,0 +1,257 @@
+// Per-frame solve: one pose parameter block, one residual block per marker with an analytic
+// Jacobian (a rotation moves a point by axis x (point - centre)), forward kinematics shared by
+// all markers of one evaluation through a cache keyed on the pose's values.
+#include "skeleton/skeleton_solver.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <ceres/ceres.h>
+
+#include "skeleton/kinematics.h"
+
+namespace mocap {
+namespace {
+
+constexpr double kFreshStartLossScaleMm = 100.0;
+
+// Forward kinematics of the last pose seen: Ceres evaluates every marker at the same pose.
+class PoseCache {
+ public:
+  explicit PoseCache(const Skeleton* skeleton) : skeleton_(skeleton), last_(skeleton->NumPoseParameters(), NAN) {}
+  const SkeletonPoseState& At(const double* pose) {
+    if (std::memcmp(pose, last_.data(), last_.size() * sizeof(double)) != 0) {
+      ForwardKinematics(*skeleton_, pose, nullptr, &state_);
+      std::memcpy(last_.data(), pose, last_.size() * sizeof(double));
+    }
+    return state_;
+  }
+
+ private:
+  const Skeleton* skeleton_;
+  std::vector<double> last_;
+  SkeletonPoseState state_;
+};
+
+class MarkerPoseCost : public ceres::CostFunction {
+ public:
+  MarkerPoseCost(const Skeleton* skeleton, int marker, std::vector<int> chain_dofs, PoseCache* cache,
+                 const Eigen::Vector3d* observed)
+      : skeleton_(skeleton), marker_(marker), chain_dofs_(std::move(chain_dofs)), cache_(cache), observed_(observed),
+        scale_(std::sqrt(skeleton->markers[marker].weight)) {
+    set_num_residuals(3);
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(skeleton->NumPoseParameters()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int n = parameter_block_sizes()[0];
+    if (!observed_->allFinite()) {
+      residuals[0] = residuals[1] = residuals[2] = 0.0;
+      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + 3 * n, 0.0);
+      return true;
+    }
+    const SkeletonPoseState& state = cache_->At(parameters[0]);
+    const SkeletonMarker& m = skeleton_->markers[marker_];
+    const Eigen::Vector3d p = MarkerInSkeleton(state, m.segment, m.offset);
+    Eigen::Map<Eigen::Vector3d> residual(residuals);
+    residual = scale_ * (p - *observed_);
+    if (jacobians && jacobians[0]) {
+      double* j = jacobians[0];
+      std::fill(j, j + 3 * n, 0.0);
+      for (int r = 0; r < 3; ++r) j[r * n + r] = scale_;
+      for (int k : chain_dofs_) {
+        const Eigen::Vector3d d = scale_ * state.axis[k].cross(p - state.origin[state.dof_segment[k]]);
+        for (int r = 0; r < 3; ++r) j[r * n + k] = d[r];
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Skeleton* skeleton_;
+  int marker_;
+  std::vector<int> chain_dofs_;
+  PoseCache* cache_;
+  const Eigen::Vector3d* observed_;
+  double scale_;
+};
+
+}  // namespace
+
+void SkeletonSolveOptions::Check() const {
+  if (!(loss_scale_mm > 0.0 && loss_scale_mm <= 1000.0))
+    throw std::invalid_argument("loss_scale_mm: " + std::to_string(loss_scale_mm) + " not in (0, 1000]");
+  if (max_iterations < 1 || max_iterations > 1000)
+    throw std::invalid_argument("max_iterations: " + std::to_string(max_iterations) + " not in 1..1000");
+  if (!(restart_rms_mm > 0.0)) throw std::invalid_argument("restart_rms_mm: must be > 0");
+  if (min_markers < 3) throw std::invalid_argument("min_markers: " + std::to_string(min_markers) + " is below 3");
+}
+
+Eigen::Vector3d EulerFromRotation(const Eigen::Matrix3d& r, int i, int j, int k) {
+  if (i == k) throw std::invalid_argument("EulerFromRotation: three distinct axes are needed");
+  // An even permutation of (x, y, z) gives sin(b) = r(i, k); an odd one its negative.
+  const double sign = ((j - i + 3) % 3 == 1) ? 1.0 : -1.0;
+  const double sb = std::max(-1.0, std::min(1.0, sign * r(i, k)));
+  const double b = std::asin(sb);
+  const double a = std::atan2(-sign * r(j, k), r(k, k));
+  const double c = std::atan2(-sign * r(i, j), r(i, i));
+  return {a, b, c};
+}
+
+bool InitialRootPose(const Skeleton& skeleton, const std::vector<Eigen::Vector3d>& observed, std::vector<double>* pose) {
+  pose->assign(skeleton.NumPoseParameters(), 0.0);
+  SkeletonPoseState rest;
+  ForwardKinematics(skeleton, pose->data(), nullptr, &rest);
+  std::vector<int> root, all;
+  for (size_t m = 0; m < skeleton.markers.size(); ++m) {
+    if (!observed[m].allFinite()) continue;
+    all.push_back(static_cast<int>(m));
+    if (skeleton.markers[m].segment == 0) root.push_back(static_cast<int>(m));
+  }
+  const std::vector<int>& use = root.size() >= 3 ? root : all;
+  if (use.size() < 3) return false;
+  Eigen::Matrix3Xd from(3, use.size()), to(3, use.size());
+  for (size_t i = 0; i < use.size(); ++i) {
+    const SkeletonMarker& m = skeleton.markers[use[i]];
+    from.col(i) = MarkerInSkeleton(rest, m.segment, m.offset);
+    to.col(i) = observed[use[i]];
+  }
+  const Eigen::Matrix4d t = Eigen::umeyama(from, to, false);
+  if (!t.allFinite()) return false;
+  const auto& dofs = skeleton.segments[0].dofs;
+  const Eigen::Vector3d angles = EulerFromRotation(t.block<3, 3>(0, 0), dofs[0].axis, dofs[1].axis, dofs[2].axis);
+  for (int i = 0; i < 3; ++i) {
+    (*pose)[i] = t(i, 3);
+    (*pose)[3 + i] = angles[i];
+  }
+  return true;
+}
+
+struct SkeletonSolver::Impl {
+  Skeleton skeleton;
+  SkeletonSolveOptions options;
+  std::vector<Eigen::Vector3d> observed;
+  std::vector<double> pose;
+  PoseCache cache;
+  ceres::Problem problem;
+  ceres::LossFunctionWrapper* loss = nullptr;  // owned by the problem
+  ceres::Solver::Options solver_options;
+  SkeletonPoseState state;
+
+  Impl(const Skeleton& s, const SkeletonSolveOptions& o)
+      : skeleton(s), options(o), observed(s.markers.size(), Eigen::Vector3d::Constant(NAN)),
+        pose(s.NumPoseParameters(), 0.0), cache(&skeleton) {}
+};
+
+SkeletonSolver::SkeletonSolver(const Skeleton& skeleton, const SkeletonSolveOptions& options)
+    : impl_(std::make_unique<Impl>(skeleton, options)) {
+  options.Check();
+  skeleton.Check();
+  Impl& s = *impl_;
+  const auto chains = SegmentChains(s.skeleton);
+  std::vector<std::vector<int>> segment_dofs(s.skeleton.NumSegments());
+  for (size_t g = 0; g < s.skeleton.NumSegments(); ++g) {
+    const size_t first = s.skeleton.FirstDof(g);
+    for (size_t k = 0; k < s.skeleton.segments[g].dofs.size(); ++k) segment_dofs[g].push_back(static_cast<int>(first + k));
+  }
+  s.problem.AddParameterBlock(s.pose.data(), static_cast<int>(s.pose.size()));
+  s.loss = new ceres::LossFunctionWrapper(new ceres::CauchyLoss(options.loss_scale_mm), ceres::TAKE_OWNERSHIP);
+  for (size_t m = 0; m < s.skeleton.markers.size(); ++m) {
+    std::vector<int> dofs;
+    for (int g : chains[s.skeleton.markers[m].segment])
+      dofs.insert(dofs.end(), segment_dofs[g].begin(), segment_dofs[g].end());
+    s.problem.AddResidualBlock(new MarkerPoseCost(&s.skeleton, static_cast<int>(m), dofs, &s.cache, &s.observed[m]),
+                               s.loss, s.pose.data());
+  }
+  std::vector<double> lower, upper;
+  PoseBounds(s.skeleton, &lower, &upper);
+  for (size_t k = 0; k < lower.size(); ++k) {
+    if (std::isfinite(lower[k])) s.problem.SetParameterLowerBound(s.pose.data(), static_cast<int>(k), lower[k]);
+    if (std::isfinite(upper[k])) s.problem.SetParameterUpperBound(s.pose.data(), static_cast<int>(k), upper[k]);
+  }
+  s.solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  s.solver_options.max_num_iterations = options.max_iterations;
+  s.solver_options.num_threads = 1;
+  s.solver_options.logging_type = ceres::SILENT;
+  s.solver_options.function_tolerance = 1e-7;
+  s.solver_options.parameter_tolerance = 1e-7;
+}
+
+SkeletonSolver::~SkeletonSolver() = default;
+
+bool SkeletonSolver::FreshStart() {
+  Impl& s = *impl_;
+  if (!InitialRootPose(s.skeleton, s.observed, &s.pose)) return false;
+  // From the rest pose every marker may be far off: a convex loss first brings the limbs near,
+  // then the solve proper (Cauchy) can tell outliers from markers still on their way.
+  s.loss->Reset(new ceres::HuberLoss(kFreshStartLossScaleMm), ceres::TAKE_OWNERSHIP);
+  ceres::Solver::Summary summary;
+  ceres::Solve(s.solver_options, &s.problem, &summary);
+  s.loss->Reset(new ceres::CauchyLoss(s.options.loss_scale_mm), ceres::TAKE_OWNERSHIP);
+  return true;
+}
+
+void SkeletonSolver::RunSolver(SkeletonFrameFit* fit) {
+  Impl& s = *impl_;
+  ceres::Solver::Summary summary;
+  ceres::Solve(s.solver_options, &s.problem, &summary);
+  fit->iterations += static_cast<int>(summary.iterations.size());
+  ForwardKinematics(s.skeleton, s.pose.data(), nullptr, &s.state);
+  fit->pose = s.pose;
+  fit->residual_mm.assign(s.skeleton.markers.size(), NAN);
+  double sum = 0.0;
+  fit->max_mm = 0.0;
+  for (size_t m = 0; m < s.skeleton.markers.size(); ++m) {
+    if (!s.observed[m].allFinite()) continue;
+    const SkeletonMarker& marker = s.skeleton.markers[m];
+    const double d = (MarkerInSkeleton(s.state, marker.segment, marker.offset) - s.observed[m]).norm();
+    fit->residual_mm[m] = d;
+    sum += d * d;
+    fit->max_mm = std::max(fit->max_mm, d);
+  }
+  fit->rms_mm = fit->markers > 0 ? std::sqrt(sum / fit->markers) : 0.0;
+  fit->solved = summary.IsSolutionUsable();
+}
+
+SkeletonFrameFit SkeletonSolver::Solve(const std::vector<Eigen::Vector3d>& observed) {
+  Impl& s = *impl_;
+  if (observed.size() != s.skeleton.markers.size())
+    throw std::invalid_argument("SkeletonSolver::Solve: " + std::to_string(observed.size()) + " points for " +
+                                std::to_string(s.skeleton.markers.size()) + " markers");
+  SkeletonFrameFit fit;
+  for (size_t m = 0; m < observed.size(); ++m) {
+    s.observed[m] = observed[m];
+    if (observed[m].allFinite()) ++fit.markers;
+  }
+  if (fit.markers < s.options.min_markers) {
+    has_previous_ = false;
+    fit.residual_mm.assign(observed.size(), NAN);
+    return fit;
+  }
+  const bool warm = has_previous_;
+  if (!warm && !FreshStart()) {
+    fit.residual_mm.assign(observed.size(), NAN);
+    return fit;
+  }
+  const std::vector<double> start = s.pose;
+  RunSolver(&fit);
+  if (warm && (!fit.solved || fit.rms_mm > s.options.restart_rms_mm)) {
+    SkeletonFrameFit fresh;
+    fresh.markers = fit.markers;
+    fresh.iterations = fit.iterations;
+    if (FreshStart()) {
+      RunSolver(&fresh);
+      fresh.restarted = true;
+      if (fresh.solved && (!fit.solved || fresh.rms_mm < fit.rms_mm)) fit = fresh;
+    }
+    s.pose = fit.pose;
+  }
+  has_previous_ = fit.solved;
+  if (!fit.solved) s.pose = start;
+  return fit;
+}
+
+}  // namespace mocap

@@ -1,0 +1,98 @@
+// The NatNet server of `mocap-hub serve --natnet HOST:PORT` (Motive's command port, 1510 by
+// default): clients send their requests there (natnet_commands.h answers them); frames go to the
+// multicast group (239.255.42.99:1511 by default, as Motive) or, with --natnet-unicast, to every
+// client that connected, at the address it sent from (its command socket, where NatNet SDK
+// clients read unicast frames), for as long as it keeps sending (any request or NAT_KEEPALIVE
+// within `client_timeout_s`).
+//
+// Threads: one thread of its own runs a poll() loop over the socket and a wake-up eventfd;
+// Publish() (the hub's loop) only queues the shared frame. Each frame is encoded once and handed
+// to the kernel for the group or every client; the time from the hub's publish to the last
+// send is sampled (stats publish_to_sent_ms). Errors: the constructor throws
+// std::invalid_argument for bad options and std::runtime_error when it cannot bind; nothing a
+// client sends throws (bad requests are answered and counted).
+#pragma once
+
+#include <netinet/in.h>
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "ingest/udp_socket.h"
+#include "stream/polled_frame_queue.h"
+#include "stream/natnet/natnet_commands.h"
+#include "util/latency_sample.h"
+
+namespace mocap::stream::natnet {
+
+struct NatNetOptions {
+  std::string listen = "0.0.0.0:1510";     // the command port; port 0 picks a free one
+  std::string multicast = "239.255.42.99";  // frames' group; empty: unicast to connected clients
+  uint16_t data_port = 1511;                // the group's port (NAT_SERVERINFO tells clients)
+  int multicast_ttl = 1;
+  std::string version = "4.1";              // bitstream version until a client asks another
+  size_t max_clients = 256;                 // unicast subscribers; more are told so
+  double client_timeout_s = 10.0;           // unicast: silence this long ends a subscription
+  size_t queue_frames = 64;
+
+  void Check() const;  // throws std::invalid_argument naming the option
+};
+
+struct NatNetStats {
+  size_t clients = 0;            // unicast subscribers now
+  uint64_t requests = 0;
+  uint64_t refused = 0;          // failed commands, malformed or unknown requests, clients over max
+  uint64_t frames = 0;           // frames sent (to the group or anyone)
+  uint64_t datagrams = 0;
+  uint64_t send_failures = 0;
+  uint64_t frames_dropped = 0;   // this thread fell behind the hub
+  uint64_t points_dropped = 0;   // left out to fit a datagram
+};
+
+class NatNetServer {
+ public:
+  NatNetServer(NatNetOptions options, Model model);
+  ~NatNetServer();
+  NatNetServer(const NatNetServer&) = delete;
+  NatNetServer& operator=(const NatNetServer&) = delete;
+
+  uint16_t port() const { return socket_.port(); }
+  void Publish(SharedFrame frame);
+  NatNetStats stats() const;
+  nlohmann::json StatsJson() const;
+
+ private:
+  struct Client {
+    sockaddr_in address{};
+    uint64_t last_seen_ns = 0;
+  };
+
+  void Run();
+  void Serve(uint64_t now_ns);
+  void Subscribe(const sockaddr_in& from, Subscription what, uint64_t now_ns);
+  void Send(const service::LiveFrame& frame);
+  std::string EncodeLatest(uint64_t* points_dropped);
+
+  const NatNetOptions options_;
+  const Model model_;
+  UdpSocket socket_;
+  bool multicast_ = false;
+  sockaddr_in group_{};
+  CommandState state_;           // the thread's own
+  std::vector<Client> clients_;  // the thread's own
+  SharedFrame latest_;           // the thread's own
+  PolledFrameQueue queue_;
+  mutable std::mutex stats_mutex_;
+  NatNetStats stats_;
+  LatencySample publish_to_sent_ms_{20000};
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace mocap::stream::natnet

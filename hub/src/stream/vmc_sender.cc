@@ -1,0 +1,137 @@
+// VMC bundles per frame over liblo (see vmc_sender.h).
+#include "stream/vmc_sender.h"
+#include "stream/publish_latency.h"
+
+#include <lo/lo.h>
+
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "ingest/udp_socket.h"
+
+namespace mocap::stream {
+namespace {
+
+constexpr std::chrono::milliseconds kIdleWait{100};
+constexpr double kMetresPerMm = 1e-3;
+
+Eigen::Vector3d AxisOf(const std::string& up) {
+  if (up.size() != 2 || (up[0] != '+' && up[0] != '-') || up[1] < 'X' || up[1] > 'Z')
+    throw std::invalid_argument("VMC up axis '" + up + "' must be one of +X -X +Y -Y +Z -Z");
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  axis[up[1] - 'X'] = up[0] == '+' ? 1.0 : -1.0;
+  return axis;
+}
+
+}  // namespace
+
+Eigen::Matrix3d VmcAxes(const std::string& up_axis) {
+  const Eigen::Vector3d u = AxisOf(up_axis);
+  const Eigen::Vector3d r = u.x() != 0.0 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d f = -r.cross(u);
+  Eigen::Matrix3d m;
+  m.row(0) = r.transpose();
+  m.row(1) = u.transpose();
+  m.row(2) = f.transpose();
+  return m;
+}
+
+void VmcOptions::Check() const {
+  const HostPort hp = ParseHostPort(target);
+  if (hp.host.empty() || hp.port == 0) throw std::invalid_argument("VMC target '" + target + "' must be HOST:PORT");
+  AxisOf(up_axis);
+  if (!(rate_hz > 0.0)) throw std::invalid_argument("VMC: rate must be > 0 Hz");
+  if (queue_frames == 0) throw std::invalid_argument("VMC queue must hold at least one frame");
+}
+
+std::vector<VmcMessage> VmcBundle(const service::LiveFrame& frame, const VmcOptions& options) {
+  const Eigen::Matrix3d m = VmcAxes(options.up_axis);
+  int tracked = 0;
+  for (const service::LiveBody& b : frame.bodies) tracked += b.tracked;
+  std::vector<VmcMessage> out;
+  out.push_back({"/VMC/Ext/OK", "iiii", {}, {1, 3, 0, tracked > 0 ? 1 : 0}, ""});
+  out.push_back({"/VMC/Ext/T", "f", {static_cast<float>(static_cast<double>(frame.frame_number) / options.rate_hz)}, {}, ""});
+  for (const service::LiveBody& b : frame.bodies) {
+    if (!b.tracked) continue;
+    const Eigen::Vector3d p = m * b.position * kMetresPerMm;
+    const Eigen::Quaterniond q(Eigen::Matrix3d(m * b.orientation.normalized().toRotationMatrix() * m.transpose()));
+    out.push_back({"/VMC/Ext/Tra/Pos",
+                   "sfffffff",
+                   {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()),
+                    static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()),
+                    static_cast<float>(q.w())},
+                   {},
+                   b.name});
+  }
+  return out;
+}
+
+struct VmcSender::Target {
+  lo_address address = nullptr;
+  ~Target() {
+    if (address) lo_address_free(address);
+  }
+};
+
+VmcSender::VmcSender(VmcOptions options)
+    : options_((options.Check(), std::move(options))), target_(std::make_unique<Target>()),
+      queue_(options_.queue_frames) {
+  const HostPort hp = ParseHostPort(options_.target);
+  target_->address = lo_address_new(hp.host.c_str(), std::to_string(hp.port).c_str());
+  if (!target_->address) throw std::invalid_argument("VMC target '" + options_.target + "': liblo cannot use it");
+  thread_ = std::thread([this] { Run(); });
+}
+
+VmcSender::~VmcSender() {
+  stop_ = true;
+  queue_.Close();
+  if (thread_.joinable()) thread_.join();
+}
+
+VmcStats VmcSender::stats() const {
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  VmcStats s = stats_;
+  s.frames_dropped = queue_.dropped();
+  return s;
+}
+
+nlohmann::json VmcSender::StatsJson() const {
+  const VmcStats s = stats();
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  return {{"target", options_.target},
+          {"up_axis", options_.up_axis},
+          {"bundles", s.bundles},
+          {"send_failures", s.send_failures},
+          {"frames_dropped", s.frames_dropped},
+          {"publish_to_sent_ms",
+           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its VMC bundle handed to the kernel")}};
+}
+
+void VmcSender::Run() {
+  while (!stop_) {
+    const SharedFrame frame = queue_.Pop(kIdleWait);
+    if (!frame) continue;
+    lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+    for (const VmcMessage& v : VmcBundle(*frame, options_)) {
+      lo_message msg = lo_message_new();
+      size_t f = 0, i = 0;
+      for (char t : v.types) {
+        if (t == 's') lo_message_add_string(msg, v.text.c_str());
+        else if (t == 'f') lo_message_add_float(msg, v.floats[f++]);
+        else lo_message_add_int32(msg, v.ints[i++]);
+      }
+      lo_bundle_add_message(bundle, v.path.c_str(), msg);
+    }
+    const bool sent = lo_send_bundle(target_->address, bundle) > 0;
+    lo_bundle_free_recursive(bundle);
+    const uint64_t done_ns = RealtimeNowNs();
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    (sent ? stats_.bundles : stats_.send_failures)++;
+    if (sent && done_ns >= frame->publish_ns)
+      publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame->publish_ns) * 1e-6);
+  }
+}
+
+}  // namespace mocap::stream

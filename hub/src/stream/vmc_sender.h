@@ -1,0 +1,86 @@
+// VMC (Virtual Motion Capture's OSC protocol, read by VSeeFace, the VMC4U/VMC4B receivers and
+// Unity/Blender tools) from `mocap-hub serve --vmc HOST:PORT`: every published frame as one OSC
+// bundle (liblo) of
+//   /VMC/Ext/OK       i:1 (loaded) i:3 (calibrated) i:0 (normal calibration) i:tracking
+//                     (1 when a rigid body is fitted in the frame, else 0)
+//   /VMC/Ext/T        f:the frame's capture time, s since the session epoch (frame number / rate)
+//   /VMC/Ext/Tra/Pos  s:body name f:x f:y f:z f:qx f:qy f:qz f:qw     (each fitted rigid body)
+// in Unity's frame as VMC defines it: metres, left-handed, Y up. The hub's world (right-handed,
+// its up axis read from the cameras as for Qualisys RT) maps onto it by a reflection: Unity X
+// is world +X (+Y when up is ±X), Unity Y is world up, Unity Z = -(X × Y) in world terms;
+// rotations are conjugated by the same map (vmc_axes in the .cc). Skeleton bones (/VMC/Ext/Bone/Pos,
+// /VMC/Ext/Root/Pos) follow once the hub has skeletons.
+//
+// Threads: Publish() from the hub's loop only queues; the sender's own thread builds and sends.
+// Errors: the constructor throws std::invalid_argument for a bad target or up axis.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json_fwd.hpp>
+
+#include "stream/frame_queue.h"
+#include "util/latency_sample.h"
+
+namespace mocap::stream {
+
+struct VmcOptions {
+  std::string target;            // HOST:PORT (VMC receivers listen on 39539 by default)
+  std::string up_axis = "+Y";    // the hub world's up: "+X", "-X", "+Y", "-Y", "+Z", "-Z"
+  double rate_hz = 0.0;          // serve's --rate (for /VMC/Ext/T)
+  size_t queue_frames = 64;
+
+  void Check() const;  // throws std::invalid_argument
+};
+
+// The world -> Unity map of an up axis (a reflection: determinant -1).
+Eigen::Matrix3d VmcAxes(const std::string& up_axis);
+
+struct VmcMessage {
+  std::string path;
+  std::string types;
+  std::vector<float> floats;  // f arguments in order
+  std::vector<int> ints;      // i arguments in order
+  std::string text;           // the s argument, if any
+};
+// The messages of one frame's bundle, in order: what the sender sends (tests read it here).
+std::vector<VmcMessage> VmcBundle(const service::LiveFrame& frame, const VmcOptions& options);
+
+struct VmcStats {
+  uint64_t bundles = 0;
+  uint64_t send_failures = 0;
+  uint64_t frames_dropped = 0;
+};
+
+class VmcSender {
+ public:
+  explicit VmcSender(VmcOptions options);
+  ~VmcSender();
+  VmcSender(const VmcSender&) = delete;
+  VmcSender& operator=(const VmcSender&) = delete;
+
+  void Publish(SharedFrame frame) { queue_.Push(std::move(frame)); }
+  VmcStats stats() const;
+  nlohmann::json StatsJson() const;
+
+ private:
+  struct Target;
+  void Run();
+
+  const VmcOptions options_;
+  std::unique_ptr<Target> target_;
+  FrameQueue queue_;
+  mutable std::mutex stats_mutex_;
+  VmcStats stats_;
+  LatencySample publish_to_sent_ms_{20000};
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace mocap::stream
