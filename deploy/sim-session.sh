@@ -135,7 +135,7 @@ hub_pin=() node_pin=()
 [ -z "$hub_cpus" ] || hub_pin+=(taskset -c "$hub_cpus")
 [ -z "$node_cpus" ] || node_pin=(taskset -c "$node_cpus")
 "${hub_pin[@]}" "$hub" serve --listen 0.0.0.0:0 --api 127.0.0.1:0 --calibration "$frames_dir/calibration.json" \
-    --sessions-dir "$out" --rate "$rate" --epoch-ns "$epoch" --keys "$keys" $serve_args \
+    --sessions-dir "$out" --api-auth "$out/.api-auth" --rate "$rate" --epoch-ns "$epoch" --keys "$keys" $serve_args \
     > /dev/null 2> "$out/serve.log" &
 hub_pid=$!
 pids+=("$hub_pid")
@@ -148,7 +148,7 @@ for _ in $(seq 100); do
     sleep 0.05
 done
 [ -n "$port" ] && [ -n "$api_port" ] || die "mocap-hub serve did not report its ports"
-export MOCAP_HUB_API="127.0.0.1:$api_port"
+export MOCAP_HUB_API="127.0.0.1:$api_port" MOCAP_HUB_TOKEN_FILE="$out/.api-auth/operator.token"
 "$hub" capture start session > /dev/null || die "capture start failed"
 
 prefix=$(( session_tag % 200 + 20 ))

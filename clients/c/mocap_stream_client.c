@@ -24,6 +24,8 @@
 struct mocap_stream_client {
     int fd;
     int subscribed;
+    uint8_t cookie[32]; /* the hub's subscribe_cookie: proves this address (none yet: size 0) */
+    size_t cookie_size;
     struct sockaddr_in hub;
     uint32_t parts;
     uint64_t next_renew_ns;
@@ -90,7 +92,10 @@ static bool decode_body(pb_istream_t *stream, const pb_field_t *field, void **ar
     return true;
 }
 
-int mocap_stream_decode(const uint8_t *data, size_t size, mocap_stream_frame *frame)
+/* Decodes a StreamFrame: 0 for a frame; 1 for the hub's challenge (subscribe_cookie set), whose
+ * cookie is copied to cookie/cookie_size when those are given; -EBADMSG. */
+static int decode_message(const uint8_t *data, size_t size, mocap_stream_frame *frame, uint8_t *cookie,
+                          size_t *cookie_size)
 {
     mocap_stream_v1_StreamFrame m = mocap_stream_v1_StreamFrame_init_zero;
     frame->point_count = frame->points_total = 0;
@@ -112,7 +117,18 @@ int mocap_stream_decode(const uint8_t *data, size_t size, mocap_stream_frame *fr
     frame->cameras = m.cameras;
     frame->parts = m.parts;
     frame->points_dropped = m.points_dropped;
-    return 0;
+    if (!m.subscribe_cookie.size)
+        return 0;
+    if (cookie_size) {
+        *cookie_size = m.subscribe_cookie.size;
+        memcpy(cookie, m.subscribe_cookie.bytes, m.subscribe_cookie.size);
+    }
+    return 1;
+}
+
+int mocap_stream_decode(const uint8_t *data, size_t size, mocap_stream_frame *frame)
+{
+    return decode_message(data, size, frame, NULL, NULL) < 0 ? -EBADMSG : 0;
 }
 
 /* ---- the socket ---- */
@@ -124,10 +140,17 @@ static int send_request(mocap_stream_client *c, int subscribe)
     if (subscribe) {
         r.which_body = mocap_stream_v1_StreamRequest_subscribe_tag;
         r.body.subscribe.parts = c->parts;
+        r.body.subscribe.cookie.size = (pb_size_t)c->cookie_size;
+        memcpy(r.body.subscribe.cookie.bytes, c->cookie, c->cookie_size);
+        /* A first request is padded: the hub answers none smaller than its challenge. */
+        if (!c->cookie_size)
+            r.body.subscribe.padding.size = 24;
     } else {
         r.which_body = mocap_stream_v1_StreamRequest_unsubscribe_tag;
+        r.body.unsubscribe.cookie.size = (pb_size_t)c->cookie_size;
+        memcpy(r.body.unsubscribe.cookie.bytes, c->cookie, c->cookie_size);
     }
-    uint8_t bytes[32];
+    uint8_t bytes[96];
     pb_ostream_t out = pb_ostream_from_buffer(bytes, sizeof bytes);
     if (!pb_encode(&out, mocap_stream_v1_StreamRequest_fields, &r))
         return -EINVAL;
@@ -240,8 +263,17 @@ int mocap_stream_receive(mocap_stream_client *c, mocap_stream_frame *frame, int 
                  * the hub may not be up yet; keep trying until the deadline. */
                 if (errno != ECONNREFUSED && errno != EINTR && errno != EAGAIN)
                     return -errno;
-            } else if (mocap_stream_decode(c->buffer, (size_t)got, frame) == 0) {
-                return 1;
+            } else {
+                int kind = decode_message(c->buffer, (size_t)got, frame, c->cookie, &c->cookie_size);
+                if (kind == 0)
+                    return 1;
+                if (kind == 1 && c->subscribed) {
+                    /* The hub's challenge: its cookie goes back at once, and in every renewal. */
+                    int rc = send_request(c, 1);
+                    if (rc < 0)
+                        return rc;
+                    c->next_renew_ns = now_ns() + RENEW_NS;
+                }
             }
         }
         if (now_ns() >= deadline)

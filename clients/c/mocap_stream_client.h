@@ -10,7 +10,8 @@
  *   }
  *
  * A subscription lasts 5 s on the hub; mocap_stream_receive renews it every second, so call it
- * at least that often. Units: millimetres, world frame; times: ns since the Unix epoch.
+ * at least that often. The hub answers the first request with a challenge (a cookie that proves
+ * this address); mocap_stream_receive sends it back and frames flow from then on. Units: millimetres, world frame; times: ns since the Unix epoch.
  * Thread safety: one client per thread. */
 #ifndef MOCAP_STREAM_CLIENT_H
 #define MOCAP_STREAM_CLIENT_H

@@ -237,14 +237,32 @@ def read_png_grey(data):
     return width, height, rows
 
 
-def websocket_messages(port, path, count, timeout=10.0, on_message=None):
+# The API token of each serve the rigs started, by its API port: the helpers below send it
+# (serve wants one on every request; its default token file is WORK/api-auth/operator.token).
+TOKENS = {}
+
+
+def auth_header(port):
+    """The Authorization header line for serve's API at `port` ("" when it has no token)."""
+    token = TOKENS.get(port)
+    return f"Authorization: Bearer {token}\r\n" if token else ""
+
+
+def websocket_upgrade(port, path, timeout=10.0, headers=None):
+    """A socket after a WebSocket upgrade request to `path` (the answer not yet read)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    key = base64.b64encode(os.urandom(16)).decode()
+    extra = auth_header(port) if headers is None else headers
+    s.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+               f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n{extra}\r\n").encode())
+    return s
+
+
+def websocket_messages(port, path, count, timeout=10.0, headers=None, on_message=None):
     """The first `count` data messages of a WebSocket (RFC 6455 client, no extensions): text
     messages parsed as JSON, binary ones as bytes. With on_message, each is handed to it as it
     arrives instead of being kept."""
-    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
-    key = base64.b64encode(os.urandom(16)).decode()
-    s.sendall((f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-               f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n").encode())
+    s = websocket_upgrade(port, path, timeout, headers)
     buf = b""
     while b"\r\n\r\n" not in buf:
         chunk = s.recv(4096)
@@ -300,9 +318,14 @@ def raw_request(port, request):
     return int(lines[0].split()[1]), headers, body
 
 
-def http(port, method, path, body=b"", headers=""):
-    status, _, payload = raw_request(port, f"{method} {path} HTTP/1.1\r\nHost: x\r\nContent-Length: {len(body)}\r\n"
-                                           f"{headers}Connection: close\r\n\r\n".encode() + body)
+def http(port, method, path, body=b"", headers=None):
+    """One request with the rig's token and, for a state change, the JSON content type (as the
+    CLI sends them); `headers` given replaces both."""
+    if headers is None:
+        headers = auth_header(port) + ("Content-Type: application/json\r\n" if method not in ("GET", "HEAD") else "")
+    status, _, payload = raw_request(port, f"{method} {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+                                           f"Content-Length: {len(body)}\r\n{headers}Connection: close\r\n\r\n".encode()
+                                     + body)
     return status, payload
 
 
@@ -325,8 +348,10 @@ class Rig:
     """serve + one mocap-node per camera, replaying rendered frames (work/frames) in a loop.
     serve_args are added to serve's command line (streams and the like)."""
 
-    def __init__(self, bin_dir, work, rate, serve_args=()):
+    def __init__(self, bin_dir, work, rate, serve_args=(), sessions_dir=None, api_host="127.0.0.1"):
         self.bin, self.work, self.rate, self.serve_args = bin_dir, work, rate, list(serve_args)
+        self.sessions_dir = sessions_dir or os.path.join(work, "sessions")
+        self.api_host = api_host
         self.frames = os.path.join(work, "frames")
         self.notify_path = os.path.join(work, "notify.sock")
         self.serve = None
@@ -353,9 +378,9 @@ class Rig:
         with open(self.log_path, "w") as log:
             self.serve = subprocess.Popen(
                 [os.path.join(self.bin, "mocap-hub"), "serve", "--listen", f"127.0.0.1:{udp_port}",
-                 "--api", f"127.0.0.1:{api_port}",
+                 "--api", f"{self.api_host}:{api_port}",
                  "--calibration", os.path.join(self.frames, "calibration.json"),
-                 "--sessions-dir", os.path.join(self.work, "sessions"),
+                 "--sessions-dir", self.sessions_dir, "--api-auth", os.path.join(self.work, "api-auth"),
                  "--masks-file", os.path.join(self.work, "masks.json"),
                  "--rate", str(self.rate), "--epoch-ns", str(self.epoch), "--request-timeout", "1",
                  "--keys", self.keys,
@@ -365,7 +390,12 @@ class Rig:
             r"UDP port (\d+) for the nodes, API http://[^:]+:(\d+)", self.log()))
         self.udp_port, self.api_port = int(line.group(1)), int(line.group(2))
         self.api = f"127.0.0.1:{self.api_port}"
-        self.env = dict(os.environ, MOCAP_HUB_API=self.api)
+        # The local operator's token serve issued at its first start (kept across restarts).
+        self.token_file = os.path.join(self.work, "api-auth", "operator.token")
+        if os.path.exists(self.token_file):
+            with open(self.token_file) as f:
+                TOKENS[self.api_port] = self.token = f.read().strip()
+        self.env = dict(os.environ, MOCAP_HUB_API=self.api, MOCAP_HUB_TOKEN_FILE=self.token_file)
 
     def make_keys(self):
         """One wire key per camera of the calibration in work/keys (kept across serve restarts)."""

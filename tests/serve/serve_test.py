@@ -159,7 +159,11 @@ class ServeTest(unittest.TestCase):
                  ("POST", "/api/capture/start", b'{"name": "../../etc"}', 400),
                  ("POST", "/api/capture/stop", b"", 409),
                  ("GET", "/api/nowhere", b"", 404),
-                 ("POST", "/api/masks/auto", b"x" * 70000, 413)]
+                 ("POST", "/api/masks/auto", b"x" * 70000, 413),
+                 # The monitor's solve to apply: none was made (the rig did not move), no camera 77.
+                 ("POST", "/api/calibration/monitor/apply", b'{"camera": 1}', 409),
+                 ("POST", "/api/calibration/monitor/apply", b'{"camera": 77}', 404),
+                 ("POST", "/api/calibration/monitor/apply", b'{"save": true}', 400)]
         for method, path, body, status in cases:
             got, payload = http(port, method, path, body)
             self.assertEqual(got, status, (method, path, payload))

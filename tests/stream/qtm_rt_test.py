@@ -424,6 +424,7 @@ class QtmRtTest(unittest.TestCase):
         for address, status, reason in (("nohost", 2, "HOST:PORT"), (f"127.0.0.1:{self.port}", 1, "listen")):
             out = subprocess.run([os.path.join(BIN, "mocap-hub"), "serve", "--calibration", calibration,
                                   "--listen", "127.0.0.1:0", "--api", "127.0.0.1:0", "--stream", "off",
+                                  "--sessions-dir", os.path.join(WORK, "bad_options", "sessions"),
                                   "--keys", self.rig.keys, "--qtm-rt", address], capture_output=True, text=True, timeout=30)
             self.assertEqual(out.returncode, status, out.stderr)
             self.assertIn(reason, out.stderr)

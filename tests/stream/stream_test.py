@@ -19,7 +19,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, percentiles, render_scene, wait_for, websocket_messages  # noqa: E402
+from live_rig import Rig, auth_header, percentiles, render_scene, wait_for, websocket_messages  # noqa: E402
 
 import mocap_stream  # noqa: E402  (installed from clients/python)
 from pythonosc import dispatcher as osc_dispatcher  # noqa: E402
@@ -98,14 +98,30 @@ class StreamTest(unittest.TestCase):
         print("\npython client: trigger -> received ms p50 %.3f p99 %.3f max %.3f" % percentiles(latency),
               file=sys.stderr)
 
+    def subscribe(self, sock, parts=("points", "bodies")):
+        """The subscription by hand: the first request, the hub's challenge, its cookie back."""
+        hub = ("127.0.0.1", self.stream_port)
+        end = time.monotonic() + 10
+        while time.monotonic() < end:
+            sock.sendto(mocap_stream.encode_subscribe(parts), hub)
+            sock.settimeout(0.3)
+            try:
+                cookie = mocap_stream.decode_frame(sock.recv(65536)).subscribe_cookie
+            except socket.timeout:
+                continue  # over the per-source challenge rate: try again
+            self.assertTrue(cookie)
+            sock.sendto(mocap_stream.encode_subscribe(parts, cookie), hub)
+            return cookie
+        raise AssertionError("no challenge from the stream")
+
     def test_2_protoc_decodes_the_same_datagram(self):
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+            cookie = self.subscribe(sock)
             sock.settimeout(5.0)
-            sock.sendto(mocap_stream.encode_subscribe(("points", "bodies")), ("127.0.0.1", self.stream_port))
             data = b""
             while b"\x32" not in data:  # a frame with at least one point (field 6)
                 data = sock.recv(65536)
-            sock.sendto(mocap_stream.encode_unsubscribe(), ("127.0.0.1", self.stream_port))
+            sock.sendto(mocap_stream.encode_unsubscribe(cookie), ("127.0.0.1", self.stream_port))
         ours = mocap_stream.decode_frame(data)
         text = subprocess.run(["protoc", f"--decode=mocap.stream.v1.StreamFrame", "-I", PROTO,
                                os.path.join(PROTO, "mocap_stream.proto")], input=data, capture_output=True,
@@ -166,7 +182,7 @@ class StreamTest(unittest.TestCase):
         for _ in range(100):
             s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
             s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-            s.sendto(mocap_stream.encode_subscribe(("points", "bodies")), ("127.0.0.1", self.stream_port))
+            self.subscribe(s)
             sleepers.append(s)
         try:
             wait_for("101 subscribers", lambda: self.status()["stream"]["subscribers"] >= 100)
@@ -208,8 +224,9 @@ class StreamTest(unittest.TestCase):
             s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
             s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
             s.connect(("127.0.0.1", self.rig.api_port))
-            s.sendall(b"GET /api/live HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                      b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+            s.sendall(f"GET /api/live HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                      f"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                      f"{auth_header(self.rig.api_port)}\r\n".encode())
             stalled.append(s)
         try:
             time.sleep(3.0)  # their buffers fill: ~1 kB per frame at 100 Hz

@@ -47,11 +47,15 @@ BIN = WORK = None
 RATE = 100
 CAMERAS = 6
 NATNET, VRPN, VMC = 1510, 3883, 39539
-# Writes every /api/live frame as a JSON line: argv[1] the directory of live_rig.py, argv[2] the API port.
+# Writes every /api/live frame as a JSON line: argv[1] the directory of live_rig.py, argv[2] the API port;
+# the API token from the file $MOCAP_HUB_TOKEN_FILE names (as the CLI finds it).
 COLLECTOR = """
-import json, sys
+import json, os, sys
 sys.path.insert(0, sys.argv[1])
+import live_rig
 from live_rig import websocket_messages
+with open(os.environ["MOCAP_HUB_TOKEN_FILE"]) as f:
+    live_rig.TOKENS[int(sys.argv[2])] = f.read().strip()
 websocket_messages(int(sys.argv[2]), "/api/live", 10**9, timeout=30,
                    on_message=lambda f: print(json.dumps(f), flush=True))
 """
@@ -124,7 +128,7 @@ class TrackersTest(unittest.TestCase):
             cls.live, cls.live_path = {}, os.path.join(WORK, "live.jsonl")
             cls.live_file = open(cls.live_path, "w+")
             cls.collector = subprocess.Popen([sys.executable, "-c", COLLECTOR, os.path.dirname(live_rig.__file__),
-                                              str(cls.rig.api_port)], stdout=cls.live_file)
+                                              str(cls.rig.api_port)], stdout=cls.live_file, env=cls.rig.env)
         except BaseException:
             cls.rig.stop()
             cls.osc.shutdown()

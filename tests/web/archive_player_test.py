@@ -18,7 +18,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from web_test import browser  # noqa: E402
+from web_test import browser, log_in  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
 from live_rig import wait_for  # noqa: E402
@@ -123,6 +123,10 @@ def main():
     try:
         ports = wait_for("serve's ports", lambda: re.search(r"API http://[^:]+:(\d+)", open(log_path).read()))
         page = browser()
+        # The operator logs in with the token serve issued at its first start (beside its
+        # sessions directory), as on an installed hub.
+        with open(os.path.join(work, "api-auth", "operator.token")) as f:
+            log_in(page, f"http://127.0.0.1:{ports.group(1)}/", f.read().strip())
         page.get(f"http://127.0.0.1:{ports.group(1)}/#sessions")
         js = page.execute_script
         wait_for("the sessions page", lambda: js("return window.mocapConsole && mocapConsole.currentPage()") ==

@@ -25,7 +25,7 @@ import time
 import unittest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
-from live_rig import Rig, http, render_scene, wait_for, raw_request  # noqa: E402
+from live_rig import Rig, auth_header, http, render_scene, wait_for, raw_request  # noqa: E402
 
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
@@ -50,6 +50,33 @@ def browser():
         options.add_argument(arg)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
     return webdriver.Chrome(service=Service(CHROMEDRIVER), options=options)
+
+
+def displayed(driver, element_id):
+    """The element when it is on the page and shown, else None."""
+    try:
+        element = driver.find_element(By.ID, element_id)
+    except NoSuchElementException:
+        return None
+    return element if element.is_displayed() else None
+
+
+def log_in(driver, url, token, wrong_first=False):
+    """The console's login: the page shows its form on the hub's 401, the token typed in gets
+    the session cookie; the browser's log (the 401s) is drained afterwards."""
+    driver.get(url)
+    field = wait_for("the login form", lambda: displayed(driver, "login-token"))
+    if wrong_first:
+        field.send_keys("0" * 64)
+        driver.find_element(By.ID, "login-submit").click()
+        wait_for("the refusal", lambda: driver.find_element(By.ID, "login-error").text)
+        field.clear()
+    field.send_keys(token)
+    driver.find_element(By.ID, "login-submit").click()
+    wait_for("the form to go", lambda: displayed(driver, "login") is None)
+    cookies = {c["name"]: c for c in driver.get_cookies()}
+    assert cookies["mocap_session"]["httpOnly"] and cookies["mocap_session"]["sameSite"] == "Strict", cookies
+    driver.get_log("browser")
 
 
 def trc_markers_per_frame(path):
@@ -81,6 +108,7 @@ class WebConsoleTest(unittest.TestCase):
             cls.url = f"http://{cls.rig.api}/"
             cls.page = browser()
             cls.drivers.append(cls.page)
+            log_in(cls.page, cls.url, cls.rig.token, wrong_first=True)
         except BaseException:
             cls.tearDownClass()
             raise
@@ -437,6 +465,7 @@ class WebConsoleTest(unittest.TestCase):
     def test_8_a_second_browser_and_a_serve_restart(self):
         other = browser()
         self.drivers.append(other)
+        log_in(other, self.url, self.rig.token)
         other.get(self.url + "#nodes")
         wait_for("the second browser's node rows", lambda: len(other.find_elements(
             By.CSS_SELECTOR, "#nodes-table tbody tr")) == CAMERAS)
@@ -479,27 +508,28 @@ class WebConsoleTest(unittest.TestCase):
                      "/api/sessions/web_take/files/%2e%2e%2f%2e%2e%2foutside.trc",
                      "/api/sessions/..%2f/files/outside.trc",
                      "/.%2e/outside.trc", "/masks.json", "/api/sessions/web_take/files/.hidden"):
-            status, _, body = raw_request(port, f"GET {path} HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n".encode())
+            status, _, body = raw_request(port, f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\n{auth_header(port)}"
+                                                f"Connection: close\r\n\r\n".encode())
             self.assertIn(status, (400, 403, 404), path)
             self.assertNotIn(b"root:", body, path)
             self.assertNotIn(b"outside", body.replace(b"outside.trc", b""), path)
 
     def test_9_console_files_are_typed_and_revalidated(self):
         port = self.rig.api_port
-        status, headers, body = raw_request(port, b"GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        status, headers, body = raw_request(port, b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
         self.assertEqual(status, 200)
         self.assertTrue(headers["content-type"].startswith("text/html"))
         self.assertIn(b'<script type="module" src="/js/main.js">', body)
         status, headers, body = raw_request(
-            port, b"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+            port, b"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
         self.assertEqual(status, 200)
         self.assertTrue(headers["content-type"].startswith("text/javascript"))  # ES modules need it
         self.assertEqual(int(headers["content-length"]), len(body))
         etag = headers["etag"]
-        status, _, body = raw_request(port, f"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: x\r\n"
+        status, _, body = raw_request(port, f"GET /vendor/three/build/three.module.js HTTP/1.1\r\nHost: 127.0.0.1\r\n"
                                             f"If-None-Match: {etag}\r\nConnection: close\r\n\r\n".encode())
         self.assertEqual((status, body), (304, b""))
-        status, _, _ = raw_request(port, b"POST /index.html HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\n"
+        status, _, _ = raw_request(port, b"POST /index.html HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\n"
                                          b"Connection: close\r\n\r\n")
         self.assertEqual(status, 405)
 

@@ -1,7 +1,10 @@
 """Client of the mocap hub's live stream (proto/mocap_stream.proto, version 1).
 
 StreamClient subscribes over UDP (renewing the subscription every second while frames are read)
-or joins a multicast group; decode_frame turns one StreamFrame message into a Frame."""
+or joins a multicast group; decode_frame turns one StreamFrame message into a Frame. The hub
+answers a first subscription with a challenge (a StreamFrame holding only subscribe_cookie);
+the client sends the cookie back in every later request, which proves its address, and only
+then do frames flow."""
 
 import dataclasses
 import select
@@ -61,6 +64,7 @@ class Frame:
     points: List[Point] = dataclasses.field(default_factory=list)
     bodies: List[RigidBody] = dataclasses.field(default_factory=list)
     points_dropped: int = 0
+    subscribe_cookie: bytes = b""  # a challenge, not a frame, when set
 
 
 # ---- protobuf wire format: varints, 32-bit floats, length-delimited fields ----
@@ -164,6 +168,8 @@ def decode_frame(data: bytes) -> Frame:
             f.points.append(_point(value))
         elif number == 7 and kind == 2:
             f.bodies.append(_body(value))
+        elif number == 9 and kind == 2:
+            f.subscribe_cookie = bytes(value)
     return f
 
 
@@ -185,13 +191,28 @@ def _parts_bits(parts: Sequence[str]) -> int:
     return bits
 
 
-def encode_subscribe(parts: Sequence[str] = ("points", "bodies")) -> bytes:
+def _bytes_field(number, value):
+    return _encode_varint(number << 3 | 2) + _encode_varint(len(value)) + value
+
+
+MIN_FIRST_REQUEST = 32
+
+
+def encode_subscribe(parts: Sequence[str] = ("points", "bodies"), cookie: bytes = b"") -> bytes:
+    """A Subscribe; without a cookie (the first one) padded to 32 bytes, as large as its answer."""
     subscribe = b"\x08" + _encode_varint(_parts_bits(parts))
-    return b"\x08" + _encode_varint(VERSION) + b"\x12" + _encode_varint(len(subscribe)) + subscribe
+    if cookie:
+        subscribe += _bytes_field(2, cookie)
+    head = b"\x08" + _encode_varint(VERSION)
+    if not cookie:
+        bare = len(head) + 2 + len(subscribe)
+        subscribe += _bytes_field(3, bytes(max(0, MIN_FIRST_REQUEST - bare - 2)))
+    return head + b"\x12" + _encode_varint(len(subscribe)) + subscribe
 
 
-def encode_unsubscribe() -> bytes:
-    return b"\x08" + _encode_varint(VERSION) + b"\x1a\x00"
+def encode_unsubscribe(cookie: bytes = b"") -> bytes:
+    unsubscribe = _bytes_field(1, cookie) if cookie else b""
+    return b"\x08" + _encode_varint(VERSION) + b"\x1a" + _encode_varint(len(unsubscribe)) + unsubscribe
 
 
 class StreamClient:
@@ -211,7 +232,8 @@ class StreamClient:
             self.sock.setsockopt(socket.IPPROTO_IP, socket.IP_ADD_MEMBERSHIP, membership)
         else:
             self.hub = (socket.gethostbyname(host), port)
-            self.request = encode_subscribe(parts)
+            self.parts = parts
+            self.cookie = b""
             self._renew()
 
     @classmethod
@@ -219,7 +241,7 @@ class StreamClient:
         return cls(group, port, _multicast=(group, interface))
 
     def _renew(self):
-        self.sock.sendto(self.request, self.hub)
+        self.sock.sendto(encode_subscribe(self.parts, self.cookie), self.hub)
         self.next_renew = time.monotonic() + RENEW_S
 
     def receive(self, timeout: float = 1.0) -> Optional[Frame]:
@@ -233,8 +255,14 @@ class StreamClient:
             ready, _, _ = select.select([self.sock], [], [], max(0.0, until - now))
             if ready:
                 try:
-                    data = self.sock.recv(65536)
-                    return decode_frame(data)
+                    data, source = self.sock.recvfrom(65536)
+                    frame = decode_frame(data)
+                    if not frame.subscribe_cookie:
+                        return frame
+                    if self.hub and source == self.hub:
+                        # The hub's challenge (a stale cookie gets a new one): answered at once.
+                        self.cookie = frame.subscribe_cookie
+                        self._renew()
                 except ConnectionRefusedError:
                     pass  # the hub was not up for a renewal; keep trying
                 except DecodeError:
@@ -253,7 +281,7 @@ class StreamClient:
     def close(self):
         if self.hub:
             try:
-                self.sock.sendto(encode_unsubscribe(), self.hub)
+                self.sock.sendto(encode_unsubscribe(self.cookie), self.hub)
             except OSError:
                 pass
         self.sock.close()

@@ -63,10 +63,10 @@ std::optional<LiveQuery> LiveQueryOf(const mg_connection* connection) {
 }
 
 // Refuses (non-zero) a /api/stream upgrade with an unknown part, a /api/live one with a bad
-// query, and any beyond the client limit.
+// query, one the access rules refuse, and any beyond the client limit.
 int WebSocketConnect(const mg_connection* connection, void*) {
   const bool bad = IsStream(connection) ? !PartsOf(connection) : !LiveQueryOf(connection);
-  return bad || !ServerOf(connection)->AcceptWebSocket(connection);
+  return bad || ServerOf(connection)->AcceptWebSocket(connection) != 0;
 }
 void WebSocketReady(mg_connection* connection, void*) { ServerOf(connection)->OnWebSocketReady(connection); }
 int WebSocketData(mg_connection*, int, char*, size_t, void*) { return 1; }  // keep open, ignore input
@@ -77,12 +77,17 @@ const char* Reason(int status) {
     case 200: return "OK";
     case 304: return "Not Modified";
     case 400: return "Bad Request";
+    case 401: return "Unauthorized";
+    case 403: return "Forbidden";
+    case 408: return "Request Timeout";
+    case 421: return "Misdirected Request";
     case 404: return "Not Found";
     case 405: return "Method Not Allowed";
     case 409: return "Conflict";
     case 413: return "Payload Too Large";
     case 503: return "Service Unavailable";
     case 504: return "Gateway Timeout";
+    case 507: return "Insufficient Storage";
     default: return status >= 500 ? "Internal Server Error" : "Error";
   }
 }
@@ -151,6 +156,19 @@ void WriteHead(mg_connection* connection, const std::string& head) {
   mg_write(connection, head.data(), head.size());
 }
 
+std::string Header(const mg_connection* connection, const char* name) {
+  const char* value = mg_get_header(connection, name);
+  return value ? value : "";
+}
+
+void WriteError(mg_connection* connection, int status, const std::string& reason, const std::string& headers = "") {
+  const std::string body =
+      nlohmann::json{{"error", reason}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  WriteHead(connection, "HTTP/1.1 " + std::to_string(status) + " " + Reason(status) +
+                            "\r\nContent-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) +
+                            "\r\nCache-Control: no-store\r\n" + headers + "Connection: close\r\n\r\n" + body);
+}
+
 // The file's bytes as the body of a 200 answer, read in pieces (a session's raw log may be large;
 // a file still growing, as a running capture's, is sent as long as it was when opened).
 int SendFile(mg_connection* connection, const std::string& path, const std::string& content_type, bool head,
@@ -190,14 +208,38 @@ struct HttpServer::Client {
   std::thread writer;
 };
 
-HttpServer::HttpServer(service::HubService& service, const std::string& listen, std::vector<StaticMount> console)
-    : service_(service), console_(std::move(console)), queue_(kMaxQueuedFrames) {
-  const HostPort address = ParseHostPort(listen);
+std::string HttpServerOptions::Check() const {
+  if (threads < 8 || threads > 1000) return "threads: " + std::to_string(threads) + " must be 8..1000";
+  if (request_timeout_ms < 100 || request_timeout_ms > 60000)
+    return "request_timeout_ms: " + std::to_string(request_timeout_ms) + " must be 100..60000";
+  if (max_websockets < 1 || max_websockets + 8 > static_cast<size_t>(threads))
+    return "max_websockets: " + std::to_string(max_websockets) + " must be 1.." + std::to_string(threads - 8) +
+           " (8 workers stay free for requests)";
+  if (access.tokens_required && token_store.empty()) return "token_store: needed when tokens are required";
+  return "";
+}
+
+HttpServer::HttpServer(service::HubService& service, HttpServerOptions options)
+    : service_(service),
+      options_(std::move(options)),
+      sessions_(options_.logins_file, RealtimeNowNs()),
+      queue_(kMaxQueuedFrames) {
+  if (const std::string error = options_.Check(); !error.empty()) throw std::invalid_argument("HTTP API: " + error);
+  if (options_.access.tokens_required) tokens_ = std::make_unique<TokenVerifier>(options_.token_store);
+  const HostPort address = ParseHostPort(options_.listen);
   const std::string ports = (address.host.empty() || address.host == "*" ? std::string("0.0.0.0") : address.host) +
                             ":" + std::to_string(address.port);
+  const std::string threads = std::to_string(options_.threads);
+  const std::string timeout = std::to_string(options_.request_timeout_ms);
   mg_init_library(0);
-  const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "8", "request_timeout_ms", "15000",
-                           "enable_websocket_ping_pong", "yes", nullptr};
+  // Keep-alive stays off (civetweb's default): every answer closes its connection, so an idle
+  // client holds a worker only until request_timeout_ms. The accept queue is as long as the workers.
+  const char* civet_options[] = {"listening_ports", ports.c_str(), "num_threads", threads.c_str(),
+                                 "request_timeout_ms", timeout.c_str(), "connection_queue", threads.c_str(),
+                                 "listen_backlog", threads.c_str(), "enable_websocket_ping_pong", "yes",
+                                 // A WebSocket is pinged after this long without a message from
+                                 // its client (and closed when pings go unanswered).
+                                 "websocket_timeout_ms", "10000", nullptr};
   mg_callbacks callbacks;
   std::memset(&callbacks, 0, sizeof(callbacks));
   // Requests are answered after the frame at hand: civetweb's threads run below the frame loop.
@@ -205,7 +247,7 @@ HttpServer::HttpServer(service::HubService& service, const std::string& listen, 
     SetThisThreadPriority(ThreadPriority::kService);
     return nullptr;
   };
-  context_ = mg_start(&callbacks, this, options);
+  context_ = mg_start(&callbacks, this, civet_options);
   if (!context_) throw std::runtime_error("HTTP API: cannot listen on " + ports + " (in use, or not an address of this host)");
   mg_server_port bound[4];
   const int n = mg_get_server_ports(context_, 4, bound);
@@ -230,12 +272,76 @@ HttpServer::~HttpServer() {
   mg_exit_library();
 }
 
+AccessDecision HttpServer::Decide(const mg_connection* connection, bool websocket) {
+  const mg_request_info* info = mg_get_request_info(connection);
+  AccessRequest request;
+  request.method = info->request_method ? info->request_method : "";
+  request.path = info->local_uri ? info->local_uri : "";
+  request.websocket = websocket;
+  request.host = Header(connection, "Host");
+  request.origin = Header(connection, "Origin");
+  request.content_type = Header(connection, "Content-Type");
+  request.custom = Header(connection, "X-Mocap-Request");
+  request.sec_fetch_site = Header(connection, "Sec-Fetch-Site");
+  request.authorization = Header(connection, "Authorization");
+  request.cookie = Header(connection, "Cookie");
+  const uint64_t now = RealtimeNowNs();
+  return DecideAccess(
+      request, options_.access,
+      [&](const std::string& token) { return tokens_ ? tokens_->Verify(token, now) : std::nullopt; }, sessions_,
+      now);
+}
+
+bool HttpServer::AnswerSession(mg_connection* connection, const std::string& path, const std::string& body,
+                               const AccessDecision& access, int* status) {
+  const std::string method = mg_get_request_info(connection)->request_method;
+  std::string cookie;
+  nlohmann::json answer;
+  if (path == "/api/login") {
+    if (method != "POST") return WriteError(connection, *status = 405, "log in with POST {\"token\": TOKEN}"), true;
+    const nlohmann::json request = nlohmann::json::parse(body, nullptr, false);
+    const std::string token = request.is_object() && request.contains("token") && request["token"].is_string()
+                                  ? request["token"].get<std::string>()
+                                  : "";
+    std::optional<ApiPrincipal> who;
+    if (!options_.access.tokens_required) who = ApiPrincipal{"anyone", ApiRole::kOperator};
+    else if (!token.empty()) who = tokens_->Verify(token, RealtimeNowNs());
+    if (!who) return WriteError(connection, *status = 401, "the token is not valid"), true;
+    cookie = std::string("Set-Cookie: ") + kSessionCookie + "=" + sessions_.Create(*who, RealtimeNowNs()) +
+             "; Path=/; HttpOnly; SameSite=Strict; Max-Age=43200\r\n";
+    answer = {{"name", who->name}, {"role", RoleName(who->role)}};
+  } else if (path == "/api/logout") {
+    if (method != "POST") return WriteError(connection, *status = 405, "log out with POST"), true;
+    sessions_.Remove(CookieValue(Header(connection, "Cookie"), kSessionCookie));
+    cookie = std::string("Set-Cookie: ") + kSessionCookie + "=; Path=/; HttpOnly; SameSite=Strict; Max-Age=0\r\n";
+    answer = {{"logged_out", true}};
+  } else if (path == "/api/whoami") {
+    answer = {{"name", access.who.name},
+              {"role", RoleName(access.who.role)},
+              {"tokens_required", options_.access.tokens_required}};
+  } else {
+    return false;
+  }
+  const std::string text = answer.dump();
+  WriteHead(connection, "HTTP/1.1 200 OK\r\nContent-Type: application/json\r\nContent-Length: " +
+                            std::to_string(text.size()) + "\r\nCache-Control: no-store\r\n" + cookie +
+                            "Connection: close\r\n\r\n" + text);
+  *status = 200;
+  return true;
+}
+
 int HttpServer::OnRequest(mg_connection* connection) {
   const mg_request_info* info = mg_get_request_info(connection);
   ApiRequest request;
   request.method = info->request_method ? info->request_method : "";
   request.path = info->local_uri ? info->local_uri : "";
   request.query = info->query_string ? info->query_string : "";
+  const AccessDecision access = Decide(connection, false);
+  if (access.status) {
+    WriteError(connection, access.status, access.reason,
+               access.status == 401 ? "WWW-Authenticate: Bearer realm=\"mocap-hub\"\r\n" : "");
+    return access.status;
+  }
   ApiResponse response;
   if (request.path == "/api/live" || request.path == "/api/stream") {
     response.status = 400;
@@ -244,13 +350,24 @@ int HttpServer::OnRequest(mg_connection* connection) {
     response.status = 413;
     response.body = R"({"error":"the body is larger than 64 KiB"})";
   } else {
-    // Read at most the limit plus one byte, so a lying Content-Length cannot make us buffer more.
+    // Read at most the limit plus one byte, so a lying Content-Length cannot make us buffer more,
+    // and for at most one request timeout: a body that trickles in (or never comes) does not
+    // hold the worker longer.
     std::vector<char> buffer(kMaxApiBody + 1);
     size_t got = 0;
     int r;
-    while (got < buffer.size() && (r = mg_read(connection, buffer.data() + got, buffer.size() - got)) > 0)
+    const uint64_t deadline = RealtimeNowNs() + static_cast<uint64_t>(options_.request_timeout_ms) * 1'000'000;
+    const size_t expected = info->content_length >= 0 ? static_cast<size_t>(info->content_length) : buffer.size();
+    while (got < std::min(expected, buffer.size()) && RealtimeNowNs() < deadline &&
+           (r = mg_read(connection, buffer.data() + got, std::min(expected, buffer.size()) - got)) > 0)
       got += static_cast<size_t>(r);
+    if (info->content_length > 0 && got < expected) {
+      WriteError(connection, 408, "the body did not arrive within " + std::to_string(options_.request_timeout_ms) + " ms");
+      return 408;
+    }
     request.body.assign(buffer.data(), got);
+    int status = 0;
+    if (AnswerSession(connection, request.path, request.body, access, &status)) return status;
     response = HandleApiRequest(service_, request);
   }
   if (response.status == 200 && !response.file.empty())
@@ -269,14 +386,18 @@ int HttpServer::OnStaticRequest(mg_connection* connection) {
   int status = 0;
   std::string body;
   StaticFile file;
+  if (const std::string why = CheckHost(Header(connection, "Host"), options_.access); !why.empty()) {
+    WriteError(connection, 421, why);
+    return 421;
+  }
   if (method != "GET" && method != "HEAD") {
     status = 405;
     body = R"({"error":"the console's files are read with GET"})";
   } else {
-    file = ResolveStaticFile(console_, path);
+    file = ResolveStaticFile(options_.console, path);
     if (file.status != 200) {
       status = file.status;
-      body = console_.empty() ? "{\"error\":\"this serve has no web console (--web-root)\"}"
+      body = options_.console.empty() ? "{\"error\":\"this serve has no web console (--web-root)\"}"
                               : nlohmann::json{{"error", file.reason}}.dump(-1, ' ', false,
                                                                            nlohmann::json::error_handler_t::replace);
     }
@@ -306,9 +427,24 @@ int HttpServer::OnStaticRequest(mg_connection* connection) {
   return SendFile(connection, file.path, file.content_type, method == "HEAD", headers);
 }
 
-bool HttpServer::AcceptWebSocket(const mg_connection*) {
+int HttpServer::AcceptWebSocket(const mg_connection* connection) {
+  // civetweb closes a refused upgrade without a word; the answer written here says why.
+  mg_connection* writable = const_cast<mg_connection*>(connection);
+  const AccessDecision access = Decide(connection, true);
+  if (access.status) {
+    WriteError(writable, access.status, access.reason);
+    return access.status;
+  }
   std::lock_guard<std::mutex> lock(clients_mutex_);
-  return clients_.size() < kMaxWebSocketClients;
+  // Counted with the ones whose upgrade is under way, so that a burst cannot pass the cap.
+  if (clients_.size() + upgrading_ >= options_.max_websockets) {
+    WriteError(writable, 503,
+               std::to_string(options_.max_websockets) + " WebSocket clients already (the limit, so that requests "
+               "keep their workers); close one and connect again");
+    return 503;
+  }
+  ++upgrading_;
+  return 0;
 }
 
 void HttpServer::OnWebSocketReady(mg_connection* connection) {
@@ -322,6 +458,7 @@ void HttpServer::OnWebSocketReady(mg_connection* connection) {
   }
   client->writer = std::thread(Write, client.get());
   std::lock_guard<std::mutex> lock(clients_mutex_);
+  if (upgrading_ > 0) --upgrading_;
   clients_[connection] = std::move(client);
 }
 

@@ -16,8 +16,15 @@
 // names (/api/sessions/NAME/files/FILE) is streamed from disk in 64 KiB pieces, never held whole.
 // A client that cannot keep up loses frames, nobody else's and never the service's: the
 // broadcaster thread hands each frame to every client's short queue (dropping the oldest), and
-// each client has its own writer thread, so one that stops reading stalls only itself. At most
-// kMaxWebSocketClients at once.
+// each client has its own writer thread, so one that stops reading stalls only itself.
+// Access (api/access.h): every /api request and WebSocket passes the Host, Origin and CSRF rules
+// and then needs a token or a console login (POST /api/login, POST /api/logout, GET /api/whoami
+// are answered here); the console's files need only the Host rule (the login page is one).
+// Staying up: civetweb gives each connection a worker thread for its life, so there are many
+// (`threads`), a request must arrive whole within `request_timeout_ms` (idle and slow-header
+// connections are dropped then) and its body within the same again; WebSockets, which hold their
+// worker, are capped at `max_websockets`, well below the workers, and one more is refused with a
+// 503 that says so.
 #pragma once
 
 #include <atomic>
@@ -29,6 +36,7 @@
 #include <thread>
 #include <vector>
 
+#include "api/access.h"
 #include "api/static_files.h"
 #include "service/hub_service.h"
 #include "stream/frame_queue.h"
@@ -38,12 +46,25 @@ struct mg_connection;
 
 namespace mocap::api {
 
+struct HttpServerOptions {
+  std::string listen = "127.0.0.1:7801";  // HOST:PORT (port 0: any free one)
+  std::vector<StaticMount> console;       // the web console's files (none: the API only)
+  AccessOptions access;
+  std::string token_store;                // api_tokens.h; needed when access.tokens_required
+  std::string logins_file;                // the console's logins, kept across restarts ("": none)
+  int threads = 384;
+  int request_timeout_ms = 3000;
+  size_t max_websockets = 64;
+
+  // "" or the refusal naming the field, its value and the rule.
+  std::string Check() const;
+};
+
 class HttpServer {
  public:
-  // listen: "HOST:PORT" (port 0: any free one); console: where the web console's files are
-  // (none: the API only). Starts serving at once; throws std::runtime_error when the address
-  // cannot be bound.
-  HttpServer(service::HubService& service, const std::string& listen, std::vector<StaticMount> console = {});
+  // Starts serving at once; throws std::runtime_error when the address cannot be bound or the
+  // token store cannot be read.
+  HttpServer(service::HubService& service, HttpServerOptions options);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
@@ -52,12 +73,11 @@ class HttpServer {
   // From the hub's loop (its one subscription fans out to every adapter).
   void Publish(stream::SharedFrame frame) { queue_.Push(std::move(frame)); }
 
-  static constexpr size_t kMaxWebSocketClients = 64;
-
   // civetweb callbacks (public for the C trampolines only).
   int OnRequest(mg_connection* connection);
   int OnStaticRequest(mg_connection* connection);
-  bool AcceptWebSocket(const mg_connection* connection);
+  // 0 to accept the upgrade; else the refusal's status, already written to the client.
+  int AcceptWebSocket(const mg_connection* connection);
   void OnWebSocketReady(mg_connection* connection);
   void OnWebSocketClose(const mg_connection* connection);
 
@@ -65,15 +85,22 @@ class HttpServer {
   struct Client;
   void Broadcast();
   static void Write(Client* client);
+  AccessDecision Decide(const mg_connection* connection, bool websocket);
+  // /api/login, /api/logout, /api/whoami: answered here (they are about the connection's caller).
+  bool AnswerSession(mg_connection* connection, const std::string& path, const std::string& body,
+                     const AccessDecision& access, int* status);
 
   service::HubService& service_;
-  std::vector<StaticMount> console_;
+  HttpServerOptions options_;
+  std::unique_ptr<TokenVerifier> tokens_;
+  LoginSessions sessions_;
   mg_context* context_ = nullptr;
   uint16_t port_ = 0;
   stream::FrameQueue queue_;
   std::atomic<bool> stopping_{false};
   std::mutex clients_mutex_;  // clients_
   std::map<mg_connection*, std::unique_ptr<Client>> clients_;
+  size_t upgrading_ = 0;  // accepted upgrades not yet ready
   std::thread broadcaster_;
 };
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <string>
 
 #include <ceres/loss_function.h>
 #include <ceres/problem.h>
@@ -22,8 +23,7 @@ namespace mocap {
 
 void ExtrinsicRefinementOptions::Check() const {
   detection.Check();
-  if (!(resection_loss_px > 0.0) || !std::isfinite(resection_loss_px))
-    throw std::invalid_argument("resection_loss_px must be > 0");
+  relocalization.Check();
   if (!(loss_scale_px > 0.0) || !std::isfinite(loss_scale_px)) throw std::invalid_argument("loss_scale_px must be > 0");
   if (!(outlier_px > 0.0) || !std::isfinite(outlier_px)) throw std::invalid_argument("outlier_px must be > 0");
   if (max_points < 10) throw std::invalid_argument("max_points must be >= 10");
@@ -68,8 +68,14 @@ ceres::Solver::Options SolverOptions(const ExtrinsicRefinementOptions& options) 
 
 class ExtrinsicRefiner {
  public:
-  ExtrinsicRefiner(const Rig& rig, const std::deque<MarkerSample>& samples, const ExtrinsicRefinementOptions& options)
-      : rig_(rig), samples_(samples), options_(options), moved_(rig.cameras.size(), 0) {}
+  ExtrinsicRefiner(const Rig& rig, const std::deque<MarkerSample>& samples, const std::deque<FrameBlobs>& blobs,
+                   const ExtrinsicRefinementOptions& options)
+      : rig_(rig),
+        samples_(samples),
+        blobs_(blobs),
+        options_(options),
+        moved_(rig.cameras.size(), 0),
+        lost_(rig.cameras.size(), 0) {}
 
   ExtrinsicRefinement Run() {
     ExtrinsicRefinement result;
@@ -99,8 +105,9 @@ class ExtrinsicRefiner {
                                " cameras moved: too few are left to hold the scale and world frame; "
                                "calibrate with the wand again");
     solved_ = rig_;
+    repaired_ = samples_;
     for (size_t c = 0; c < rig_.cameras.size(); ++c) {
-      if (moved_[c]) Resect(c);
+      if (moved_[c]) Relocate(c, &result.cameras[c]);
     }
     result.points_solved = SolveJointly(&result);
     Accept(before, &result);
@@ -108,52 +115,41 @@ class ExtrinsicRefiner {
   }
 
  private:
-  // The moved camera alone against points the held cameras triangulate: a robust pass from the
-  // old pose (some nearest-blob pairings are wrong), then Huber passes on the views within the gate.
-  void Resect(size_t camera) {
-    std::vector<Eigen::Vector3d> points;
-    std::vector<Eigen::Vector2d> pixels;
-    for (const MarkerSample& sample : samples_) {
-      for (int v = 0; v < static_cast<int>(sample.views.size()); ++v) {
-        if (sample.views[v].camera != static_cast<int>(camera)) continue;
-        Eigen::Vector3d point;
-        if (!LeaveOneOutPoint(rig_, sample, v, moved_, &point)) continue;
-        points.push_back(point);
-        pixels.push_back(sample.views[v].pixel);
-      }
+  // Finds the moved camera again from its blobs (not from the old pose), then pairs its views
+  // anew under the found pose: the old pose's nearest blobs leave every sample, and each
+  // sample's point, triangulated by the held cameras, takes the camera's unambiguous nearest
+  // blob within the gate.
+  void Relocate(size_t camera, CameraRefinement* refinement) {
+    refinement->relocalization =
+        RelocalizeCamera(rig_, camera, moved_, samples_, blobs_, options_.relocalization);
+    if (!refinement->relocalization.ok) {
+      lost_[camera] = 1;
+      return;
     }
-    std::array<double, kPoseSize> pose = PoseBlock(solved_.cameras[camera]);
-    std::array<double, kIntrinsicsSize> intrinsics = IntrinsicsBlock(solved_.cameras[camera].intrinsics);
-    std::vector<char> inlier(points.size(), 1);
-    for (int pass = 0; pass < 3; ++pass) {
-      ceres::Problem problem;
-      ceres::LossFunction* loss = nullptr;
-      size_t used = 0;
-      for (size_t i = 0; i < points.size(); ++i) {
-        if (!inlier[i]) continue;
-        loss = pass == 0 ? static_cast<ceres::LossFunction*>(new ceres::CauchyLoss(options_.resection_loss_px))
-                         : static_cast<ceres::LossFunction*>(new ceres::HuberLoss(options_.loss_scale_px));
-        problem.AddResidualBlock(KnownPointReprojectionError::Create(points[i], pixels[i]), loss, pose.data(),
-                                 intrinsics.data());
-        ++used;
-      }
-      if (used < 6) return;
-      problem.SetParameterBlockConstant(intrinsics.data());
-      ceres::Solver::Summary summary;
-      ceres::Solver::Options solver = SolverOptions(options_);
-      solver.linear_solver_type = ceres::DENSE_QR;
-      ceres::Solve(solver, &problem, &summary);
-      SetPoseFromBlock(pose.data(), &solved_.cameras[camera]);
-      std::vector<double> lengths(points.size(), 1e9);
-      std::vector<double> kept;
-      for (size_t i = 0; i < points.size(); ++i) {
-        Eigen::Vector2d projected;
-        if (!solved_.cameras[camera].ProjectToPixel(points[i], &projected)) continue;
-        lengths[i] = (projected - pixels[i]).norm();
-        if (inlier[i]) kept.push_back(lengths[i]);
-      }
-      const double gate = OutlierGate(kept, options_.outlier_px);
-      for (size_t i = 0; i < points.size(); ++i) inlier[i] = lengths[i] <= gate;
+    solved_.cameras[camera] = refinement->relocalization.camera;
+    const double gate = std::max(refinement->relocalization.gate_px, 3.0 * options_.outlier_px);
+    const Camera& pose = solved_.cameras[camera];
+    size_t next_blobs = 0;
+    for (MarkerSample& sample : repaired_) {
+      sample.views.erase(std::remove_if(sample.views.begin(), sample.views.end(),
+                                        [&](const MarkerView& view) { return view.camera == static_cast<int>(camera); }),
+                         sample.views.end());
+      while (next_blobs < blobs_.size() && blobs_[next_blobs].frame < sample.frame) ++next_blobs;
+      if (next_blobs == blobs_.size() || blobs_[next_blobs].frame != sample.frame) continue;
+      const std::vector<Eigen::Vector2d>& blobs = blobs_[next_blobs].pixels[camera];
+      Eigen::Vector3d point;
+      Eigen::Vector2d projected;
+      if (blobs.empty() || !LeaveOneOutPoint(rig_, sample, -1, moved_, &point) ||
+          !pose.ProjectToPixel(point, &projected) || !pose.InImage(projected))
+        continue;
+      const int blob = UnambiguousNearestBlob(blobs, projected, gate, options_.relocalization.ambiguity_ratio);
+      if (blob < 0) continue;
+      MarkerView view;
+      view.camera = static_cast<int>(camera);
+      view.pixel = blobs[static_cast<size_t>(blob)];
+      view.normalized = pose.UndistortPixel(view.pixel);
+      view.reconstructed = false;
+      sample.views.push_back(view);
     }
   }
 
@@ -166,13 +162,13 @@ class ExtrinsicRefiner {
   // views within the gate of their resected pose.
   std::vector<JointPoint> GatherPoints() const {
     std::vector<JointPoint> points;
-    const size_t stride = std::max<size_t>(1, (samples_.size() + options_.max_points - 1) / options_.max_points);
-    for (size_t s = 0; s < samples_.size(); s += stride) {
-      const MarkerSample& sample = samples_[s];
+    const size_t stride = std::max<size_t>(1, (repaired_.size() + options_.max_points - 1) / options_.max_points);
+    for (size_t s = 0; s < repaired_.size(); s += stride) {
+      const MarkerSample& sample = repaired_[s];
       JointPoint point;
       std::vector<PointView> views;
       for (const MarkerView& view : sample.views) {
-        if (!moved_[view.camera] && !view.reconstructed) continue;
+        if (lost_[view.camera] || (!moved_[view.camera] && !view.reconstructed)) continue;
         point.views.push_back(&view);
         views.push_back(ViewThrough(solved_.cameras[view.camera], view.normalized));
       }
@@ -271,10 +267,11 @@ class ExtrinsicRefiner {
     }
   }
 
-  // Each moved camera keeps its solved pose only when its residuals came back to the rig's level
-  // by a clear factor: otherwise the old pose stays and the report says why.
+  // Each moved camera keeps its solved pose only when its residuals (of its views paired anew)
+  // came back to the rig's level by a clear factor: otherwise the old pose stays and the report
+  // says why.
   void Accept(const BumpDetection& before, ExtrinsicRefinement* result) {
-    const BumpDetection after = DetectBumps(ComputeCameraResiduals(solved_, samples_), options_.detection);
+    const BumpDetection after = DetectBumps(ComputeCameraResiduals(solved_, repaired_), options_.detection);
     for (size_t c = 0; c < rig_.cameras.size(); ++c) {
       if (!moved_[c]) continue;
       CameraRefinement& camera = result->cameras[c];
@@ -286,16 +283,21 @@ class ExtrinsicRefiner {
           std::abs(Eigen::AngleAxisd(old_pose.rotation * new_pose.rotation.transpose()).angle()) * 180.0 / M_PI;
       const CameraResiduals& was = before.cameras[c].residuals;
       const CameraResiduals& now = after.cameras[c].residuals;
-      if (after.cameras[c].state != CameraPoseState::kOk) {
-        camera.note = std::string("residuals still ") + CameraPoseStateName(after.cameras[c].state) + " after the solve";
+      if (lost_[c]) {
+        camera.note = camera.relocalization.reason;
+      } else if (after.cameras[c].state != CameraPoseState::kOk) {
+        camera.note = std::string("residuals still ") + CameraPoseStateName(after.cameras[c].state) +
+                      " after the solve (median " + std::to_string(now.median_px) +
+                      " px); capture longer with the subject in its view, or calibrate with the wand again";
       } else if (!(now.median_px * options_.min_improvement <= was.median_px)) {
-        camera.note = "the solve did not lower the median residual by the required factor";
+        camera.note = "the solve did not lower the median residual by the required factor (the camera may not "
+                      "have moved: keep the calibration, or set --baseline-px to the calibration's residual)";
       } else {
         camera.accepted = true;
         result->rig.cameras[c] = new_pose;
       }
     }
-    const BumpDetection final_detection = DetectBumps(ComputeCameraResiduals(result->rig, samples_), options_.detection);
+    const BumpDetection final_detection = DetectBumps(ComputeCameraResiduals(result->rig, repaired_), options_.detection);
     for (size_t c = 0; c < rig_.cameras.size(); ++c) {
       result->cameras[c].after = final_detection.cameras[c].residuals;
       result->cameras[c].state_after = final_detection.cameras[c].state;
@@ -304,17 +306,20 @@ class ExtrinsicRefiner {
 
   const Rig& rig_;
   const std::deque<MarkerSample>& samples_;
+  const std::deque<FrameBlobs>& blobs_;
   const ExtrinsicRefinementOptions& options_;
   std::vector<char> moved_;
+  std::vector<char> lost_;             // moved cameras that could not be found again
   Rig solved_;
+  std::deque<MarkerSample> repaired_;  // the samples with the moved cameras' views paired anew
 };
 
 }  // namespace
 
 ExtrinsicRefinement RefineExtrinsics(const Rig& rig, const std::deque<MarkerSample>& samples,
-                                     const ExtrinsicRefinementOptions& options) {
+                                     const std::deque<FrameBlobs>& blobs, const ExtrinsicRefinementOptions& options) {
   options.Check();
-  return ExtrinsicRefiner(rig, samples, options).Run();
+  return ExtrinsicRefiner(rig, samples, blobs, options).Run();
 }
 
 }  // namespace mocap

@@ -2,9 +2,11 @@
 // capture are unknown points (marker_residuals.h gathers them with their views); the cameras
 // whose residuals say they moved (bump_detector.h) are re-solved while every other camera is
 // held, so the scale and world frame stay those of the existing calibration. Each moved camera
-// is first resected alone against points triangulated by the held cameras (robust loss against
-// wrong nearest-blob pairings), then the moved cameras and all points are refined jointly
-// (Huber loss, outlier views dropped). A new pose is accepted only when it brings the camera's
+// is first found again alone from its blobs and the points the held cameras triangulate
+// (camera_relocalization.h: shift vote, PnP + RANSAC, narrowing re-pairing; not from the old
+// pose, whose nearest blobs are wrong pairings after a knock of a degree or more); its views are
+// then paired again under the found pose, and the moved cameras and all points are refined
+// jointly (Huber loss, outlier views dropped). A new pose is accepted only when it brings the camera's
 // residuals back to the rig's level and by a clear factor; a rig where nothing moved is
 // returned unchanged, bit for bit.
 //
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "calib/bump_detector.h"
+#include "calib/camera_relocalization.h"
 #include "calib/marker_residuals.h"
 #include "geometry/camera.h"
 
@@ -24,9 +27,9 @@ namespace mocap {
 
 struct ExtrinsicRefinementOptions {
   BumpDetectionOptions detection;
+  CameraRelocalizationOptions relocalization;
   bool refine_drifting = true;     // drifting cameras are re-solved like bumped ones
-  double resection_loss_px = 5.0;  // Cauchy scale of the first resection pass
-  double loss_scale_px = 1.0;      // Huber scale of the later passes and the joint solve
+  double loss_scale_px = 1.0;      // Huber scale of the joint solve
   double outlier_px = 1.5;         // views beyond max(this, 5 robust sigma) are dropped
   size_t max_points = 20000;       // samples in the joint solve (spread evenly over the input)
   double min_improvement = 2.0;    // median residual must fall by this factor to accept
@@ -48,7 +51,8 @@ struct CameraRefinement {
   double rotation_change_deg = 0.0;
   size_t inlier_views = 0;       // views of the camera in the joint solve
   size_t outlier_views = 0;      // views dropped as outliers
-  std::string note;              // why a solved pose was refused
+  CameraRelocalization relocalization;  // the robust first pose (when refined)
+  std::string note;              // why a solved pose was refused, and what to do
 };
 
 struct ExtrinsicRefinement {
@@ -61,7 +65,9 @@ struct ExtrinsicRefinement {
   bool Changed() const;
 };
 
+// `blobs`: the frames' blobs the samples came with (MarkerResidualCollector::blobs()), from
+// which a moved camera is found again and its views paired anew.
 ExtrinsicRefinement RefineExtrinsics(const Rig& rig, const std::deque<MarkerSample>& samples,
-                                     const ExtrinsicRefinementOptions& options);
+                                     const std::deque<FrameBlobs>& blobs, const ExtrinsicRefinementOptions& options);
 
 }  // namespace mocap

@@ -89,7 +89,7 @@ TEST(ExtrinsicRefinementTest, BumpFoundWithinTwoSecondsAndSolvedBack) {
   }
   std::printf("bump detected after %ld frames (%.3f s)\n", detected_at + 1, (detected_at + 1) / motion.rate_hz);
 
-  const ExtrinsicRefinement refined = RefineExtrinsics(calibration, collector.samples(), ExtrinsicRefinementOptions());
+  const ExtrinsicRefinement refined = RefineExtrinsics(calibration, collector.samples(), collector.blobs(), ExtrinsicRefinementOptions());
   ASSERT_TRUE(refined.Changed());
   for (size_t c = 0; c < calibration.cameras.size(); ++c) {
     const CameraRefinement& camera = refined.cameras[c];
@@ -135,7 +135,7 @@ TEST(ExtrinsicRefinementTest, UnbumpedRigDoesNotDriftOverTenMinutes) {
       if (f % 3 == 0) collector.Add(set);
     }
     const ExtrinsicRefinement refined =
-        RefineExtrinsics(calibration, collector.samples(), ExtrinsicRefinementOptions());
+        RefineExtrinsics(calibration, collector.samples(), collector.blobs(), ExtrinsicRefinementOptions());
     EXPECT_FALSE(refined.Changed()) << "chunk at frame " << start;
     for (size_t c = 0; c < calibration.cameras.size(); ++c) {
       EXPECT_EQ(refined.cameras[c].state_before, CameraPoseState::kOk) << "chunk " << start << " camera " << c + 1;
@@ -159,7 +159,7 @@ TEST(ExtrinsicRefinementTest, TooManyMovedCamerasAreRefused) {
   detection.baseline_px = 0.2;  // the calibration's own residual: half the rig cannot be the baseline
   ExtrinsicRefinementOptions options;
   options.detection = detection;
-  EXPECT_THROW(RefineExtrinsics(calibration, collector.samples(), options), std::runtime_error);
+  EXPECT_THROW(RefineExtrinsics(calibration, collector.samples(), collector.blobs(), options), std::runtime_error);
 }
 
 TEST(ExtrinsicRefinementTest, OptionsAreChecked) {

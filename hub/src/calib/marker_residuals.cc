@@ -17,6 +17,7 @@ void MarkerResidualOptions::Check() const {
   if (!(ambiguity_ratio >= 1.0) || !std::isfinite(ambiguity_ratio))
     throw std::invalid_argument("ambiguity_ratio must be >= 1");
   if (max_samples < 1) throw std::invalid_argument("max_samples must be >= 1");
+  if (max_blob_frames < 1) throw std::invalid_argument("max_blob_frames must be >= 1");
 }
 
 MarkerResidualCollector::MarkerResidualCollector(const Rig& rig, const MarkerResidualOptions& options,
@@ -31,6 +32,7 @@ void MarkerResidualCollector::Add(const FrameSet& set) {
 
 void MarkerResidualCollector::DropBefore(uint64_t frame) {
   while (!samples_.empty() && samples_.front().frame < frame) samples_.pop_front();
+  while (!blobs_.empty() && blobs_.front().frame < frame) blobs_.pop_front();
 }
 
 void MarkerResidualCollector::AddReconstructed(const FrameSet& set, const Reconstructor& reconstructor) {
@@ -43,6 +45,7 @@ void MarkerResidualCollector::AddReconstructed(const FrameSet& set, const Recons
     if (index >= 0) frame_of_camera_[index] = &frame;
   }
   const std::vector<TriangulatedPoint>& triangulated = reconstructor.triangulated();
+  size_t added = 0;
   for (size_t p = 0; p < triangulated.size(); ++p) {
     const TriangulatedPoint& point = triangulated[p];
     if (static_cast<int>(point.observations.size()) < options_.min_views) continue;
@@ -90,8 +93,20 @@ void MarkerResidualCollector::AddReconstructed(const FrameSet& set, const Recons
       sample.views.push_back(view);
     }
     samples_.push_back(std::move(sample));
+    ++added;
     while (samples_.size() > options_.max_samples) samples_.pop_front();
   }
+  if (added == 0) return;
+  FrameBlobs blobs;
+  blobs.frame = set.frame_number;
+  blobs.pixels.resize(rig_.cameras.size());
+  for (size_t c = 0; c < rig_.cameras.size(); ++c) {
+    if (frame_of_camera_[c] == nullptr) continue;
+    blobs.pixels[c].reserve(frame_of_camera_[c]->blobs.size());
+    for (const Blob& blob : frame_of_camera_[c]->blobs) blobs.pixels[c].push_back(blob.pixel);
+  }
+  blobs_.push_back(std::move(blobs));
+  while (blobs_.size() > options_.max_blob_frames) blobs_.pop_front();
 }
 
 PointView ViewThrough(const Camera& camera, const Eigen::Vector2d& normalized) {

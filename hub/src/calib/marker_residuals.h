@@ -5,6 +5,10 @@
 // there when it is unambiguous: a camera that moved (its views rejected by the reconstruction)
 // still has its observations, only further from where the calibration puts them.
 //
+// Every frame set that gave samples also leaves its blobs (FrameBlobs): a camera knocked far
+// enough that its nearest blobs are not its markers is found again from them
+// (camera_relocalization.h).
+//
 // A camera's residual of one view is leave-one-out: the point is triangulated again from the
 // other cameras' views the reconstruction used, then projected into this camera. So a moved
 // camera does not pull its own points, and the figure measures the camera alone.
@@ -40,6 +44,12 @@ struct MarkerSample {
   std::vector<MarkerView> views;
 };
 
+// The blobs of one frame set, per camera (rig order; empty for a camera without a frame).
+struct FrameBlobs {
+  uint64_t frame = 0;
+  std::vector<std::vector<Eigen::Vector2d>> pixels;  // distorted, px
+};
+
 struct MarkerResidualOptions {
   int min_views = 3;               // points made from fewer views are not kept
   double max_point_rms_px = 1.0;   // nor points the reconstruction fitted worse than this
@@ -48,6 +58,7 @@ struct MarkerResidualOptions {
   double search_px = 40.0;
   double ambiguity_ratio = 2.0;
   size_t max_samples = 200000;     // the oldest samples are dropped beyond this (bounded memory)
+  size_t max_blob_frames = 5000;   // frame sets whose blobs are kept (the oldest dropped beyond)
 
   void Check() const;
 };
@@ -64,10 +75,13 @@ class MarkerResidualCollector {
   // Appends the points another reconstructor (of the same rig) just made of `set`, as `serve`'s
   // live reconstruction does: no second reconstruction.
   void AddReconstructed(const FrameSet& set, const Reconstructor& reconstructor);
-  // Drops the samples of frames before `frame` (a sliding window).
+  // Drops the samples and blobs of frames before `frame` (a sliding window).
   void DropBefore(uint64_t frame);
   const std::deque<MarkerSample>& samples() const { return samples_; }
   std::deque<MarkerSample>* mutable_samples() { return &samples_; }
+  // In frame order, one per frame set that gave at least one sample.
+  const std::deque<FrameBlobs>& blobs() const { return blobs_; }
+  std::deque<FrameBlobs>* mutable_blobs() { return &blobs_; }
   uint64_t frames() const { return frames_; }
 
  private:
@@ -76,6 +90,7 @@ class MarkerResidualCollector {
   ReconstructorOptions recon_;
   std::unique_ptr<Reconstructor> reconstructor_;  // made on the first Add()
   std::deque<MarkerSample> samples_;
+  std::deque<FrameBlobs> blobs_;
   std::vector<const CameraFrame*> frame_of_camera_;
   std::vector<ReconstructedPoint> points_;
   uint64_t frames_ = 0;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -189,20 +190,50 @@ int FindSeed(const std::vector<Quad>& quads, size_t holes, TargetFace face) {
   return seed;
 }
 
-FaceMatch MatchFace(const std::vector<Quad>& quads, int seed, const FaceGrower& grower) {
-  const Quad& quad = quads[seed];
-  cv::Point2d holes(0.0, 0.0);
-  for (const cv::Point2d& hole : quad.holes) holes += hole;
-  holes *= 1.0 / static_cast<double>(quad.holes.size());
-  int first = 0;
-  for (int k = 1; k < 4; ++k) {
-    if (cv::norm(quad.corners[k] - holes) < cv::norm(quad.corners[first] - holes)) first = k;
+// Largest distance (px) from a hole the layout puts in the face's first square, mapped into the
+// image through that square's corners taken in `order`, to the nearest hole seen in it.
+double HoleError(const Quad& quad, const std::array<int, 4>& order, const CalibrationTargetLayout& layout,
+                 TargetFace face) {
+  std::vector<cv::Point2f> square, image;  // getPerspectiveTransform takes single precision
+  for (int corner = 0; corner < 4; ++corner) {
+    const Eigen::Vector2d uv = layout.CornerOnFace(0, 0, corner);
+    square.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+    image.emplace_back(quad.corners[order[corner]]);
   }
-  // The face may appear mirrored against the contour's turning direction: both are tried and the
-  // one that explains more squares kept.
+  const cv::Mat h = cv::getPerspectiveTransform(square, image);
+  double worst = 0.0;
+  for (const Eigen::Vector2d& hole : layout.HoleCentres(face)) {
+    const cv::Point2d predicted = Apply(h, hole);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const cv::Point2d& seen : quad.holes) nearest = std::min(nearest, cv::norm(seen - predicted));
+    worst = std::max(worst, nearest);
+  }
+  return worst;
+}
+
+// Which quad corner is the square's corner 0, and which way round the face runs. The holes sit
+// on the square's diagonal from corner 0 (calibration_target.h); their position is checked
+// through the square's own homography, not by the nearest corner in the image, since a square
+// seen at a slant (a floor face from the side) can bring another corner nearer to them. The
+// holes lie on the diagonal, so the face's two turning directions fit them alike: both are
+// grown and the one that explains more squares kept.
+FaceMatch MatchFace(const std::vector<Quad>& quads, int seed, const FaceGrower& grower,
+                    const CalibrationTargetLayout& layout, TargetFace face) {
+  const Quad& quad = quads[seed];
+  std::vector<std::pair<double, std::array<int, 4>>> orders;
+  for (int first = 0; first < 4; ++first) {
+    for (const int step : {1, 3}) {
+      const std::array<int, 4> order = {first, (first + step) % 4, (first + 2 * step) % 4, (first + 3 * step) % 4};
+      orders.emplace_back(HoleError(quad, order, layout, face), order);
+    }
+  }
+  std::sort(orders.begin(), orders.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  // The orders whose holes fit within a tenth of the square's side (at least the best two: the
+  // two directions of the best corner).
+  const double gate = std::max(0.1 * quad.side_px, orders[1].first);
   FaceMatch best;
-  for (const int step : {1, 3}) {
-    const std::array<int, 4> order = {first, (first + step) % 4, (first + 2 * step) % 4, (first + 3 * step) % 4};
+  for (const auto& [error, order] : orders) {
+    if (error > gate) break;
     FaceMatch match = grower.Grow(seed, order);
     if (match.squares.size() > best.squares.size()) best = std::move(match);
   }
@@ -230,7 +261,7 @@ TargetDetection DetectTargetPoints(const cv::Mat& gray, const CalibrationTargetL
   std::map<int, cv::Point2d> found;  // point index -> pixel
   for (const TargetFace face : {TargetFace::kWall, TargetFace::kFloor}) {
     const int seed = FindSeed(quads, face == TargetFace::kWall ? 1 : 2, face);
-    const FaceMatch match = MatchFace(quads, seed, grower);
+    const FaceMatch match = MatchFace(quads, seed, grower, layout, face);
     int points = 0;
     for (const auto& [cell, square] : match.squares) {
       const Quad& quad = quads[square.first];

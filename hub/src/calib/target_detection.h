@@ -1,6 +1,7 @@
 // Control points of seed 000's square target (calibration_target.h) in one camera image: dark
 // squares by Otsu threshold and contours (quadrilaterals with their holes), each face found by
-// its holed first square (one hole: wall, two: floor; the holes' side names corner 0), the
+// its holed first square (one hole: wall, two: floor; the holes lie on the diagonal from corner
+// 0, checked through the square's own homography so that a slanted view cannot swap corners), the
 // face's grid grown outwards ring by ring with a homography refitted on every matched square,
 // and every matched corner placed by the Harris response (OpenCV cornerHarris: the strongest
 // response near the quadrilateral's corner, as seed 000 section 3.3.2 does) and refined to

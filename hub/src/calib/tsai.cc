@@ -9,7 +9,9 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
+#include "io/calibration_json.h"
 #include "util/bounded_line.h"
 
 namespace mocap {
@@ -167,6 +169,15 @@ TsaiConversion CameraFromTsai(const TsaiCamera& tsai, uint32_t id, int width, in
   for (size_t i = 0; i < undistorted.size(); ++i) {
     const Eigen::Vector2d opencv = camera.NormalizedToPixel(camera.DistortNormalized(undistorted[i]));
     out.max_error_px = std::max(out.max_error_px, (opencv - pixels[i]).norm());
+  }
+  // What the import writes must load: a camera the calibration file's reader refuses (a lens
+  // whose fitted terms are beyond any real one, an image too wide) is refused here, by its rule.
+  try {
+    Rig rig;
+    rig.cameras.push_back(camera);
+    RigFromJson(RigToJson(rig), "Tsai camera");
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument(e.what());
   }
   return out;
 }

@@ -47,7 +47,8 @@ struct TsaiConversion {
 };
 
 // width/height: image size (Tsai blocks carry only the width, Nfx); height 0 takes 3/4 of it.
-// Throws std::invalid_argument for a camera that fails Check() or a lens OpenCV's terms cannot fit.
+// Throws std::invalid_argument for a camera that fails Check(), a lens OpenCV's terms cannot fit,
+// or a result the calibration file cannot hold (io/calibration_json.h).
 TsaiConversion CameraFromTsai(const TsaiCamera& tsai, uint32_t id, int width, int height);
 
 }  // namespace mocap

@@ -96,6 +96,12 @@ WandGeometry WandGeometry::TwoMarker(double length_mm) {
   return wand;
 }
 
+WandGeometry WandGeometry::SingleMarker() {
+  WandGeometry wand;
+  wand.marker_offsets_mm = {0.0};
+  return wand;
+}
+
 WandGeometry WandGeometry::ThreeMarker(double length_mm, double middle_from_first_mm) {
   WandGeometry wand;
   wand.marker_offsets_mm = {-0.5 * length_mm, -0.5 * length_mm + middle_from_first_mm, 0.5 * length_mm};
@@ -104,6 +110,7 @@ WandGeometry WandGeometry::ThreeMarker(double length_mm, double middle_from_firs
 
 void WandGeometry::Check() const {
   const size_t n = marker_offsets_mm.size();
+  if (n == 1 && marker_offsets_mm[0] == 0.0) return;  // a single marker
   if (n != 2 && n != 3) throw std::invalid_argument("a wand has 2 or 3 markers");
   if (!(LengthMm() > 10.0)) throw std::invalid_argument("wand length must be > 10 mm");
   if (std::abs(marker_offsets_mm.front() + marker_offsets_mm.back()) > 1e-9) {

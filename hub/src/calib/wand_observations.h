@@ -22,6 +22,9 @@ struct WandGeometry {
   std::vector<double> marker_offsets_mm;
 
   static WandGeometry TwoMarker(double length_mm);
+  // One marker waved alone (single_marker_calibration.h): a view is a camera frame with exactly
+  // one blob.
+  static WandGeometry SingleMarker();
   // middle_from_first_mm: distance of the middle marker from the first end marker.
   static WandGeometry ThreeMarker(double length_mm, double middle_from_first_mm);
   double LengthMm() const { return marker_offsets_mm.back() - marker_offsets_mm.front(); }

@@ -2,6 +2,7 @@
 // wand session with an L-frame, calibrate wand, calibrate world and eval-calibration without
 // any alignment (and the --report page's figures); refusals and bad input end as one line on
 // stderr with a non-zero status.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -22,6 +23,30 @@ class CalibrateCliTest : public ::testing::Test {
   const testing::TemporaryDirectory temp_{"calibrate_cli"};
   const std::string dir_ = temp_.path().string();
 };
+
+// One marker waved (sim wand --single-marker-frames), then the wand shown as the scale bar:
+// calibrate marker gives the rig up to a rigid motion, at the scale of the bar.
+TEST_F(CalibrateCliTest, SingleMarkerWaveGivesTheRigAtTheBarsScale) {
+  ASSERT_EQ(Hub("sim motion -o walk.trc --frames 120").status, 0);
+  ASSERT_EQ(Hub("sim rig --motion walk.trc --cameras 8 -o rig.json").status, 0);
+  const HubRun wave = Hub("sim wand --rig rig.json -o marker --frames 3300 --single-marker-frames 3000 "
+                          "--noise-px 0.15 --occlusion 0.01 --seed 4");
+  ASSERT_EQ(wave.status, 0) << wave.err;
+  const HubRun solve = Hub("calibrate marker marker --intrinsics rig.json --scale-length 500 -o cal.json --json");
+  ASSERT_EQ(solve.status, 0) << solve.err;
+  const nlohmann::json report = nlohmann::json::parse(solve.out);
+  EXPECT_EQ(report["cameras"].size(), 8u);
+  EXPECT_GT(report["scale_frames"].get<int>(), 100);
+  const HubRun eval = Hub("eval-calibration --truth rig.json --result cal.json --json");
+  ASSERT_EQ(eval.status, 0) << eval.err;
+  const nlohmann::json errors = nlohmann::json::parse(eval.out);
+  EXPECT_LT(errors["centre_max_mm"].get<double>(), 1.0) << errors.dump();
+  EXPECT_LT(errors["rotation_max_deg"].get<double>(), 0.05) << errors.dump();
+  EXPECT_LT(std::abs(errors["scale_error"].get<double>()), 0.001) << errors.dump();
+  ExpectOneLineError(Hub("calibrate marker marker --intrinsics rig.json --scale-length 2 -o bad.json"),
+                     "--scale-length");
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/bad.json"));
+}
 
 TEST_F(CalibrateCliTest, WandThenLFrameGivesTheTrueRigInItsOwnWorld) {
   ASSERT_EQ(Hub("sim motion -o walk.trc --frames 120").status, 0);

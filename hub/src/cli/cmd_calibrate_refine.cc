@@ -55,6 +55,15 @@ nlohmann::json RefinementJson(const ExtrinsicRefinement& refined, const std::str
       camera["rotation_change_deg"] = c.rotation_change_deg;
       camera["inlier_views"] = c.inlier_views;
       camera["outlier_views"] = c.outlier_views;
+      const CameraRelocalization& r = c.relocalization;
+      camera["relocalization"] = {{"ok", r.ok},
+                                  {"points", r.points},
+                                  {"shift_px", {r.shift_px.x(), r.shift_px.y()}},
+                                  {"candidates", r.candidates},
+                                  {"ransac_inliers", r.ransac_inliers},
+                                  {"inliers", r.inliers},
+                                  {"gate_px", r.gate_px},
+                                  {"median_px", r.median_px}};
       if (!c.note.empty()) camera["note"] = c.note;
     }
     cameras.push_back(camera);
@@ -71,16 +80,9 @@ nlohmann::json RefinementJson(const ExtrinsicRefinement& refined, const std::str
 // The input document with the accepted cameras' poses replaced: every other field, and every
 // other camera's pose, stays exactly as it was written.
 nlohmann::json WithRefinedPoses(nlohmann::json document, const ExtrinsicRefinement& refined) {
-  for (auto& camera : document["cameras"]) {
-    const uint32_t id = camera["id"].get<uint32_t>();
-    bool accepted = false;
-    for (const CameraRefinement& c : refined.cameras) accepted |= c.camera_id == id && c.accepted;
-    const Camera* moved = refined.rig.Find(id);
-    if (!accepted || moved == nullptr) continue;
-    nlohmann::json rotation = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r) rotation.push_back({moved->rotation(r, 0), moved->rotation(r, 1), moved->rotation(r, 2)});
-    camera["rotation"] = rotation;
-    camera["translation"] = {moved->translation.x(), moved->translation.y(), moved->translation.z()};
+  for (const CameraRefinement& c : refined.cameras) {
+    const Camera* moved = refined.rig.Find(c.camera_id);
+    if (c.accepted && moved != nullptr) document = WithCameraPose(std::move(document), *moved);
   }
   return document;
 }
@@ -103,7 +105,7 @@ void RunCalibrateRefine(const CalibrateRefineArgs& args) {
   if (collector.samples().empty())
     throw std::runtime_error(args.session + ": no marker was reconstructed with " + args.calibration +
                              " (a capture of markers seen by 3+ cameras is needed)");
-  const ExtrinsicRefinement refined = RefineExtrinsics(rig, collector.samples(), args.refinement);
+  const ExtrinsicRefinement refined = RefineExtrinsics(rig, collector.samples(), collector.blobs(), args.refinement);
   const nlohmann::json report = RefinementJson(refined, args.session, frames);
   std::vector<std::string> refused;
   for (const CameraRefinement& c : refined.cameras) {
@@ -125,7 +127,7 @@ void RunCalibrateRefine(const CalibrateRefineArgs& args) {
   if (!refused.empty()) {
     std::string reasons;
     for (const std::string& r : refused) reasons += (reasons.empty() ? "" : "; ") + r;
-    throw std::runtime_error("not written: " + reasons + "; calibrate with the wand again");
+    throw std::runtime_error("not written: " + reasons);
   }
   document = WithRefinedPoses(document, refined);
   document["refinement"] = report;

@@ -1,15 +1,21 @@
 // `eval-calibration`: camera centre, rotation, scale and focal errors of a calibration against
-// a truth rig, after a rigid alignment.
+// a truth rig, after a rigid alignment; with several --result files, the repeatability of
+// repeated calibrations (eval/calibration_repeatability.h), against the truth when given.
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/calibrate_helpers.h"
 #include "cli/commands.h"
 #include "eval/calibration_eval.h"
+#include "eval/calibration_repeatability.h"
 #include "io/calibration_json.h"
 
 namespace mocap {
@@ -17,15 +23,68 @@ namespace {
 
 struct EvalCalibrationArgs {
   std::string truth;
-  std::string result;
+  std::vector<std::string> results;
   bool no_align = false;
   bool json = false;
 };
 
+nlohmann::json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+void RunRepeatability(const EvalCalibrationArgs& args) {
+  std::vector<Rig> calibrations;
+  for (const std::string& path : args.results) calibrations.push_back(LoadRigJson(path));
+  std::optional<Rig> truth;
+  if (!args.truth.empty()) truth = LoadRigJson(args.truth);
+  const CalibrationRepeatability r = EvaluateRepeatability(calibrations, truth ? &*truth : nullptr, !args.no_align);
+  auto number_or_null = [](double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+  if (args.json) {
+    nlohmann::json cameras = nlohmann::json::array();
+    for (const CameraRepeatability& c : r.cameras) {
+      cameras.push_back({{"id", c.id},
+                         {"calibrations", c.calibrations},
+                         {"centre_mean_mm", Vector(c.centre_mean_mm)},
+                         {"centre_std_mm", Vector(c.centre_std_mm)},
+                         {"centre_spread_mm", c.centre_spread_mm},
+                         {"euler_mean_deg", Vector(c.euler_mean_deg)},
+                         {"rotation_std_deg", Vector(c.rotation_std_deg)},
+                         {"rotation_spread_deg", c.rotation_spread_deg},
+                         {"centre_bias_mm", number_or_null(c.centre_bias_mm)},
+                         {"rotation_bias_deg", number_or_null(c.rotation_bias_deg)}});
+    }
+    std::printf("%s\n", nlohmann::json({{"calibrations", r.calibrations},
+                                        {"aligned", r.aligned},
+                                        {"against_truth", r.against_truth},
+                                        {"centre_spread_max_mm", r.centre_spread_max_mm},
+                                        {"rotation_spread_max_deg", r.rotation_spread_max_deg},
+                                        {"cameras", cameras}})
+                            .dump()
+                            .c_str());
+    return;
+  }
+  std::printf("%6s %5s %28s %22s %10s %24s %10s", "camera", "n", "centre mean mm (x y z)", "centre std mm",
+              "spread_mm", "rotation std deg (x y z)", "spread_deg");
+  std::printf(r.against_truth ? " %10s %10s\n" : "\n", "bias_mm", "bias_deg");
+  for (const CameraRepeatability& c : r.cameras) {
+    std::printf("%6u %5zu %9.2f %9.2f %8.2f %7.3f %7.3f %6.3f %10.3f %8.4f %7.4f %7.4f %10.4f", c.id, c.calibrations,
+                c.centre_mean_mm.x(), c.centre_mean_mm.y(), c.centre_mean_mm.z(), c.centre_std_mm.x(),
+                c.centre_std_mm.y(), c.centre_std_mm.z(), c.centre_spread_mm, c.rotation_std_deg.x(),
+                c.rotation_std_deg.y(), c.rotation_std_deg.z(), c.rotation_spread_deg);
+    if (r.against_truth) std::printf(" %10.3f %10.4f", c.centre_bias_mm, c.rotation_bias_deg);
+    std::printf("\n");
+  }
+  std::printf("%zu calibrations%s: worst centre spread %.3f mm, worst rotation spread %.4f deg\n", r.calibrations,
+              r.aligned ? (r.against_truth ? " (each aligned onto the truth)" : " (each aligned onto the first)")
+                        : " (world frames compared as they are)",
+              r.centre_spread_max_mm, r.rotation_spread_max_deg);
+}
+
 void RunEvalCalibration(const EvalCalibrationArgs& args) {
+  if (args.results.size() > 1) return RunRepeatability(args);
+  if (args.truth.empty())
+    throw std::runtime_error("--truth is required with one --result (several --result files give their repeatability)");
   const Rig truth = LoadRigJson(args.truth);
-  const Rig result = LoadRigJson(args.result);
-  const std::map<uint32_t, double> reported = ReadReportedReprojectionRms(args.result);
+  const Rig result = LoadRigJson(args.results.front());
+  const std::map<uint32_t, double> reported = ReadReportedReprojectionRms(args.results.front());
   CalibrationEvalOptions options;
   options.align = !args.no_align;
   const CalibrationEval eval = EvaluateCalibration(truth, result, reported, options);
@@ -71,8 +130,12 @@ void RunEvalCalibration(const EvalCalibrationArgs& args) {
 void AddEvalCalibrationCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("eval-calibration", "Accuracy of a calibration against a truth rig");
   auto args = std::make_shared<EvalCalibrationArgs>();
-  command->add_option("--truth", args->truth, "Truth rig (calibration JSON)")->required();
-  command->add_option("--result", args->result, "Calibration to evaluate")->required();
+  command->add_option("--truth", args->truth,
+                      "Truth rig (calibration JSON); optional with several --result files");
+  command->add_option("--result", args->results,
+                      "Calibration to evaluate; several (repeat the option or list them): each camera's mean and "
+                      "standard deviation of centre and rotation over them")
+      ->required();
   command->add_flag("--no-align", args->no_align, "Compare world frames as they are (no rigid alignment)");
   command->add_flag("--json", args->json, "Print one JSON object on stdout");
   command->callback([args] { RunEvalCalibration(*args); });

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "cli/commands.h"
 #include "cli/config_file.h"
 #include "ingest/udp_socket.h"
+#include "api/api_tokens.h"
 #include "api/http_server.h"
 #include "api/static_files.h"
 #include "service/hub_service.h"
@@ -43,6 +45,12 @@ void OnSignal(int) { g_stop.store(true); }
 struct ServeArgs {
   service::ServeOptions options;
   std::string api = "127.0.0.1:7801";
+  std::string api_auth;                // the tokens' directory, or "off"; default beside the sessions
+  bool insecure_dev_api = false;
+  std::vector<std::string> api_host_names;
+  int api_threads = 384;
+  int api_request_timeout_ms = 3000;
+  size_t api_max_websockets = 64;
   stream::UdpStreamOptions stream;
   std::string stream_multicast_parts = "points,bodies";
   std::string osc_targets;             // comma-separated HOST:PORT
@@ -181,13 +189,63 @@ class Watchdog {
   uint64_t next_ns_ = 0;
 };
 
+bool IsLoopback(const std::string& host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+// The API's access (api/access.h): tokens in --api-auth DIR (default api-auth beside the
+// sessions directory); at the first start a token for the local operator is issued into
+// DIR/operator.token, which the CLI on this machine reads. Without tokens (off, or
+// --insecure-dev-api) the API may listen on loopback only, unless told --insecure-dev-api.
+api::HttpServerOptions HttpOptionsOf(const ServeArgs& args, std::vector<api::StaticMount> console) {
+  namespace fs = std::filesystem;
+  api::HttpServerOptions http;
+  http.listen = args.api;
+  http.console = std::move(console);
+  http.threads = args.api_threads;
+  http.request_timeout_ms = args.api_request_timeout_ms;
+  http.max_websockets = args.api_max_websockets;
+  http.access.host_names = args.api_host_names;
+  const HostPort address = ParseHostPort(args.api);
+  const bool loopback = IsLoopback(address.host);
+  http.access.tokens_required = args.api_auth != "off" && !args.insecure_dev_api;
+  if (!http.access.tokens_required) {
+    if (!loopback && !args.insecure_dev_api)
+      throw UsageError("--api-auth off with --api " + args.api +
+                       ": the API would be open to the network; keep tokens, or bind it to 127.0.0.1, or say "
+                       "--insecure-dev-api");
+    log::Warn("{}API WITHOUT TOKENS: anyone who reaches {} steers this hub (captures, thresholds, calibration)",
+              args.insecure_dev_api ? "INSECURE DEVELOPMENT " : "", args.api);
+    if (const std::string error = http.Check(); !error.empty()) throw UsageError(error);
+    return http;
+  }
+  fs::path sessions = fs::path(args.options.sessions_dir).lexically_normal();
+  if (!sessions.has_filename()) sessions = sessions.parent_path();  // "x/sessions/"
+  const fs::path dir = args.api_auth.empty() ? sessions.parent_path() / "api-auth" : fs::path(args.api_auth);
+  std::error_code ec;
+  if (fs::create_directories(dir, ec)) fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace, ec);
+  if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": cannot create the API tokens' directory");
+  http.token_store = (dir / "tokens").string();
+  http.logins_file = (dir / "logins.json").string();
+  if (api::ReadTokenStore(http.token_store).empty()) {
+    const std::string holder = (dir / "operator.token").string();
+    api::IssueToken(http.token_store, "local", api::ApiRole::kOperator, holder);
+    log::Info("API token 'local' (operator) issued into {}: the CLI reads it (MOCAP_HUB_TOKEN_FILE), the console "
+              "logs in with its content; `mocap-hub tokens` issues more",
+              holder);
+  }
+  if (const std::string error = http.Check(); !error.empty()) throw UsageError(error);
+  return http;
+}
+
 void RunServe(ServeArgs& args, bool web_root_given) {
   CheckOptions(args.options);
   std::vector<api::StaticMount> console = ConsoleOf(args, web_root_given);
+  api::HttpServerOptions http_options = HttpOptionsOf(args, std::move(console));
   service::HubService hub(args.options);
   hub.Bind();
   Streams streams(args);
-  api::HttpServer http(hub, args.api, console);
+  api::HttpServer http(hub, http_options);
   // Qualisys RT (--qtm-rt): clients of that protocol, on its own thread like the streams.
   std::unique_ptr<stream::qtm::QtmRtServer> qtm_rt;
   if (!args.qtm_rt.empty()) {
@@ -221,7 +279,8 @@ void RunServe(ServeArgs& args, bool web_root_given) {
   const std::string api_host = api.host.empty() || api.host == "*" ? "0.0.0.0" : api.host;
   log::Info("serving: UDP port {} for the nodes, API http://{}:{}, sessions in {}", hub.port(), api_host, http.port(),
             args.options.sessions_dir);
-  if (!console.empty()) log::Info("web console at http://{}:{}/ from {}", api_host, http.port(), console[0].dir);
+  if (!http_options.console.empty())
+    log::Info("web console at http://{}:{}/ from {}", api_host, http.port(), http_options.console[0].dir);
   if (streams.udp)
     log::Info("stream: UDP port {}{}", streams.udp->port(),
               args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);
@@ -254,12 +313,38 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--config", *config, "Config file: `key = value` per long option name; flags win")
       ->check(CLI::ExistingFile);
   command->add_option("--listen", o.listen, "HOST:PORT receiving the nodes' UDP")->capture_default_str();
-  command->add_option("--api", args->api, "HOST:PORT of the HTTP/WebSocket API (keep it on localhost)")
+  command->add_option("--api", args->api,
+                      "HOST:PORT of the HTTP/WebSocket API (tokens required; beyond localhost put a TLS reverse "
+                      "proxy in front, docs/security.md)")
+      ->capture_default_str();
+  command->add_option("--api-auth", args->api_auth,
+                      "Directory of the API's tokens (`mocap-hub tokens`; default api-auth beside the sessions "
+                      "directory, its operator.token issued at the first start), or off (loopback only)");
+  command->add_flag("--insecure-dev-api", args->insecure_dev_api,
+                    "DEVELOPMENT ONLY: no API tokens, on any address (anyone who reaches it steers the hub)");
+  command->add_option("--api-host-name", args->api_host_names,
+                      "A name of this hub browsers may use (Host header), besides IP addresses and localhost");
+  command->add_option("--api-threads", args->api_threads, "HTTP worker threads (each connection holds one)")
+      ->capture_default_str();
+  command->add_option("--api-request-timeout-ms", args->api_request_timeout_ms,
+                      "A request (head, then body) must arrive within this; idle connections are closed then")
+      ->capture_default_str();
+  command->add_option("--api-max-websockets", args->api_max_websockets,
+                      "WebSocket clients at once (each holds a worker; more are refused with 503)")
       ->capture_default_str();
   // Required, but checked in ServeOptions::Check: it may come from the config file.
   command->add_option("--calibration", o.calibration, "Calibration JSON (names the cameras); required")
       ->check(CLI::ExistingFile);
   command->add_option("--sessions-dir", o.sessions_dir, "Where captures go (one directory per session)")
+      ->capture_default_str();
+  command->add_option("--capture-min-free-mb", o.disk.start_free_mb,
+                      "A capture starts only with this much free on the sessions disk (MiB)")
+      ->capture_default_str();
+  command->add_option("--capture-warn-free-mb", o.disk.warn_free_mb,
+                      "Warn (log, /api/status sessions_disk) below this much free (MiB)")
+      ->capture_default_str();
+  command->add_option("--capture-stop-free-mb", o.disk.stop_free_mb,
+                      "A running capture ends `failed: disk full` below this much free (MiB); serve goes on")
       ->capture_default_str();
   command->add_option("--masks-file", o.masks_file, "The installation's camera masks (JSON), kept and re-sent");
   command->add_option("--labels", o.labels_file,
@@ -317,9 +402,10 @@ void AddServeCommand(CLI::App& app) {
   command->add_flag("!--no-calibration-monitor", o.calibration_monitor,
                     "Do not watch the cameras' residuals for bumps (on by default: a moved camera is reported and "
                     "re-solved, /api/status calibration_monitor)");
-  command->add_option("--stream", args->stream.listen,
-                      "HOST:PORT of the live stream (subscriptions in, frames out); off: none")
-      ->capture_default_str();
+  CLI::Option* stream = command->add_option(
+      "--stream", args->stream.listen,
+      "HOST:PORT of the live stream (subscriptions in, frames out); off: none; default port 7802 on the API's "
+      "address");
   command->add_option("--stream-multicast", args->stream.multicast,
                       "Also send every frame to this multicast GROUP:PORT (e.g. 239.255.42.1:7803)");
   command->add_option("--stream-multicast-parts", args->stream_multicast_parts,
@@ -354,8 +440,14 @@ void AddServeCommand(CLI::App& app) {
                               ->capture_default_str();
   command->add_option("--three-root", args->three_root, "three.js for the console's 3D views (libjs-three)")
       ->capture_default_str();
-  command->callback([args, config, command, web_root] {
+  command->callback([args, config, command, web_root, stream] {
     if (!config->empty()) ApplyConfigFile(*command, *config);
+    // The stream listens where the API does unless told otherwise: a hub kept on localhost keeps
+    // its stream there too.
+    if (stream->count() == 0) {
+      const HostPort api = ParseHostPort(args->api);
+      args->stream.listen = (api.host.empty() ? std::string("0.0.0.0") : api.host) + ":7802";
+    }
     RunServe(*args, web_root->count() > 0);
   });
 }

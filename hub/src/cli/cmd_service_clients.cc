@@ -73,6 +73,14 @@ void PrintStatus(const json& s) {
                 s["capture"]["seconds"].get<double>(), Str(s["capture"], "frame_sets").c_str(),
                 Str(s["capture"], "path").c_str());
   }
+  const json& last = s.value("last_capture", json());
+  if (last.is_object() && last.value("state", "") == "failed")
+    std::printf("CAPTURE FAILED: %s: %s (%s frame sets kept)\n", Str(last, "name").c_str(), Str(last, "reason").c_str(),
+                Str(last, "frame_sets").c_str());
+  const json& disk = s.value("sessions_disk", json());
+  if (disk.is_object() && disk.value("low", false))
+    std::printf("SESSIONS DISK LOW: %.0f MiB free (warned below %s MiB)\n",
+                disk.value("free_bytes", 0.0) / (1024.0 * 1024.0), Str(disk, "warn_free_mb").c_str());
 }
 
 // "threshold=40", "exposure-us=2000", "gain=2.5", "auto-threshold" -> the settings request body.

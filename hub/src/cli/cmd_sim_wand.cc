@@ -88,6 +88,10 @@ void AddSimWandCommand(CLI::App& app) {
                       "Wave where at least this many cameras see (0 = half the rig)")
       ->capture_default_str();
   AddUpAxisOption(*command, &args->wand.up_axis, true, "Vertical axis: x, y, z or auto (from the cameras)");
+  command->add_option("--single-marker-frames", w.single_marker_frames,
+                      "The first N frames show only the wand's first marker (a single marker waved; the frames "
+                      "after them show the whole wand, the scale bar of `calibrate marker`)")
+      ->capture_default_str();
   command->add_option("--lframe-frames", w.lframe_frames, "Static L-frame frames after the waving")
       ->capture_default_str();
   command->add_option("--lframe", args->lframe,

@@ -84,12 +84,16 @@ void AddCalibrateTargetCommands(CLI::App& app);
 void AddSimTargetImageCommand(CLI::App& app);
 void AddCalibrateIntrinsicsCommand(CLI::App& app);
 void AddCalibrateDltCommand(CLI::App& app);
+void AddCalibrateTsaiCommands(CLI::App& app);  // calibrate tsai, calibrate merge
+void AddCalibrateMarkerCommand(CLI::App& app);
 void AddCalibrateImportTsaiCommand(CLI::App& app);
 void AddCalibrateImportMcdCommand(CLI::App& app);
 // cmd_serve.cc; cmd_service_clients.cc (status, nodes, node, mask, capture, sessions).
 void AddServeCommand(CLI::App& app);
 // cmd_keys.cc (keys new, rotate, retire, list).
 void AddKeysCommands(CLI::App& app);
+// cmd_tokens.cc (tokens new, revoke, list: the API's tokens).
+void AddTokensCommands(CLI::App& app);
 void AddServiceClientCommands(CLI::App& app);
 
 }  // namespace mocap

@@ -18,6 +18,7 @@ const AddCommand kCommands[] = {
     mocap::AddServiceClientCommands,
     mocap::AddRecordCommand,
     mocap::AddKeysCommands,
+    mocap::AddTokensCommands,
     mocap::AddSimRigCommand,
     mocap::AddSimProjectCommand,
     mocap::AddSimRenderCommand,
@@ -40,6 +41,8 @@ const AddCommand kCommands[] = {
     mocap::AddSimTargetImageCommand,
     mocap::AddCalibrateIntrinsicsCommand,
     mocap::AddCalibrateDltCommand,
+    mocap::AddCalibrateTsaiCommands,
+    mocap::AddCalibrateMarkerCommand,
     mocap::AddCalibrateImportTsaiCommand,
     mocap::AddCalibrateImportMcdCommand,
     mocap::AddEvalCalibrationCommand,
@@ -56,7 +59,7 @@ const GroupEntry kGroups[] = {
     {"mesh", "Meshes driven by markers: bind an OBJ to a static frame, export the motion as a point cache"},
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
     {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
-    {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT and seed-format imports"},
+    {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT, Tsai, merging and seed-format imports"},
 };
 
 }  // namespace

@@ -124,8 +124,27 @@ void SessionWriter::Write(const CameraFrame& frame) {
   ++info_.camera_frames;
 }
 
+template <typename Operation>
+void SessionWriter::Guarded(Operation operation) {
+  if (!keep_failures_) {
+    operation();
+    return;
+  }
+  if (!failure_.empty()) return;
+  try {
+    operation();
+  } catch (const std::runtime_error& e) {
+    failure_ = e.what();
+    failure_errno_ = log_.error_number();
+  }
+}
+
 void SessionWriter::AppendDatagram(const uint8_t* data, size_t size, uint64_t receive_time_ns) {
-  log_.Append(data, size, receive_time_ns);
+  Guarded([&] { log_.Append(data, size, receive_time_ns); });
+}
+
+void SessionWriter::Flush() {
+  Guarded([&] { log_.Flush(); });
 }
 
 void SessionWriter::Finish() {

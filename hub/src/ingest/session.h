@@ -52,15 +52,29 @@ class SessionWriter {
   // moves on, so a crash loses at most the frame in progress.
   void Write(const CameraFrame& frame);
   void AppendDatagram(const uint8_t* data, size_t size, uint64_t receive_time_ns);
-  void Flush() { log_.Flush(); }
+  void Flush();
   SessionInfo& info() { return info_; }
+  const std::string& dir() const { return dir_; }
   // Flushes the log and writes session.json.
   void Finish();
 
+  // Write failures throw (`record`: the command ends), unless KeepFailures() was called: then
+  // AppendDatagram and Flush keep the first failure's reason and errno and write nothing more,
+  // so the caller (serve, whose frame path must go on) ends the capture at its next turn.
+  void KeepFailures() { keep_failures_ = true; }
+  const std::string& failure() const { return failure_; }
+  int failure_errno() const { return failure_errno_; }
+
  private:
+  template <typename Operation>
+  void Guarded(Operation operation);
+
   std::string dir_;
   SessionInfo info_;
   SessionLogWriter log_;
+  bool keep_failures_ = false;
+  std::string failure_;
+  int failure_errno_ = 0;
   uint64_t last_frame_number_ = ~0ull;
   bool any_frame_ = false;
 };

@@ -74,13 +74,18 @@ void SessionLogWriter::Append(const uint8_t* data, size_t size, uint64_t receive
   PutU64(header + 8, receive_time_ns);
   PutU32(header + 16, RecordCrc(header + 8, data, size));
   if (std::fwrite(header, 1, sizeof header, file_) != sizeof header ||
-      std::fwrite(data, 1, size, file_) != size)
+      std::fwrite(data, 1, size, file_) != size) {
+    error_number_ = errno;
     throw IoError("write failed", path_);
+  }
   ++records_;
 }
 
 void SessionLogWriter::Flush() {
-  if (file_ && std::fflush(file_) != 0) throw IoError("flush failed", path_);
+  if (file_ && std::fflush(file_) != 0) {
+    error_number_ = errno;
+    throw IoError("flush failed", path_);
+  }
 }
 
 void SessionLogWriter::Close() {

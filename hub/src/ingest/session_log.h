@@ -33,11 +33,14 @@ class SessionLogWriter {
   void Flush();
   void Close();
   uint64_t records() const { return records_; }
+  // The errno of the last failed write or flush (ENOSPC: the disk is full), 0 when none failed.
+  int error_number() const { return error_number_; }
 
  private:
   std::FILE* file_ = nullptr;
   std::string path_;
   uint64_t records_ = 0;
+  int error_number_ = 0;
 };
 
 struct LogRecord {

@@ -1,6 +1,7 @@
 // Reads and writes the DESIGN.md calibration JSON; validates every field a Rig depends on.
 #include "io/calibration_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -25,6 +26,23 @@ constexpr double kMaxCentroidRmsPx = 50.0;
   throw std::runtime_error(source + ": " + reason);
 }
 
+// What a camera of this system can be, so that a damaged or hostile file (fx 1e308, distortion
+// 1e10, 5000 cameras) is refused by name instead of poisoning every later computation. Each is
+// far past any real lens or hall: a 3-degree telephoto on 1280 px has fx near 24000 (20 x width).
+constexpr size_t kMaxCameras = 1024;
+constexpr int kMaxImageSide = 1 << 16;
+constexpr double kMaxFocalPerSide = 1000.0;   // fx, fy <= this x max(width, height)
+constexpr double kMaxDistortion = 1000.0;     // |k1|, |k2|, |p1|, |p2|, |k3|
+constexpr double kMaxTranslationMm = 1e7;     // 10 km from the world origin
+
+void CheckRange(double value, double low, double high, const std::string& where, const std::string& source) {
+  if (!(value >= low && value <= high)) {
+    std::ostringstream rule;
+    rule << where << ": " << value << " is out of range [" << low << ", " << high << "]";
+    Fail(source, rule.str());
+  }
+}
+
 double Number(const json& value, const std::string& where, const std::string& source) {
   if (!value.is_number()) Fail(source, where + " must be a number");
   const double number = value.get<double>();
@@ -40,8 +58,8 @@ const json& Field(const json& object, const char* name, const std::string& where
 }
 
 int PositiveInt(const json& value, const std::string& where, const std::string& source) {
-  if (!value.is_number_integer() || value.get<int64_t>() <= 0 || value.get<int64_t>() > 1 << 20) {
-    Fail(source, where + " must be a positive integer");
+  if (!value.is_number_integer() || value.get<int64_t>() <= 0 || value.get<int64_t>() > kMaxImageSide) {
+    Fail(source, where + " must be a positive integer up to " + std::to_string(kMaxImageSide));
   }
   return value.get<int>();
 }
@@ -65,6 +83,12 @@ Camera CameraFromJson(const json& entry, size_t index, const std::string& source
   in.cx = Number(Field(entry, "cx", where, source), where + ": cx", source);
   in.cy = Number(Field(entry, "cy", where, source), where + ": cy", source);
   if (in.fx <= 0.0 || in.fy <= 0.0) Fail(source, where + ": fx and fy must be > 0");
+  const double side = std::max(in.width, in.height);
+  CheckRange(in.fx, 0.0, kMaxFocalPerSide * side, where + ": fx", source);
+  CheckRange(in.fy, 0.0, kMaxFocalPerSide * side, where + ": fy", source);
+  // The principal point lies near the image; a whole image away is already no lens.
+  CheckRange(in.cx, -static_cast<double>(in.width), 2.0 * in.width, where + ": cx", source);
+  CheckRange(in.cy, -static_cast<double>(in.height), 2.0 * in.height, where + ": cy", source);
 
   // OpenCV writes 4, 5, 8, 12 or 14 coefficients; this model has k1 k2 p1 p2 k3, so longer
   // vectors are accepted only when the terms it cannot represent are zero.
@@ -76,6 +100,7 @@ Camera CameraFromJson(const json& entry, size_t index, const std::string& source
     for (size_t i = 0; i < distortion->size(); ++i) {
       const double value = Number((*distortion)[i], where + ": distortion[" + std::to_string(i) + "]", source);
       if (i < 5) {
+        CheckRange(value, -kMaxDistortion, kMaxDistortion, where + ": distortion[" + std::to_string(i) + "]", source);
         in.distortion[i] = value;
       } else if (value != 0.0) {
         Fail(source, where + ": distortion terms beyond k3 (rational/thin-prism) are not supported");
@@ -108,6 +133,8 @@ Camera CameraFromJson(const json& entry, size_t index, const std::string& source
   }
   for (int i = 0; i < 3; ++i) {
     camera.translation[i] = Number(translation[i], where + ": translation element", source);
+    CheckRange(camera.translation[i], -kMaxTranslationMm, kMaxTranslationMm,
+               where + ": translation[" + std::to_string(i) + "]", source);
   }
   const auto noise = entry.find("centroid_rms_px");
   if (noise != entry.end()) {
@@ -133,6 +160,10 @@ Rig RigFromJson(const json& document, const std::string& source) {
   const auto cameras = document.find("cameras");
   if (cameras == document.end() || !cameras->is_array() || cameras->empty()) {
     Fail(source, "\"cameras\" must be a non-empty array");
+  }
+  if (cameras->size() > kMaxCameras) {
+    Fail(source, "cameras: " + std::to_string(cameras->size()) + " is more than the " +
+                     std::to_string(kMaxCameras) + " a rig may have");
   }
   Rig rig;
   std::set<uint32_t> ids;
@@ -172,5 +203,21 @@ json RigToJson(const Rig& rig) {
 Rig LoadRigJson(const std::string& path) { return RigFromJson(ReadJsonFile(path), path); }
 
 void SaveRigJson(const Rig& rig, const std::string& path) { WriteJsonFile(RigToJson(rig), path); }
+
+json WithCameraPose(json document, const Camera& camera) {
+  if (document.is_object() && document.contains("cameras") && document["cameras"].is_array()) {
+    for (json& entry : document["cameras"]) {
+      if (!entry.is_object() || !entry.contains("id") || !entry["id"].is_number_unsigned() ||
+          entry["id"].get<uint64_t>() != camera.id)
+        continue;
+      json rotation = json::array();
+      for (int r = 0; r < 3; ++r) rotation.push_back({camera.rotation(r, 0), camera.rotation(r, 1), camera.rotation(r, 2)});
+      entry["rotation"] = rotation;
+      entry["translation"] = {camera.translation.x(), camera.translation.y(), camera.translation.z()};
+      return document;
+    }
+  }
+  throw std::runtime_error("calibration document has no camera " + std::to_string(camera.id));
+}
 
 }  // namespace mocap

@@ -20,4 +20,9 @@ void SaveRigJson(const Rig& rig, const std::string& path);
 Rig RigFromJson(const nlohmann::json& document, const std::string& source);
 nlohmann::json RigToJson(const Rig& rig);
 
+// `document` (a calibration JSON) with camera.id's rotation and translation replaced by
+// camera's; every other field and camera stays as written. Throws std::runtime_error when the
+// document has no camera of that id.
+nlohmann::json WithCameraPose(nlohmann::json document, const Camera& camera);
+
 }  // namespace mocap

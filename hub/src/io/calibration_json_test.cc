@@ -107,6 +107,28 @@ TEST(CalibrationJsonTest, ClearErrors) {
   ExpectLoadError(R"({"cameras": [)" + camera + R"(, "centroid_rms_px": "2"}]})", "centroid_rms_px must be a number");
 }
 
+// The probe: reconstruct accepted fx 1e308, distortion 1e10 and 5000 cameras without a word.
+TEST(CalibrationJsonTest, AbsurdValuesAreRefusedNamingTheField) {
+  const auto with = [](const std::string& from, const std::string& to) {
+    std::string camera = kCamera;
+    camera.replace(camera.find(from), from.size(), to);
+    return R"({"cameras": [)" + camera + "}]}";
+  };
+  ExpectLoadError(with("1100.5", "1e308"), "camera 3: fx: 1e+308 is out of range");
+  ExpectLoadError(with("1101.25", "2e7"), "camera 3: fy: 2e+07 is out of range");
+  ExpectLoadError(with("-0.2, 0.05", "-0.2, 1e10"), "camera 3: distortion[1]: 1e+10 is out of range");
+  ExpectLoadError(with("\"cx\": 640.0", "\"cx\": 1e6"), "camera 3: cx: 1e+06 is out of range");
+  ExpectLoadError(with("[10, 20, 3000]", "[10, 1e300, 3000]"), "camera 3: translation[1]");
+  ExpectLoadError(with("\"width\": 1280", "\"width\": 1000000"), "width must be a positive integer up to 65536");
+  std::string many = R"({"cameras": [)";
+  for (int i = 0; i < 5000; ++i) {
+    std::string camera = kCamera;
+    camera.replace(camera.find("\"id\": 3"), 7, "\"id\": " + std::to_string(i));
+    many += (i > 0 ? "}," : "") + camera;
+  }
+  ExpectLoadError(many + "}]}", "cameras: 5000 is more than the 1024");
+}
+
 TEST(CalibrationJsonTest, MissingFileNamesThePath) {
   try {
     LoadRigJson("/nonexistent/rig.json");

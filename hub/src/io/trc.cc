@@ -78,7 +78,11 @@ class LineReader {
       line->push_back(static_cast<char>(c));
       c = buffer_->sbumpc();
     }
-    if (c == '\r' && buffer_->sgetc() == '\n') buffer_->sbumpc();
+    if (c == '\r' && buffer_->sgetc() == '\n') {
+      buffer_->sbumpc();
+      ++bytes_;
+    }
+    bytes_ += line->size() + (c != EOF ? 1 : 0);
     terminated_ = c != EOF;
     ++number_;
     return true;
@@ -92,6 +96,8 @@ class LineReader {
   }
 
   size_t number() const { return number_; }
+  // Bytes consumed so far (line ends included).
+  size_t bytes() const { return bytes_; }
   // Whether the last line read ended with a line break (false: the file ends inside it).
   bool terminated() const { return terminated_; }
 
@@ -99,6 +105,7 @@ class LineReader {
   std::streambuf* buffer_;
   const std::string& source_;
   size_t number_ = 0;
+  size_t bytes_ = 0;
   bool terminated_ = true;
 };
 
@@ -120,13 +127,12 @@ class TrcParser {
     ParseNames(line, reader.number());
 
     // The X1 Y1 Z1 row is optional in the wild; recognise it by its first label.
-    if (!reader.NextNonBlank(&line)) {
-      AssignFrameNumbers();
-      return std::move(result_);
+    if (reader.NextNonBlank(&line)) {
+      const size_t first = line.find_first_not_of(" \t");
+      if (first == std::string::npos || (line[first] != 'X' && line[first] != 'x')) ParseDataRow(line, reader);
+      while (reader.NextNonBlank(&line)) ParseDataRow(line, reader);
     }
-    const size_t first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || (line[first] != 'X' && line[first] != 'x')) ParseDataRow(line, reader);
-    while (reader.NextNonBlank(&line)) ParseDataRow(line, reader);
+    Compact();
     AssignFrameNumbers();
     return std::move(result_);
   }
@@ -188,10 +194,57 @@ class TrcParser {
         if (!Trim(cells[j]).empty()) Fail(line, "marker names must be three columns apart");
       }
     }
-    // NumMarkers wins when the name row is short (unnamed markers get default names).
-    const size_t count = std::max(names.size(), header_markers_);
-    for (size_t i = names.size(); i < count; ++i) names.push_back(DefaultMarkerName(i));
+    // NumMarkers only permits unnamed markers past a short name row; how many there are comes
+    // from the data rows (a header is a claim: 100000 costs nothing unless the rows hold them).
+    max_markers_ = std::max(names.size(), header_markers_);
+    markers_ = names.size();
+    stride_ = markers_;
     result_.names = std::move(names);
+  }
+
+  // Widens the row layout to `markers`; the stride doubles so that rows widening one marker at a
+  // time cost amortised linear copying, and Compact() drops the slack at the end.
+  void Widen(size_t markers, size_t line, size_t bytes_read) {
+    if (markers <= markers_) return;
+    const size_t frames = frame_column_.size();
+    CheckBudget(frames, markers, line, bytes_read);
+    if (markers > stride_) {
+      const size_t stride = std::max(markers, std::min(max_markers_, 2 * stride_));
+      std::vector<Eigen::Vector3d> points(frames * stride, MarkerTrajectories::Gap());
+      for (size_t f = 0; f < frames; ++f) {
+        std::copy_n(result_.points.begin() + static_cast<long>(f * stride_), markers_,
+                    points.begin() + static_cast<long>(f * stride));
+      }
+      result_.points = std::move(points);
+      stride_ = stride;
+    }
+    markers_ = markers;
+  }
+
+  // The dense frames x markers table may not outgrow the text that fills it by more than a
+  // fixed factor: rows that leave their trailing cells out are legal, so one wide row followed
+  // by a million empty ones would otherwise cost a million wide rows of memory.
+  void CheckBudget(size_t frames, size_t markers, size_t line, size_t bytes_read) const {
+    constexpr size_t kPointsPerByte = 2;
+    constexpr size_t kFreePoints = size_t{1} << 20;
+    if (frames * markers > kFreePoints + kPointsPerByte * bytes_read) {
+      Fail(line, std::to_string(frames) + " frames x " + std::to_string(markers) + " markers is more than " +
+                     std::to_string(kPointsPerByte) + " points per byte of the " + std::to_string(bytes_read) +
+                     " bytes read: the rows are too short for their width");
+    }
+  }
+
+  // Drops the stride's slack and names the unnamed markers the data rows hold.
+  void Compact() {
+    const size_t frames = frame_column_.size();
+    if (stride_ != markers_) {
+      for (size_t f = 1; f < frames; ++f) {
+        std::copy_n(result_.points.begin() + static_cast<long>(f * stride_), markers_,
+                    result_.points.begin() + static_cast<long>(f * markers_));
+      }
+    }
+    result_.points.resize(frames * markers_);
+    for (size_t i = result_.names.size(); i < markers_; ++i) result_.names.push_back(DefaultMarkerName(i));
   }
 
   // A last row without its line break that is also short of cells is a file cut off while it
@@ -207,21 +260,17 @@ class TrcParser {
                                   std::to_string(columns) + " cells, no line end): it was cut off; remove the "
                                   "partial row to read the rest");
     }
-    ParseRow(text, reader.number());
+    ParseRow(text, reader.number(), reader.bytes());
   }
 
   // Data rows are most of a file: cells are scanned in place, without copies.
-  void ParseRow(const std::string& text, size_t line) {
-    const size_t markers = result_.names.size();
-    const size_t columns = 2 + 3 * markers;
+  void ParseRow(const std::string& text, size_t line, size_t bytes_read) {
+    const size_t columns = 2 + 3 * max_markers_;
     size_t column = 0;
     size_t position = 0;
     double frame = 0.0;
     double time = std::nan("");
-    frame_column_.push_back(0);
-    result_.frame_numbers.push_back(0);
-    result_.points.resize(result_.points.size() + markers, MarkerTrajectories::Gap());
-    Eigen::Vector3d* row = result_.points.data() + (result_.points.size() - markers);
+    row_.clear();
     Eigen::Vector3d point;
     int present = 0;
     bool any_cell = true;
@@ -240,7 +289,7 @@ class TrcParser {
       const bool empty = begin == stop;
       double value = 0.0;
       if (!empty) {
-        if (column >= columns) Fail(line, "more values than the " + std::to_string(markers) + " markers");
+        if (column >= columns) Fail(line, "more values than the " + std::to_string(max_markers_) + " markers");
         char* parsed_end = nullptr;
         errno = 0;
         value = std::strtod(text.c_str() + begin, &parsed_end);
@@ -268,12 +317,21 @@ class TrcParser {
         }
         // A partly empty marker is a gap: no tool writes one on purpose. NaN text stays NaN.
         if (axis == 2 && present == 3 && point.allFinite() && !(options_.zero_is_gap && point.isZero(0.0))) {
-          row[(column - 2) / 3] = point;
+          row_.emplace_back((column - 2) / 3, point);
         }
+        // Any value, even a NaN or half a point, makes its marker part of the file's width.
+        if (!empty) widest_ = std::max(widest_, (column - 2) / 3 + 1);
       }
       ++column;
     }
-    frame_column_.back() = static_cast<uint64_t>(frame);
+    Widen(widest_, line, bytes_read);
+    const size_t frames = frame_column_.size() + 1;
+    CheckBudget(frames, markers_, line, bytes_read);
+    result_.points.resize(frames * stride_, MarkerTrajectories::Gap());
+    Eigen::Vector3d* row = result_.points.data() + (frames - 1) * stride_;
+    for (const auto& [marker, value] : row_) row[marker] = value;
+    frame_column_.push_back(static_cast<uint64_t>(frame));
+    result_.frame_numbers.push_back(0);
     time_column_.push_back(time);
   }
 
@@ -303,6 +361,11 @@ class TrcParser {
   const TrcReadOptions& options_;
   MarkerTrajectories result_;
   size_t header_markers_ = 0;
+  size_t max_markers_ = 0;  // the name row's count, or NumMarkers when that is more
+  size_t markers_ = 0;      // the width the rows have shown so far
+  size_t stride_ = 0;       // points per stored row (markers_ plus slack)
+  size_t widest_ = 0;
+  std::vector<std::pair<size_t, Eigen::Vector3d>> row_;
   double scale_ = 1.0;
   std::vector<uint64_t> frame_column_;
   std::vector<double> time_column_;

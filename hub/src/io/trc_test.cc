@@ -3,6 +3,7 @@
 #include "io/trc.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -194,6 +195,67 @@ TEST(TrcTest, AnEndlessLineIsRefusedNamingItInsteadOfReadWhole) {
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("/dev/zero: line 1: longer than 1 MiB"), std::string::npos) << error.what();
   }
+}
+
+// The probe: a 114 KB file claiming NumMarkers 100000 cost 1.23 GB (every row was laid out
+// 100000 markers wide). The width now comes from the rows: the claim only permits unnamed markers.
+TEST(TrcTest, AHeaderClaimingManyMarkersCostsOnlyWhatTheRowsHold) {
+  std::string text =
+      "PathFileType\t4\t(X/Y/Z)\tx.trc\n"
+      "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
+      "100\t100\t4000\t100000\tmm\n"
+      "Frame#\tTime\tA\t\t\t\n"
+      "\t\tX1\tY1\tZ1\t\n";
+  size_t rows = 0;
+  while (text.size() < 114 * 1024) {
+    text += std::to_string(rows + 1) + "\t" + std::to_string(rows * 0.01) + "\t1\t2\t3\n";
+    ++rows;
+  }
+  const MarkerTrajectories read = ParseTrc(text, "claims.trc");
+  std::printf("114 KB TRC claiming 100000 markers: %zu frames x %zu markers = %zu points (%zu KB)\n",
+              read.NumFrames(), read.NumMarkers(), read.points.size(),
+              read.points.size() * sizeof(Eigen::Vector3d) / 1024);
+  EXPECT_EQ(read.NumMarkers(), 1u);
+  EXPECT_EQ(read.NumFrames(), rows);
+  EXPECT_EQ(read.points.size(), rows);
+
+  // Rows that widen as the file goes on: earlier rows keep their values, unnamed markers the
+  // data holds get default names, the claim still bounds the width.
+  const std::string widening =
+      "PathFileType\t4\t(X/Y/Z)\tx.trc\n"
+      "DataRate\tNumMarkers\tUnits\n"
+      "100\t5\tmm\n"
+      "Frame#\tTime\tA\t\t\t\n"
+      "1\t0.00\t1\t2\t3\n"
+      "2\t0.01\t4\t5\t6\t\t\t\t7\t8\t9\n"
+      "3\t0.02\t\t\t\t1\t1\t1\n";
+  const MarkerTrajectories wide = ParseTrc(widening, "widening.trc");
+  EXPECT_EQ(wide.names, (std::vector<std::string>{"A", "M002", "M003"}));
+  ASSERT_EQ(wide.NumFrames(), 3u);
+  EXPECT_EQ(wide.At(0, 0), Eigen::Vector3d(1, 2, 3));
+  EXPECT_FALSE(wide.Has(0, 2));
+  EXPECT_EQ(wide.At(1, 0), Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(wide.At(1, 2), Eigen::Vector3d(7, 8, 9));
+  EXPECT_EQ(wide.At(2, 1), Eigen::Vector3d(1, 1, 1));
+  ExpectParseError(
+      "PathFileType\t4\t(X/Y/Z)\tx.trc\nDataRate\tNumMarkers\n100\t2\nFrame#\tTime\tA\t\t\t\n"
+      "1\t0\t1\t2\t3\t4\t5\t6\t7\n",
+      "more values than the 2 markers");
+}
+
+// One row 100000 markers wide (its cells present) and then a million empty rows: each short row
+// would be laid out 100000 markers wide. The table may not outgrow its text by more than a
+// fixed factor, so this is refused at the row where it would.
+TEST(TrcTest, OneWideRowCannotWidenAMillionShortOnes) {
+  std::string text =
+      "PathFileType\t4\t(X/Y/Z)\tx.trc\n"
+      "DataRate\tNumMarkers\n100\t100000\n"
+      "Frame#\tTime\tA\t\t\t\n"
+      "1\t0";
+  for (int m = 0; m < 100000; ++m) text += m == 99999 ? "\t1\t1\t1" : "\t\t\t";
+  text += "\n";
+  for (int f = 2; f < 200000; ++f) text += std::to_string(f) + "\n";
+  ExpectParseError(text, "markers is more than 2 points per byte");
 }
 
 TEST(TrcTest, AFileCutInsideItsLastRowIsRefusedNamingTheRow) {

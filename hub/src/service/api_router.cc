@@ -302,6 +302,18 @@ ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
     return Json(api.Calibration());
   }
   if (what == "calibration" && s.size() >= 3 && s[2] == "wand") return RouteWanding(api, r, s);
+  if (what == "calibration" && s.size() == 4 && s[2] == "monitor" && s[3] == "apply") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"camera", "save"});
+    if (!body.contains("camera") || !body["camera"].is_number_unsigned() || body["camera"].get<uint64_t>() > 0xffffffffu)
+      throw ApiError(400, "'camera' (the id of the camera whose solved pose to apply) must be an id 0..4294967295");
+    bool save = false;
+    if (body.contains("save")) {
+      if (!body["save"].is_boolean()) throw ApiError(400, "'save' must be true or false");
+      save = body["save"].get<bool>();
+    }
+    return Json(api.ApplyMonitorSolve(body["camera"].get<uint32_t>(), save));
+  }
   if (what == "blobs" && s.size() == 2) {
     RequireMethod(r, "GET");
     return Json(api.Blobs());

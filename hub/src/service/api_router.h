@@ -26,6 +26,8 @@
 //   POST   /api/calibration/wand/stop       {"solve": true|false} (default true)
 //   POST   /api/calibration/wand/solve      {"refine_intrinsics"}: solve the recorded wanding again
 //   POST   /api/calibration/wand/apply      {"save": true|false} (default false)
+//   POST   /api/calibration/monitor/apply   {"camera": ID, "save": true|false}: the monitor's
+//                                            solved pose of a moved camera, applied live
 //
 // Errors: {"error": "reason"} with 400 (bad JSON, unknown field, value out of range), 404 (no
 // such path or node), 405 (wrong method), 409, 413 (body over 64 KiB), 504, 500.

@@ -191,6 +191,24 @@ TEST(ApiRouter, WandingCarriesItsSettings) {
   EXPECT_EQ(api.last_name, "all");
 }
 
+TEST(ApiRouter, MonitorSolveIsAppliedPerCamera) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/monitor/apply", R"({"camera": 4})").body["called"], "monitorapply");
+  EXPECT_EQ(api.last_number, 4u);
+  EXPECT_FALSE(api.last_flag);  // saved only when told
+  Send(api, "POST", "/api/calibration/monitor/apply", R"({"camera": 5, "save": true})");
+  EXPECT_EQ(api.last_number, 5u);
+  EXPECT_TRUE(api.last_flag);
+  api.calls.clear();
+  for (const char* body : {"{}", R"({"camera": -1})", R"({"camera": 4294967296})", R"({"camera": "4"})",
+                           R"({"camera": 4, "save": 1})", R"({"camera": 4, "pose": []})"}) {
+    EXPECT_EQ(Send(api, "POST", "/api/calibration/monitor/apply", body).response.status, 400) << body;
+  }
+  EXPECT_EQ(Send(api, "GET", "/api/calibration/monitor/apply").response.status, 405);
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/monitor/other", "{}").response.status, 404);
+  EXPECT_TRUE(api.calls.empty());
+}
+
 TEST(ApiRouter, WandingIntrinsicsAreACalibrationDocument) {
   FakeServiceApi api;
   const std::string camera =

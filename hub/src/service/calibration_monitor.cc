@@ -51,15 +51,19 @@ void CalibrationMonitor::Add(const FrameSet& set, const Reconstructor& reconstru
     // window is then a copy of pointers, not of the samples.
     collector_.AddReconstructed(set, reconstructor);
     std::deque<MarkerSample>& fresh = *collector_.mutable_samples();
-    if (!fresh.empty()) {
-      window_.push_back(std::make_shared<const std::vector<MarkerSample>>(std::make_move_iterator(fresh.begin()),
-                                                                         std::make_move_iterator(fresh.end())));
-      window_samples_ += window_.back()->size();
-      fresh.clear();
+    std::deque<FrameBlobs>& blobs = *collector_.mutable_blobs();
+    if (!fresh.empty() && !blobs.empty()) {
+      auto chunk = std::make_shared<Chunk>();
+      chunk->samples.assign(std::make_move_iterator(fresh.begin()), std::make_move_iterator(fresh.end()));
+      chunk->blobs = std::move(blobs.back());
+      window_samples_ += chunk->samples.size();
+      window_.push_back(std::move(chunk));
     }
+    fresh.clear();
+    blobs.clear();
   }
-  while (!window_.empty() && window_.front()->front().frame + window_frames_ < frame) {
-    window_samples_ -= window_.front()->size();
+  while (!window_.empty() && window_.front()->blobs.frame + window_frames_ < frame) {
+    window_samples_ -= window_.front()->samples.size();
     window_.pop_front();
   }
   if (frame >= next_check_frame_ && !pending_.valid()) {
@@ -81,9 +85,14 @@ void CalibrationMonitor::StartCheck(uint64_t frame) {
     result.frame = frame;
     try {
       std::deque<MarkerSample> samples;
-      for (const auto& chunk : window) samples.insert(samples.end(), chunk->begin(), chunk->end());
+      std::deque<FrameBlobs> blobs;
+      for (const auto& chunk : window) {
+        samples.insert(samples.end(), chunk->samples.begin(), chunk->samples.end());
+        blobs.push_back(chunk->blobs);
+      }
       result.detection = DetectBumps(ComputeCameraResiduals(rig, samples), options.refinement.detection);
-      if (may_solve && result.detection.AnyMoved()) result.refinement = RefineExtrinsics(rig, samples, options.refinement);
+      if (may_solve && result.detection.AnyMoved())
+        result.refinement = RefineExtrinsics(rig, samples, blobs, options.refinement);
     } catch (const std::exception& error) {
       result.error = error.what();
     }
@@ -129,10 +138,10 @@ void CalibrationMonitor::TakeResult(CheckResult result) {
     if (refined.accepted) {
       status.solved = result.refinement->rig.cameras[c];
       log::Warn("calibration monitor: camera {} re-solved from the last {:.1f} s: moved {:.2f} mm, turned {:.3f} deg; "
-                "median residual {:.2f} -> {:.2f} px (the live reconstruction keeps the old pose: write the new one "
-                "with `calibrate refine` on a capture, or restart serve with it)",
+                "median residual {:.2f} -> {:.2f} px (the live reconstruction keeps the old pose until it is applied: "
+                "POST /api/calibration/monitor/apply {{\"camera\": {}}})",
                 refined.camera_id, options_.window_s, refined.centre_change_mm, refined.rotation_change_deg,
-                refined.before.median_px, refined.after.median_px);
+                refined.before.median_px, refined.after.median_px, refined.camera_id);
     } else {
       status.solved.reset();
       log::Warn("calibration monitor: camera {} could not be re-solved: {}", refined.camera_id, refined.note);

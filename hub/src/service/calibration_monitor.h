@@ -86,7 +86,11 @@ class CalibrationMonitor {
   const Rig& rig_;
   CalibrationMonitorOptions options_;
   MarkerResidualCollector collector_;  // turns each frame set into samples, kept in window_
-  std::deque<std::shared_ptr<const std::vector<MarkerSample>>> window_;  // one chunk per frame set
+  struct Chunk {  // one frame set's samples and blobs
+    std::vector<MarkerSample> samples;
+    FrameBlobs blobs;
+  };
+  std::deque<std::shared_ptr<const Chunk>> window_;  // one chunk per frame set
   size_t window_samples_ = 0;
   uint64_t window_frames_ = 1;
   uint64_t check_frames_ = 1;

@@ -1,7 +1,16 @@
 // Captures on command (see capture.h).
 #include "service/capture.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 
@@ -14,9 +23,65 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr uint64_t kFlushEveryNs = 50'000'000;
+constexpr uint64_t kInfoEveryNs = 1'000'000'000;
+constexpr char kReserveFile[] = ".reserve";
+constexpr char kLockFile[] = ".serve.lock";
+
+uint64_t Mb(double mb) { return static_cast<uint64_t>(mb * 1024.0 * 1024.0); }
+
+std::string MbText(uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  return text;
+}
+
+// session.json's counts while capturing: replaced by a rename, but not synced to the disk (an
+// fsync every second on the frame loop could stall it behind the raw log's writes); a killed
+// process loses nothing, a power cut at most the last second's counts. Throws on failure.
+void WriteInfoUnsynced(const SessionInfo& info, const std::string& dir) {
+  const fs::path path = fs::path(dir) / "session.json";
+  const fs::path temporary = fs::path(dir) / "session.json.tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << info.ToJson().dump(2) << "\n";
+    if (!out.flush()) throw std::runtime_error(temporary.string() + ": write failed");
+  }
+  std::error_code ec;
+  fs::rename(temporary, path, ec);
+  if (ec) throw std::runtime_error(path.string() + ": cannot replace: " + ec.message());
+}
+
+// ENOSPC and EDQUOT are the disk being full, whatever the write was.
+std::string FailureReason(const SessionWriter& writer) {
+  const int error = writer.failure_errno();
+  if (error == ENOSPC || error == EDQUOT) return "disk full";
+  return writer.failure();
+}
+
 const std::string kUnnamed;
 
 }  // namespace
+
+std::string CaptureDiskOptions::Check() const {
+  const auto bad = [](const char* name, double value, const char* rule) {
+    return std::string(name) + ": " + std::to_string(value) + " " + rule;
+  };
+  for (const auto& [name, value] : {std::pair<const char*, double>{"start_free_mb", start_free_mb},
+                                    {"warn_free_mb", warn_free_mb},
+                                    {"stop_free_mb", stop_free_mb}})
+    if (!(value >= 0.0 && value <= 1e9)) return bad(name, value, "must be 0..1e9");
+  if (stop_free_mb > start_free_mb) return bad("stop_free_mb", stop_free_mb, "must be at most start_free_mb");
+  if (!(check_every_s > 0.0 && check_every_s <= 60.0)) return bad("check_every_s", check_every_s, "must be in (0, 60]");
+  if (!(reserve_kb >= 0.0 && reserve_kb <= 65536.0)) return bad("reserve_kb", reserve_kb, "must be 0..65536");
+  return "";
+}
+
+uint64_t FreeBytes(const std::string& path) {
+  struct statvfs fs_info {};
+  if (::statvfs(path.c_str(), &fs_info) != 0)
+    throw std::runtime_error(path + ": cannot read the free space: " + std::strerror(errno));
+  return static_cast<uint64_t>(fs_info.f_bavail) * fs_info.f_frsize;
+}
 
 bool ValidSessionName(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.') return false;
@@ -28,8 +93,43 @@ bool ValidSessionName(const std::string& name) {
   return true;
 }
 
-Captures::Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base)
-    : dir_(std::move(sessions_dir)), calibration_file_(std::move(calibration_file)), base_(std::move(base)) {}
+Captures::Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base, CaptureDiskOptions disk,
+                   FreeBytesFunction free_bytes)
+    : disk_(disk),
+      free_bytes_(std::move(free_bytes)),
+      dir_(std::move(sessions_dir)),
+      calibration_file_(std::move(calibration_file)),
+      base_(std::move(base)) {
+  if (const std::string error = disk_.Check(); !error.empty()) throw std::invalid_argument(error);
+}
+
+Captures::~Captures() {
+  if (lock_fd_ >= 0) ::close(lock_fd_);
+}
+
+void Captures::Lock() {
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec) throw std::runtime_error(dir_ + ": cannot create: " + ec.message());
+  const std::string path = (fs::path(dir_) / kLockFile).string();
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    char holder[32] = {};
+    const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
+    ::close(fd);
+    if (error == EWOULDBLOCK)
+      throw std::runtime_error("sessions directory " + dir_ + " is in use by another serve (pid " +
+                               std::string(holder, n > 0 ? static_cast<size_t>(n) : 0) +
+                               "): one serve per sessions directory; stop it or give --sessions-dir another one");
+    throw std::runtime_error(path + ": cannot lock: " + std::strerror(error));
+  }
+  const std::string pid = std::to_string(::getpid());
+  if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size()))
+    log::Warn("{}: cannot write the pid: {}", path, std::strerror(errno));
+  lock_fd_ = fd;
+}
 
 std::vector<std::string> Captures::RecoverInterrupted() {
   std::vector<std::string> names;
@@ -38,6 +138,7 @@ std::vector<std::string> Captures::RecoverInterrupted() {
   for (const fs::directory_entry& entry : fs::directory_iterator(dir_, ec)) {
     if (!entry.is_directory() || !fs::exists(entry.path() / "session.json")) continue;
     try {
+      fs::remove(entry.path() / kReserveFile, ec);
       SessionInfo info = LoadSessionInfo(entry.path().string());
       if (info.extra.value("capture_state", "") != "capturing") continue;
       info.extra["capture_state"] = "interrupted";
@@ -57,6 +158,14 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   const fs::path path = fs::path(dir_) / name;
   std::error_code ec;
   if (fs::exists(path, ec)) throw ApiError(409, "session '" + name + "' exists already in " + dir_);
+  try {
+    free_ = free_bytes_(dir_);
+  } catch (const std::exception& e) {
+    throw ApiError(500, e.what());
+  }
+  if (free_ < Mb(disk_.start_free_mb))
+    throw ApiError(507, "sessions disk " + dir_ + ": " + MbText(free_) + " free, a capture needs at least " +
+                            MbText(Mb(disk_.start_free_mb)) + " (start_free_mb)");
   SessionInfo info = base_;
   info.source = "serve";
   info.extra["capture_state"] = "capturing";
@@ -65,9 +174,15 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   try {
     writer->Create(path.string(), info);
     fs::copy_file(calibration_file_, path / info.calibration, fs::copy_options::overwrite_existing);
+    std::ofstream reserve(path / kReserveFile, std::ios::binary);
+    const std::string block(4096, '\0');
+    for (double kb = 0.0; kb < disk_.reserve_kb; kb += 4.0) reserve << block;
+    if (!reserve.flush()) throw std::runtime_error((path / kReserveFile).string() + ": cannot write");
   } catch (const std::exception& e) {
+    fs::remove(path / kReserveFile, ec);
     throw ApiError(500, e.what());
   }
+  writer->KeepFailures();
   live_ = std::ofstream(path / "live_points.tsv");
   if (!live_) throw ApiError(500, (path / "live_points.tsv").string() + ": cannot create");
   live_ << LivePointsHeader(base_.rate_hz);
@@ -75,12 +190,13 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   name_ = name;
   started_ns_ = now_ns;
   last_flush_ns_ = now_ns;
+  last_check_ns_ = now_ns;
+  last_info_ns_ = now_ns;
   frame_sets_ = 0;
   at_start_ = stats;
 }
 
-nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
-  if (!writer_) throw ApiError(409, "no capture is running");
+void Captures::UpdateInfo(const IngestStats& stats) {
   SessionInfo& info = writer_->info();
   info.frame_sets = frame_sets_;
   const IngestTotals now = stats.Totals(), then = at_start_.Totals();
@@ -89,12 +205,57 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   info.extra["off_clock_frames"] = now.off_clock_frames - then.off_clock_frames;
   info.extra["rescaled_frames"] = now.rescaled_frames - then.rescaled_frames;
   info.extra["wrong_size_frames"] = now.wrong_size_frames - then.wrong_size_frames;
+  info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;
+}
+
+void Captures::RemoveReserve() {
+  std::error_code ec;
+  fs::remove(fs::path(dir_) / name_ / kReserveFile, ec);
+}
+
+nlohmann::json Captures::Fail(const std::string& reason, const IngestStats& stats, uint64_t now_ns) {
+  UpdateInfo(stats);
+  SessionInfo& info = writer_->info();
+  info.extra["capture_state"] = "failed";
+  info.extra["failure"] = reason;
+  info.extra["stopped_ns"] = now_ns;
+  nlohmann::json summary = Current(now_ns);
+  summary["state"] = "failed";
+  summary["reason"] = reason;
+  log::Error("capture {} failed: {} ({} frame sets kept; the service goes on)", name_, reason, frame_sets_);
+  live_.close();
+  // The reserve makes room for session.json on a disk the capture filled.
+  RemoveReserve();
+  try {
+    writer_->Finish();
+  } catch (const std::exception& e) {
+    log::Error("capture {}: {}", name_, e.what());
+    try {
+      SaveSessionInfo(info, writer_->dir());
+    } catch (const std::exception& again) {
+      log::Error("capture {}: session.json not updated: {}", name_, again.what());
+    }
+  }
+  writer_.reset();
+  last_ = summary;
+  return summary;
+}
+
+nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
+  if (!writer_) throw ApiError(409, "no capture is running");
+  writer_->Flush();
+  if (!writer_->failure().empty()) {
+    const nlohmann::json summary = Fail(FailureReason(*writer_), stats, now_ns);
+    throw ApiError(507, "capture '" + summary.value("name", "") + "' failed: " + summary.value("reason", ""));
+  }
+  UpdateInfo(stats);
+  SessionInfo& info = writer_->info();
   info.extra["capture_state"] = "complete";
   info.extra["stopped_ns"] = now_ns;
-  info.extra["malformed_datagrams"] = stats.malformed - at_start_.malformed;
   nlohmann::json summary = Current(now_ns);
   summary["state"] = "complete";
   live_.close();
+  RemoveReserve();
   try {
     writer_->Finish();
   } catch (const std::exception& e) {
@@ -102,14 +263,71 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
     throw ApiError(500, e.what());
   }
   writer_.reset();
+  last_ = summary;
   return summary;
 }
 
-void Captures::MaybeFlush(uint64_t now_ns) {
-  if (!writer_ || now_ns < last_flush_ns_ + kFlushEveryNs) return;
-  writer_->Flush();
-  live_.flush();
-  last_flush_ns_ = now_ns;
+bool Captures::CheckSpace(uint64_t now_ns) {
+  last_check_ns_ = now_ns;
+  try {
+    free_ = free_bytes_(dir_);
+  } catch (const std::exception& e) {
+    log::Warn("{}", e.what());
+    return true;
+  }
+  if (free_ < Mb(disk_.stop_free_mb)) return false;
+  const bool low = free_ < Mb(disk_.warn_free_mb);
+  if (low && !warned_)
+    log::Warn("sessions disk {}: {} free (warn_free_mb {}); a capture stops below {}", dir_, MbText(free_),
+              disk_.warn_free_mb, MbText(Mb(disk_.stop_free_mb)));
+  warned_ = low;
+  return true;
+}
+
+std::string Captures::ReasonFor(const std::string& error) {
+  // A write that failed on a disk with less than a block or two left failed for that.
+  try {
+    free_ = free_bytes_(dir_);
+  } catch (const std::exception&) {
+    return error;
+  }
+  return free_ < Mb(disk_.stop_free_mb) + 65536 ? "disk full" : error;
+}
+
+nlohmann::json Captures::Tick(const IngestStats& stats, uint64_t now_ns) {
+  const bool check = now_ns >= last_check_ns_ + static_cast<uint64_t>(disk_.check_every_s * 1e9);
+  if (!writer_) {
+    if (check) CheckSpace(now_ns);
+    return nullptr;
+  }
+  if (now_ns >= last_flush_ns_ + kFlushEveryNs) {
+    writer_->Flush();
+    live_.flush();
+    last_flush_ns_ = now_ns;
+  }
+  if (!writer_->failure().empty()) {
+    const std::string reason = FailureReason(*writer_);
+    return Fail(reason == "disk full" ? reason : ReasonFor(reason), stats, now_ns);
+  }
+  if (!live_) return Fail(ReasonFor("live_points.tsv: write failed"), stats, now_ns);
+  if (check && !CheckSpace(now_ns)) return Fail("disk full", stats, now_ns);
+  if (now_ns >= last_info_ns_ + kInfoEveryNs) {
+    last_info_ns_ = now_ns;
+    UpdateInfo(stats);
+    try {
+      WriteInfoUnsynced(writer_->info(), writer_->dir());
+    } catch (const std::exception& e) {
+      return Fail(ReasonFor(e.what()), stats, now_ns);
+    }
+  }
+  return nullptr;
+}
+
+nlohmann::json Captures::Disk() const {
+  return {{"free_bytes", free_},
+          {"low", free_ < Mb(disk_.warn_free_mb)},
+          {"warn_free_mb", disk_.warn_free_mb},
+          {"stop_free_mb", disk_.stop_free_mb}};
 }
 
 void Captures::AddPublished(const LiveFrame& frame) {

@@ -4,12 +4,15 @@
 // live_points.tsv (io/live_points.h), every point published while capturing, as published. session.json says
 // "capture_state": "capturing" while one runs and "complete" when it was stopped; a session a
 // killed service left "capturing" is marked "interrupted" at the next start (it stays readable:
-// `reconstruct` reads it up to its last flushed record).
+// `reconstruct` reads it up to its last flushed record). A capture whose writes fail (the disk
+// is full, or its free space fell below `stop_free_mb`) ends "failed" with its reason, and the
+// service goes on; session.json's counts are rewritten every second while capturing.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,23 +28,57 @@ namespace mocap::service {
 // Letters, digits, '.', '-', '_'; 1-64 characters, not starting with '.'.
 bool ValidSessionName(const std::string& name);
 
+// Free space on the sessions disk: a capture needs `start_free_mb` to start, warns once below
+// `warn_free_mb` and is stopped ("failed: disk full") below `stop_free_mb`, checked every
+// `check_every_s`. A small file of `reserve_kb` is kept in each running session (".reserve") and
+// removed when it ends, so that session.json can still be written on a disk a capture filled.
+struct CaptureDiskOptions {
+  double start_free_mb = 256.0;
+  double warn_free_mb = 1024.0;
+  double stop_free_mb = 64.0;
+  double check_every_s = 0.25;
+  double reserve_kb = 64.0;
+
+  // "" or the refusal naming the field, its value and the rule.
+  std::string Check() const;
+};
+
+// Bytes available to this process on the file system holding `path` (statvfs); throws
+// std::runtime_error when it cannot be asked.
+uint64_t FreeBytes(const std::string& path);
+
 class Captures {
  public:
+  using FreeBytesFunction = std::function<uint64_t(const std::string&)>;
+
   // `base` is the session description every capture starts from (rate, epoch, cameras).
-  Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base);
+  Captures(std::string sessions_dir, std::string calibration_file, SessionInfo base,
+           CaptureDiskOptions disk = {}, FreeBytesFunction free_bytes = FreeBytes);
+  ~Captures();
+  Captures(const Captures&) = delete;
+  Captures& operator=(const Captures&) = delete;
+
+  // Creates the sessions directory and takes its lock (flock on ".serve.lock", holding the pid)
+  // for this object's life. Throws std::runtime_error naming the directory and the holder when
+  // another serve has it: two services would relabel each other's captures.
+  void Lock();
 
   // The calibration file copied into the sessions started from now on (a new one was applied).
   void SetCalibrationFile(std::string calibration_file) { calibration_file_ = std::move(calibration_file); }
   // Sessions a killed service left capturing are marked interrupted; returns their names.
   std::vector<std::string> RecoverInterrupted();
-  // Throws ApiError: 400 bad name, 409 a capture is running or the session exists, 500 I/O.
+  // Throws ApiError: 400 bad name, 409 a capture is running or the session exists, 507 the
+  // disk has less than start_free_mb, 500 I/O.
   void Start(const std::string& name, const IngestStats& stats, uint64_t now_ns);
   // Throws ApiError 409 when none is running. Returns the finished session's summary.
   nlohmann::json Stop(const IngestStats& stats, uint64_t now_ns);
-  // Where the loop appends datagrams; null when nothing is being captured.
+  // Where the loop appends datagrams; null when nothing is being captured. Its write failures
+  // are kept (SessionWriter::KeepFailures) and end the capture at the next Tick.
   SessionWriter* writer() { return writer_.get(); }
-  // Flushes the raw log when 50 ms passed since the last flush.
-  void MaybeFlush(uint64_t now_ns);
+  // The capture's housekeeping, every loop turn: the raw log flushed every 50 ms, a failed write
+  // or a disk below stop_free_mb ends it "failed" (returned: its summary, else null), the free
+  // space watched, session.json's counts rewritten every second.
+  nlohmann::json Tick(const IngestStats& stats, uint64_t now_ns);
   // A frame published while capturing: counted and its points kept.
   void AddPublished(const LiveFrame& frame);
 
@@ -49,6 +86,10 @@ class Captures {
   const std::string& name() const { return name_; }  // the running capture's
   const std::string& dir() const { return dir_; }
   nlohmann::json Current(uint64_t now_ns) const;  // null when none
+  // The last capture that ended (complete or failed, with its reason), null before any.
+  const nlohmann::json& last() const { return last_; }
+  // The sessions disk: free bytes at the last check and whether that is below warn_free_mb.
+  nlohmann::json Disk() const;
   nlohmann::json List() const;                    // every session directory with its state
   // One session: its summary as in List() plus "files": [{"name", "bytes"}] (the regular files
   // directly in its directory, sorted; links and subdirectories are not offered). Throws
@@ -62,6 +103,18 @@ class Captures {
  private:
   nlohmann::json Summary(const std::filesystem::path& path) const;
   std::filesystem::path SessionPath(const std::string& name) const;  // throws ApiError 404
+  // The counts since the start into session.json's description.
+  void UpdateInfo(const IngestStats& stats);
+  // Ends the running capture "failed" with `reason`; returns its summary.
+  nlohmann::json Fail(const std::string& reason, const IngestStats& stats, uint64_t now_ns);
+  void RemoveReserve();
+  bool CheckSpace(uint64_t now_ns);  // false: below stop_free_mb
+  // "disk full" when the disk is (nearly) full, else `error`.
+  std::string ReasonFor(const std::string& error);
+
+  CaptureDiskOptions disk_;
+  FreeBytesFunction free_bytes_;
+  int lock_fd_ = -1;
 
   std::string dir_;
   std::string calibration_file_;
@@ -73,6 +126,11 @@ class Captures {
   uint64_t last_flush_ns_ = 0;
   uint64_t frame_sets_ = 0;
   IngestStats at_start_;
+  uint64_t last_check_ns_ = 0;
+  uint64_t last_info_ns_ = 0;
+  uint64_t free_ = 0;
+  bool warned_ = false;
+  nlohmann::json last_;
 };
 
 }  // namespace mocap::service

@@ -11,6 +11,12 @@
 #include <utility>
 #include <vector>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+
 #include <gtest/gtest.h>
 
 #include "io/live_points.h"
@@ -29,7 +35,11 @@ class CaptureTest : public ::testing::Test {
     base_.rate_hz = 100;
     base_.camera_ids = {1, 2};
   }
-  Captures Make() { return Captures((dir_ / "sessions").string(), (dir_ / "cal.json").string(), base_); }
+  // The disk's free space is what free_ says (the real one is whatever the machine has).
+  Captures Make() {
+    return Captures((dir_ / "sessions").string(), (dir_ / "cal.json").string(), base_, disk_,
+                    [this](const std::string&) { return free_; });
+  }
   int StatusOf(const std::function<void()>& f) {
     try {
       f();
@@ -42,7 +52,12 @@ class CaptureTest : public ::testing::Test {
   const testing::TemporaryDirectory temp_{"capture_test"};
   const fs::path dir_ = temp_.path();
   SessionInfo base_;
+  CaptureDiskOptions disk_;
+  uint64_t free_ = uint64_t{1} << 40;
 };
+
+constexpr uint64_t kMiB = 1024 * 1024;
+constexpr uint64_t kSecond = 1'000'000'000;
 
 TEST(SessionName, OnlyPlainNames) {
   EXPECT_TRUE(ValidSessionName("take_01.walk-2"));
@@ -154,6 +169,107 @@ TEST_F(CaptureTest, SessionFilesAreListedAndOnlyThoseCanBeNamed) {
         << named.first << " " << named.second;
   EXPECT_EQ(StatusOf([&] { captures.Describe("nope"); }), 404);
   EXPECT_EQ(StatusOf([&] { captures.Describe(".."); }), 404);
+}
+
+// The probe: a full disk ended serve (flush failed, exit 1) and left session.json "capturing"
+// with 0 frame sets. Now the capture ends "failed: disk full" and the service goes on.
+TEST_F(CaptureTest, ALowDiskRefusesAStartAndEndsARunningCaptureFailedDiskFull) {
+  disk_.start_free_mb = 10;
+  disk_.warn_free_mb = 20;
+  disk_.stop_free_mb = 2;
+  Captures captures = Make();
+  free_ = 5 * kMiB;
+  EXPECT_EQ(StatusOf([&] { captures.Start("low", IngestStats{}, kSecond); }), 507);
+  EXPECT_FALSE(fs::exists(dir_ / "sessions" / "low"));
+  free_ = 30 * kMiB;
+  IngestStats stats;
+  captures.Start("fills", stats, kSecond);
+  EXPECT_TRUE(fs::exists(dir_ / "sessions" / "fills" / ".reserve"));
+  LiveFrame frame;
+  for (int i = 0; i < 3; ++i) captures.AddPublished(frame);
+  stats.nodes[1].frames = 6;
+  EXPECT_TRUE(captures.Tick(stats, kSecond + kSecond / 2).is_null());
+  free_ = 15 * kMiB;  // below warn: still capturing
+  EXPECT_TRUE(captures.Tick(stats, 2 * kSecond).is_null());
+  EXPECT_TRUE(captures.Disk()["low"].get<bool>());
+  free_ = 1 * kMiB;
+  const nlohmann::json failed = captures.Tick(stats, 3 * kSecond);
+  ASSERT_FALSE(failed.is_null());
+  EXPECT_EQ(failed["state"], "failed");
+  EXPECT_EQ(failed["reason"], "disk full");
+  EXPECT_EQ(failed["frame_sets"], 3);
+  EXPECT_FALSE(captures.running());
+  EXPECT_EQ(captures.last(), failed);
+  const SessionInfo info = LoadSessionInfo((dir_ / "sessions" / "fills").string());
+  EXPECT_EQ(info.extra["capture_state"], "failed");
+  EXPECT_EQ(info.extra["failure"], "disk full");
+  EXPECT_EQ(info.frame_sets, 3u);
+  EXPECT_EQ(info.camera_frames, 6u);
+  EXPECT_FALSE(fs::exists(dir_ / "sessions" / "fills" / ".reserve"));
+  // A restarted service lists it as failed, not interrupted.
+  Captures restarted = Make();
+  EXPECT_TRUE(restarted.RecoverInterrupted().empty());
+  EXPECT_EQ(restarted.List()[0]["state"], "failed");
+  std::printf("disk below stop_free_mb: capture %s after %d frame sets, reason '%s'\n",
+              failed["state"].get<std::string>().c_str(), failed["frame_sets"].get<int>(),
+              failed["reason"].get<std::string>().c_str());
+}
+
+// The probe: a killed capture reported frame_sets 0; session.json now follows it every second.
+TEST_F(CaptureTest, SessionJsonCountsFollowARunningCapture) {
+  Captures captures = Make();
+  IngestStats stats;
+  captures.Start("live", stats, kSecond);
+  LiveFrame frame;
+  for (int i = 0; i < 5; ++i) captures.AddPublished(frame);
+  stats.nodes[1].frames = 10;
+  captures.Tick(stats, kSecond + kSecond / 2);
+  EXPECT_EQ(LoadSessionInfo((dir_ / "sessions" / "live").string()).frame_sets, 0u);
+  captures.Tick(stats, 2 * kSecond + 1);
+  const SessionInfo info = LoadSessionInfo((dir_ / "sessions" / "live").string());
+  EXPECT_EQ(info.frame_sets, 5u);
+  EXPECT_EQ(info.camera_frames, 10u);
+  EXPECT_EQ(info.extra["capture_state"], "capturing");
+}
+
+// A write that fails for another reason (here the file-size limit: EFBIG) ends the capture with
+// that reason at the next turn; nothing is thrown into the frame path.
+TEST_F(CaptureTest, AFailedWriteEndsTheCaptureWithItsReason) {
+  Captures captures = Make();
+  captures.Start("big", IngestStats{}, kSecond);
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = saved;
+  small.rlim_cur = 64 * 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const std::vector<uint8_t> datagram(1000, 7);
+  for (int i = 0; i < 200; ++i) captures.writer()->AppendDatagram(datagram.data(), datagram.size(), 1);
+  const nlohmann::json failed = captures.Tick(IngestStats{}, 2 * kSecond);
+  setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, previous);
+  ASSERT_FALSE(failed.is_null());
+  EXPECT_EQ(failed["state"], "failed");
+  EXPECT_NE(failed["reason"].get<std::string>().find("File too large"), std::string::npos) << failed.dump();
+  EXPECT_EQ(LoadSessionInfo((dir_ / "sessions" / "big").string()).extra["capture_state"], "failed");
+}
+
+// The probe: a second serve on the same sessions directory relabelled the first's running
+// capture "interrupted". The directory is now locked by the first.
+TEST_F(CaptureTest, ASecondServiceOnTheSessionsDirectoryIsRefused) {
+  Captures first = Make();
+  first.Lock();
+  first.Start("running", IngestStats{}, kSecond);
+  Captures second = Make();
+  try {
+    second.Lock();
+    ADD_FAILURE() << "a second lock was granted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("is in use by another serve (pid " + std::to_string(getpid()) + ")"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(first.List()[0]["state"], "capturing");
 }
 
 }  // namespace

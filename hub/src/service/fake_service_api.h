@@ -78,6 +78,11 @@ class FakeServiceApi : public ServiceApi {
     last_flag = save;
     return Call("wandapply");
   }
+  nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override {
+    last_number = camera_id;
+    last_flag = save;
+    return Call("monitorapply");
+  }
 
  private:
   nlohmann::json Call(const std::string& what, uint32_t node = 0) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <filesystem>
 #include <utility>
 
@@ -117,6 +118,7 @@ void ServeOptions::Check() const {
   tracker.Check();
   body_filter.Check();
   auth.Check();
+  if (const std::string error = disk.Check(); !error.empty()) throw std::invalid_argument(error);
 }
 
 struct HubService::PreviewWait {
@@ -154,13 +156,12 @@ HubService::HubService(ServeOptions options)
       bodies_(options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file)),
       labels_(options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
       live_(MakeLive()),
-      captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_))) {
+      captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_)),
+                options_.disk) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
   if (options_.calibration_monitor)
     calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
-  std::error_code ec;
-  std::filesystem::create_directories(options_.sessions_dir, ec);
-  if (ec) throw std::runtime_error(options_.sessions_dir + ": cannot create: " + ec.message());
+  captures_.Lock();
   if (options_.auth.insecure_dev)
     log::Warn("INSECURE WIRE: --insecure-dev-wire is set: datagrams are not authenticated, anyone on the network "
               "can forge frames and steer the nodes; for development only (/api/status says so too)");
@@ -235,9 +236,13 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
   }
   RunTasks();  // requests queued meanwhile are answered, later ones refused
   if (captures_.running()) {
-    const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
-    log::Info("capture {} finished at shutdown: {} frame sets", summary.value("name", ""),
-              summary.value("frame_sets", 0));
+    try {
+      const nlohmann::json summary = captures_.Stop(ingest_.stats(), RealtimeNowNs());
+      log::Info("capture {} finished at shutdown: {} frame sets", summary.value("name", ""),
+                summary.value("frame_sets", 0));
+    } catch (const ApiError& e) {
+      log::Error("capture at shutdown: {}", e.what());
+    }
   }
 }
 
@@ -338,7 +343,7 @@ void HubService::Publish(const FrameSet& set) {
 }
 
 void HubService::Tick(uint64_t now) {
-  captures_.MaybeFlush(now);
+  captures_.Tick(ingest_.stats(), now);
   Announce(now);
   ingest_.auth().ReloadIfChanged(now);
   OnRegistryEvents(registry_.Tick(now));
@@ -609,6 +614,8 @@ nlohmann::json HubService::Status() {
           {"max", trigger_to_send_ms_.max()},
           {"definition", "trigger (mid-exposure) -> the node sent the frame's datagrams, node clocks"}}},
         {"capture", captures_.Current(now)},
+        {"last_capture", captures_.last()},
+        {"sessions_disk", captures_.Disk()},
         {"masks", masks_.size()},
         {"requests_pending", controls_.pending()},
         {"calibration_monitor", calibration_monitor_ ? calibration_monitor_->StatusJson() : nlohmann::json(nullptr)},
@@ -989,6 +996,17 @@ nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
   });
 }
 
+std::string DatedCopyName(const std::string& path, uint64_t now_ns) {
+  const std::time_t seconds = static_cast<std::time_t>(now_ns / 1'000'000'000);
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H%M%SZ", &utc);
+  std::string name = path + "." + stamp;
+  for (int n = 2; std::filesystem::exists(name); ++n) name = path + "." + stamp + "-" + std::to_string(n);
+  return name;
+}
+
 nlohmann::json HubService::ApplyWandCalibration(bool save) {
   return OnLoop([this, save] {
     PollWandSolve();
@@ -1004,37 +1022,81 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     }
     std::string source = o.calibration_file;
     if (save) {
-      // The old file stays beside the new one, so that an operator can go back.
-      std::error_code ec;
-      std::filesystem::copy_file(options_.calibration, options_.calibration + ".previous",
-                                 std::filesystem::copy_options::overwrite_existing, ec);
-      if (ec) throw ApiError(500, options_.calibration + ".previous: cannot keep the old calibration: " + ec.message());
-      try {
-        WriteJsonFile(o.calibration, options_.calibration);
-      } catch (const std::exception& e) {
-        throw ApiError(500, e.what());
-      }
+      SaveCalibration(o.calibration);
       source = options_.calibration;
       wand_saved_ = options_.calibration;
     }
-    // The monitor judges residuals against the calibration it was made with: a new one starts
-    // afresh (made again after the rig changes, so its worker never sees the change).
-    const bool monitoring = calibration_monitor_ != nullptr;
-    calibration_monitor_.reset();
-    {
-      std::lock_guard<std::mutex> lock(rig_mutex_);
-      rig_ = o.rig;
-      calibration_source_ = source;
-    }
-    live_ = MakeLive();
-    if (monitoring)
-      calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
-    captures_.SetCalibrationFile(source);
+    UseRig(o.rig, source);
     wand_applied_ = true;
     log::Info("calibration of wanding {} applied to the live reconstruction{}", wand_options_.session,
               save ? " and saved to " + options_.calibration : "");
     return WandingJson();
   });
+}
+
+nlohmann::json HubService::ApplyMonitorSolve(uint32_t camera_id, bool save) {
+  return OnLoop([this, camera_id, save] {
+    if (!calibration_monitor_) throw ApiError(409, "the calibration monitor is off (serve --no-calibration-monitor)");
+    calibration_monitor_->Finish();
+    size_t index = rig_.cameras.size();
+    for (size_t c = 0; c < rig_.cameras.size(); ++c) {
+      if (rig_.cameras[c].id == camera_id) index = c;
+    }
+    if (index == rig_.cameras.size()) throw ApiError(404, "no camera " + std::to_string(camera_id) + " in the calibration");
+    if (!calibration_monitor_->solved_pose(index))
+      throw ApiError(409, "camera " + std::to_string(camera_id) +
+                              " has no accepted solve to apply (see calibration_monitor in /api/status: it is solved "
+                              "when it is bumped or drifting and the subject is in its view)");
+    const Camera pose = *calibration_monitor_->solved_pose(index);
+    Rig rig = rig_;
+    rig.cameras[index] = pose;
+    // The document written keeps every other field of the calibration serve runs with.
+    nlohmann::json document;
+    try {
+      document = WithCameraPose(ReadJsonFile(calibration_source_), pose);
+    } catch (const std::exception&) {
+      document = RigToJson(rig);  // the source is gone or unreadable: the rig itself
+    }
+    std::string source = calibration_source_;
+    if (save) {
+      SaveCalibration(document);
+      source = options_.calibration;
+    }
+    UseRig(rig, source);
+    log::Info("calibration monitor: camera {}'s solved pose applied to the live reconstruction{}", camera_id,
+              save ? " and saved to " + options_.calibration : "");
+    return calibration_monitor_->StatusJson();
+  });
+}
+
+void HubService::SaveCalibration(const nlohmann::json& document) {
+  // Every old file stays beside the new one, named by when it was replaced, so that an
+  // operator can go back to any of them (and an unwanted apply overwrites none).
+  const std::string kept = DatedCopyName(options_.calibration, RealtimeNowNs());
+  std::error_code ec;
+  std::filesystem::copy_file(options_.calibration, kept, std::filesystem::copy_options::none, ec);
+  if (ec) throw ApiError(500, kept + ": cannot keep the old calibration: " + ec.message());
+  try {
+    WriteJsonFile(document, options_.calibration);
+  } catch (const std::exception& e) {
+    throw ApiError(500, e.what());
+  }
+}
+
+void HubService::UseRig(const Rig& rig, const std::string& source) {
+  // The monitor judges residuals against the calibration it was made with: a new one starts
+  // afresh (made again after the rig changes, so its worker never sees the change).
+  const bool monitoring = calibration_monitor_ != nullptr;
+  calibration_monitor_.reset();
+  {
+    std::lock_guard<std::mutex> lock(rig_mutex_);
+    rig_ = rig;
+    calibration_source_ = source;
+  }
+  live_ = MakeLive();
+  if (monitoring)
+    calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
+  captures_.SetCalibrationFile(source);
 }
 
 int HubService::Subscribe(Subscriber subscriber) {

@@ -76,10 +76,15 @@ struct ServeOptions {
   TrackerOptions tracker;                 // likewise; its rate is rate_hz
   bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
   WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
+  CaptureDiskOptions disk;                // the sessions disk's free space (capture.h)
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
 };
+
+// PATH.2026-11-27T230704Z (UTC at now_ns; -2, -3, ... when that exists): where an applied
+// calibration keeps the file it replaces.
+std::string DatedCopyName(const std::string& path, uint64_t now_ns);
 
 class HubService : public ServiceApi {
  public:
@@ -122,12 +127,14 @@ class HubService : public ServiceApi {
   // Live wanding: a capture named options.session whose frame sets feed each camera's wand
   // samples and coverage until every camera has enough (or the timeout), then a solve on a
   // worker thread; Apply switches the live reconstruction to the solved calibration (and with
-  // save writes it over --calibration, the old file kept as CAL.previous).
+  // save writes it over --calibration, every replaced file kept as CAL.<UTC time>).
   nlohmann::json StartWanding(const WandingOptions& options) override;
   nlohmann::json Wanding() override;
   nlohmann::json StopWanding(bool solve) override;
   nlohmann::json SolveWanding(const std::string& refine_intrinsics) override;
   nlohmann::json ApplyWandCalibration(bool save) override;
+  // The monitor's accepted solve of one camera into the live reconstruction (409 without one).
+  nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override;
 
   int Subscribe(Subscriber subscriber);
   void Unsubscribe(int id);
@@ -177,6 +184,10 @@ class HubService : public ServiceApi {
   void PollWandSolve();
   nlohmann::json WandingJson() const;
   std::unique_ptr<LiveReconstruction> MakeLive() const;
+  // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
+  void SaveCalibration(const nlohmann::json& document);
+  // Loop only: the live reconstruction (and a fresh monitor) run with `rig` from now on.
+  void UseRig(const Rig& rig, const std::string& source);
 
   ServeOptions options_;
   // The loop thread is the only writer of rig_ (ApplyWandCalibration) and reads it freely; other

@@ -56,6 +56,9 @@ class ServiceApi {
   // refinement: "" keeps the one it was started with).
   virtual nlohmann::json SolveWanding(const std::string& refine_intrinsics) = 0;
   virtual nlohmann::json ApplyWandCalibration(bool save) = 0;
+  // The calibration monitor's accepted solve of a moved camera (calibration_monitor.h) applied to
+  // the live reconstruction (and saved as serve's calibration); answers the monitor's status.
+  virtual nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) = 0;
 };
 
 }  // namespace mocap::service

@@ -53,6 +53,8 @@ void WandMotionOptions::Check() const {
   if (!(turn_deg_s >= 0.0 && turn_deg_s < 3600.0)) throw std::invalid_argument("--turn must be in [0, 3600) deg/s");
   if (min_cameras != 0 && min_cameras < 2) throw std::invalid_argument("--min-cameras must be 0 (half the rig) or >= 2");
   if (up_axis < -1 || up_axis > 2) throw std::invalid_argument("up axis must be x, y, z or auto");
+  if (single_marker_frames < 0 || single_marker_frames > frames)
+    throw std::invalid_argument("--single-marker-frames must be 0..--frames");
   if (lframe_frames < 0) throw std::invalid_argument("--lframe-frames must be >= 0");
   if (lframe_frames > 0 && lframe_markers.size() < 3) {
     throw std::invalid_argument("an L-frame needs at least 3 markers");
@@ -157,7 +159,11 @@ MarkerTrajectories MakeWandMotion(const Rig& rig, const WandMotionOptions& optio
   const double arrive_mm = 0.1 * size.minCoeff() + 50.0;
   for (int f = 0; f < options.frames; ++f) {
     const size_t row = motion.AddFrame(static_cast<uint64_t>(f));
-    for (size_t m = 0; m < wand_markers; ++m) motion.At(row, m) = centre + offsets[m] * axis;
+    for (size_t m = 0; m < wand_markers; ++m) {
+      const bool hidden = m > 0 && f < options.single_marker_frames;
+      motion.At(row, m) = hidden ? Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN())
+                                 : Eigen::Vector3d(centre + offsets[m] * axis);
+    }
     if ((target - centre).norm() < arrive_mm) target = random_spot();
     const Eigen::Vector3d wanted = options.speed_mm_s * (target - centre).normalized();
     velocity += follow * (wanted - velocity);

@@ -24,6 +24,10 @@ struct WandMotionOptions {
   int min_cameras = 0;            // the waved volume is where this many cameras see a point;
                                   // 0 = half the rig (at least 2)
   int up_axis = -1;               // 0/1/2, or -1 to take it from the cameras' viewing directions
+  // The first this many frames show only the first end marker W1 (the others are gaps): a
+  // single marker waved (`calibrate marker`); the frames after them show the whole wand, which
+  // then serves as the scale bar of known length.
+  int single_marker_frames = 0;
   int lframe_frames = 0;          // static frames of the L-frame after the wave
   std::vector<Eigen::Vector3d> lframe_markers;  // in the rig's world frame, mm
   uint64_t seed = 1;

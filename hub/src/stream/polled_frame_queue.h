@@ -26,7 +26,6 @@ class PolledFrameQueue {
   // After poll() returned: clears the wake-up and hands out the queued frames, oldest first.
   void Acknowledge();
   SharedFrame PopNow() { return queue_.Pop(std::chrono::milliseconds(0)); }
-  void Close() { queue_.Close(); }
   uint64_t dropped() const { return queue_.dropped(); }
 
  private:

@@ -93,30 +93,50 @@ StreamRequest DecodeStreamRequest(const uint8_t* data, size_t size) {
       }
       result.subscribe = true;
       result.parts = parts ? parts : kDefaultParts;
+      result.cookie = request.subscribe().cookie();
       break;
     }
     case v1::StreamRequest::kUnsubscribe:
+      result.cookie = request.unsubscribe().cookie();
       break;
     default:
       result.reason = "request without subscribe or unsubscribe";
       return result;
   }
+  if (result.cookie.size() > kMaxStreamCookie) {
+    result.reason = "cookie of " + std::to_string(result.cookie.size()) + " bytes (at most " +
+                    std::to_string(kMaxStreamCookie) + ")";
+    result.cookie.clear();
+    return result;
+  }
   result.ok = true;
   return result;
 }
 
-std::string EncodeSubscribe(uint32_t parts) {
+std::string EncodeSubscribe(uint32_t parts, const std::string& cookie) {
   v1::StreamRequest request;
   request.set_version(kStreamVersion);
   request.mutable_subscribe()->set_parts(parts);
+  request.mutable_subscribe()->set_cookie(cookie);
+  if (cookie.empty()) {
+    const size_t bare = request.ByteSizeLong();
+    // The padding field's own tag and length take two bytes.
+    if (bare + 2 < kMinFirstRequest) request.mutable_subscribe()->set_padding(std::string(kMinFirstRequest - bare - 2, '\0'));
+  }
   return request.SerializeAsString();
 }
 
-std::string EncodeUnsubscribe() {
+std::string EncodeUnsubscribe(const std::string& cookie) {
   v1::StreamRequest request;
   request.set_version(kStreamVersion);
-  request.mutable_unsubscribe();
+  request.mutable_unsubscribe()->set_cookie(cookie);
   return request.SerializeAsString();
+}
+
+std::string EncodeChallenge(const std::string& cookie) {
+  v1::StreamFrame frame;
+  frame.set_subscribe_cookie(cookie);
+  return frame.SerializeAsString();
 }
 
 uint32_t ParseParts(const std::string& text) {

@@ -34,17 +34,26 @@ struct EncodedFrame {
 EncodedFrame EncodeStreamFrame(const service::LiveFrame& frame, uint32_t parts,
                                size_t max_bytes = kMaxStreamMessage);
 
+// A subscription cookie (subscribe_cookie, Subscribe.cookie) is at most this long; a first
+// Subscribe is padded to at least kMinFirstRequest bytes, which no challenge exceeds.
+constexpr size_t kMaxStreamCookie = 32;
+constexpr size_t kMinFirstRequest = 32;
+
 struct StreamRequest {
   bool ok = false;
   std::string reason;          // why not, when !ok
   bool subscribe = false;      // else unsubscribe
   uint32_t parts = 0;          // with subscribe: never 0 (0 asks for kDefaultParts)
+  std::string cookie;          // empty when the request carries none
 };
 StreamRequest DecodeStreamRequest(const uint8_t* data, size_t size);
 
-// The bytes of a request (clients and tests).
-std::string EncodeSubscribe(uint32_t parts);
-std::string EncodeUnsubscribe();
+// The bytes of a request (clients and tests): a first Subscribe (no cookie) is padded to
+// kMinFirstRequest bytes.
+std::string EncodeSubscribe(uint32_t parts, const std::string& cookie = "");
+std::string EncodeUnsubscribe(const std::string& cookie = "");
+// The hub's challenge: a StreamFrame holding only subscribe_cookie.
+std::string EncodeChallenge(const std::string& cookie);
 
 // "points,bodies,labels" -> Part bits; throws std::invalid_argument naming an unknown part.
 uint32_t ParseParts(const std::string& text);

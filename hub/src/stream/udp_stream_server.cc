@@ -36,12 +36,14 @@ void UdpStreamOptions::Check() const {
   if (max_subscribers == 0) throw std::invalid_argument("stream max subscribers must be > 0");
   if (!(subscription_s > 0.0)) throw std::invalid_argument("stream subscription lifetime must be > 0");
   if (queue_frames == 0) throw std::invalid_argument("stream queue must hold at least one frame");
+  guard.Check();
 }
 
 UdpStreamServer::UdpStreamServer(UdpStreamOptions options)
     : options_((options.Check(), std::move(options))),
       queue_(options_.queue_frames),
-      table_(options_.max_subscribers, static_cast<uint64_t>(options_.subscription_s * 1e9)) {
+      table_(options_.max_subscribers, static_cast<uint64_t>(options_.subscription_s * 1e9)),
+      guard_(options_.guard) {
   socket_.Bind(ParseHostPort(options_.listen));
   if (!options_.multicast.empty()) {
     socket_.EnableMulticast(options_.multicast_ttl);
@@ -74,6 +76,9 @@ nlohmann::json UdpStreamServer::StatsJson() const {
           {"send_failures", s.send_failures},
           {"frames_dropped", s.frames_dropped},
           {"bad_requests", s.bad_requests},
+          {"challenges", s.challenges},
+          {"unproven", s.unproven},
+          {"rate_limited", s.rate_limited},
           {"points_dropped", s.points_dropped},
           {"publish_to_sent_ms", PublishLatencyJson()}};
 }
@@ -105,13 +110,27 @@ void UdpStreamServer::Run() {
 
 void UdpStreamServer::ServeRequests(uint64_t now_ns) {
   Datagram datagram;
-  uint64_t bad = 0;
+  uint64_t bad = 0, challenges = 0, unproven = 0, limited = 0;
   // Bounded per turn: a flood of requests cannot keep frames from going out.
   for (int i = 0; i < 256 && socket_.Receive(&datagram, 0); ++i) {
     const StreamRequest request = DecodeStreamRequest(datagram.bytes.data(), datagram.bytes.size());
     if (!request.ok) {
       ++bad;
       log::Debug("stream: bad request from {}: {}", datagram.FromString(), request.reason);
+      continue;
+    }
+    if (!guard_.Valid(datagram.from, request.cookie, now_ns)) {
+      ++unproven;
+      // Challenges within the source's rate: past it, nothing is answered.
+      if (!guard_.Admit(datagram.from, now_ns)) {
+        ++limited;
+        continue;
+      }
+      // A challenge only for a Subscribe at least as large as it: never an amplifier.
+      const std::string challenge = EncodeChallenge(guard_.Cookie(datagram.from, now_ns));
+      if (request.subscribe && datagram.bytes.size() >= challenge.size() &&
+          socket_.SendTo(datagram.from, reinterpret_cast<const uint8_t*>(challenge.data()), challenge.size()))
+        ++challenges;
       continue;
     }
     if (!request.subscribe) {
@@ -124,6 +143,9 @@ void UdpStreamServer::ServeRequests(uint64_t now_ns) {
   table_.Expire(now_ns);
   std::lock_guard<std::mutex> lock(stats_mutex_);
   stats_.bad_requests += bad;
+  stats_.challenges += challenges;
+  stats_.unproven += unproven;
+  stats_.rate_limited += limited;
   stats_.subscribers = table_.subscribers().size();
 }
 

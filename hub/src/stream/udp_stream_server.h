@@ -1,5 +1,6 @@
 // The project's own stream over UDP: clients subscribe by sending a StreamRequest to the
-// stream port (and renew it every second); every published frame goes to each subscriber as
+// stream port (and renew it every second), after proving their address with the cookie of the
+// hub's challenge (subscription_guard.h: a forged source gets nothing sent to it); every published frame goes to each subscriber as
 // one StreamFrame datagram with the parts it asked for, and to the multicast group when one is
 // configured. With few subscribers (`inline_subscribers`) the hub's loop encodes and sends at
 // once (a few tens of microseconds, one thread hand-over less on the way to the client); with
@@ -23,6 +24,7 @@
 #include "stream/frame_queue.h"
 #include "stream/stream_encoding.h"
 #include "stream/subscriber_table.h"
+#include "stream/subscription_guard.h"
 #include "util/latency_sample.h"
 
 namespace mocap::stream {
@@ -36,6 +38,7 @@ struct UdpStreamOptions {
   double subscription_s = 5.0;
   size_t queue_frames = 64;             // frames waiting for the sending thread (oldest dropped)
   size_t inline_subscribers = 8;         // up to this many (multicast counts as one): sent inline
+  SubscriptionGuardOptions guard;        // cookies and per-source request rates
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
@@ -48,6 +51,9 @@ struct UdpStreamStats {
   uint64_t send_failures = 0;        // a subscriber's socket would block or is gone
   uint64_t frames_dropped = 0;       // the sending thread fell behind the hub
   uint64_t bad_requests = 0;         // malformed or refused subscription requests
+  uint64_t challenges = 0;           // cookies sent to an address not yet proven
+  uint64_t unproven = 0;             // requests with a missing, wrong or stale cookie
+  uint64_t rate_limited = 0;         // requests over their source's rate, dropped unanswered
   uint64_t points_dropped = 0;       // points left out to fit a datagram
 };
 
@@ -76,6 +82,7 @@ class UdpStreamServer {
   FrameQueue queue_;
   std::mutex table_mutex_;  // table_, and one sender at a time
   SubscriberTable table_;
+  SubscriptionGuard guard_;
   mutable std::mutex stats_mutex_;
   UdpStreamStats stats_;
   LatencySample publish_to_sent_ms_{20000};  // the stream's own cost: published -> last datagram sent

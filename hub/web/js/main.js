@@ -2,7 +2,8 @@
 // shown as away and tried again until it is back, and then the calibration is read again), the
 // tabs (Nodes, Live 3D, Calibration, Sessions: one page shown at a time, the others idle), and
 // window.mocapConsole for tests and benchmarks.
-import { el, formatNumber, getJson, traffic } from './api.js';
+import { el, formatNumber, getJson, logout, onUnauthorized, traffic } from './api.js';
+import { LoginForm } from './login_form.js';
 import { CalibrationPage } from './calibration_page.js';
 import { LivePage } from './live_page.js';
 import { NodesPage } from './nodes_page.js';
@@ -20,6 +21,8 @@ class Hub {
     this.statusListeners = [];
     this.calibrationListeners = [];
     this.calibration = null;
+    this.who = null;
+    this.loginNeeded = false;
   }
 
   onStatus(listener) { this.statusListeners.push(listener); }
@@ -42,7 +45,9 @@ class Hub {
 
   async poll() {
     try {
+      if (!this.who) this.who = await getJson('/api/whoami');
       this.status = await getJson('/api/status');
+      this.loginNeeded = false;
       if (!this.connected) {
         if (this.status && this.everConnected) this.reconnects += 1;
         this.connected = this.everConnected = true;
@@ -50,6 +55,10 @@ class Hub {
       }
     } catch (e) {
       this.connected = false;
+      if (e.status === 401) {
+        this.loginNeeded = true;
+        this.who = null;
+      }
     }
     this.render();
     for (const l of this.statusListeners) l(this.connected ? this.status : null);
@@ -59,7 +68,9 @@ class Hub {
   render() {
     const s = this.status;
     if (!this.connected) {
-      this.header.replaceChildren(el('span', { class: 'state away', id: 'hub-state', text: 'hub away – retrying' }));
+      this.header.replaceChildren(this.loginNeeded
+        ? el('span', { class: 'state away', id: 'hub-state', text: 'log in' })
+        : el('span', { class: 'state away', id: 'hub-state', text: 'hub away – retrying' }));
       return;
     }
     const latency = s.hub_latency_ms || {};
@@ -72,12 +83,29 @@ class Hub {
       el('span', { text: `up ${formatNumber(s.uptime_s, 0)} s` }),
     ];
     if (s.capture) items.push(el('span', { class: 'state recording', text: `● ${s.capture.name}` }));
+    if (s.last_capture && s.last_capture.state === 'failed') {
+      items.push(el('span', { class: 'state away', id: 'capture-failed',
+                              text: `capture ${s.last_capture.name} failed: ${s.last_capture.reason}` }));
+    }
+    if (s.sessions_disk && s.sessions_disk.low) {
+      items.push(el('span', { class: 'state away', id: 'disk-low',
+                              text: `sessions disk: ${formatNumber(s.sessions_disk.free_bytes / 1048576, 0)} MiB free` }));
+    }
+    if (this.who) {
+      items.push(el('span', { id: 'who', text: `${this.who.name} (${this.who.role})` }));
+      if (this.who.tokens_required) {
+        items.push(el('button', { id: 'logout', text: 'log out',
+                                  onclick: async () => { await logout().catch(() => {}); this.who = null; } }));
+      }
+    }
     this.header.replaceChildren(...items);
   }
 }
 
 function main() {
   const hub = new Hub(document.getElementById('status'));
+  const loginForm = new LoginForm(() => { hub.who = null; });
+  onUnauthorized(() => loginForm.show());
   const pages = {
     nodes: new NodesPage(document.getElementById('page-nodes'), hub),
     live: new LivePage(document.getElementById('page-live'), hub),
@@ -99,7 +127,7 @@ function main() {
   window.addEventListener('hashchange', showPage);
   showPage();
   hub.poll();
-  window.mocapConsole = { hub, pages, traffic, softwareGl: SOFTWARE_GL, currentPage: () => current };
+  window.mocapConsole = { hub, pages, traffic, loginForm, softwareGl: SOFTWARE_GL, currentPage: () => current };
 }
 
 main();
