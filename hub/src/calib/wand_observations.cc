@@ -65,7 +65,7 @@ bool OrderAlongWand(std::vector<Eigen::Vector2d>* pixels, const WandSelectionOpt
       if ((p[i] - p[j]).norm() < options.min_blob_separation_px) return false;
     }
   }
-  if (p.size() == 2) return true;
+  if (p.size() < 3) return true;  // one marker or the two ends: nothing to order
   // Three blobs: the ends are the farthest pair; the middle must lie between them on the line.
   size_t a = 0, b = 1;
   double best = -1.0;
