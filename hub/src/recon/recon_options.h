@@ -118,6 +118,10 @@ struct ReconstructorOptions {
   // Centroid noise sigma per image axis (px) the gates follow (recon/rig_noise.h). 0: the
   // calibration's (cameras' centroid_rms_px), then measured from the residuals continuously.
   double centroid_noise_px = 0.0;
+  // Whether the gates follow the noise measured from the residuals (centroid_noise_px 0). A
+  // calibration monitor holds them to the calibration's noise instead: a bumped camera's
+  // residuals are the miscalibration it looks for, not noise to open the gates to.
+  bool follow_measured_noise = true;
   TriangulationOptions triangulation;
   EpipolarGraphOptions graph;
   RelaxationOptions relaxation;

@@ -175,7 +175,7 @@ void Reconstructor::Process(const FrameSet& frame_set,
     for (const TriangulatedPoint& point : triangulated_) views += point.observations.size();
     mean_views_ = static_cast<double>(views) / static_cast<double>(triangulated_.size());
   }
-  if (!(configured_.centroid_noise_px > 0.0)) {
+  if (configured_.follow_measured_noise && !(configured_.centroid_noise_px > 0.0)) {
     noise_meter_.AddFrame(triangulated_);
     if (noise_meter_.frames_measured() > 0) FollowNoise(noise_meter_.sigma_px());
   }
