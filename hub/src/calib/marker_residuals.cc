@@ -22,7 +22,9 @@ void MarkerResidualOptions::Check() const {
 
 MarkerResidualCollector::MarkerResidualCollector(const Rig& rig, const MarkerResidualOptions& options,
                                                  const ReconstructorOptions& recon)
-    : rig_(rig), options_((options.Check(), options)), recon_((recon.Check(), recon)) {}
+    : rig_(rig), options_((options.Check(), options)), recon_((recon.Check(), recon)) {
+  recon_.follow_measured_noise = false;
+}
 
 void MarkerResidualCollector::Add(const FrameSet& set) {
   if (!reconstructor_) reconstructor_ = std::make_unique<Reconstructor>(rig_, recon_);

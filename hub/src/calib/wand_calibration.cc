@@ -453,6 +453,8 @@ class WandSolver {
       } else {
         report.accepted = true;
         result_.rig.cameras.push_back(cameras_[i]);
+        // The centroid noise the reconstruction's gates follow (DESIGN.md, recon/rig_noise.h).
+        result_.rig.cameras.back().centroid_rms_px = report.reprojection_rms_px;
       }
       if (!report.accepted) refused.push_back(i);
     }

@@ -57,6 +57,11 @@ TEST(WandCalibrationTest, EightCameraRigWithDistortionMeetsAccuracyTargets) {
   // Per coordinate, the residual of a well-fitted model is the centroid noise.
   EXPECT_LT(result.reprojection_rms_px, 1.2 * std::sqrt(2.0) * 0.15);
   EXPECT_GT(result.reprojection_rms_px, 0.8 * std::sqrt(2.0) * 0.15);
+  // Each accepted camera carries its own residual RMS as its centroid noise (calibration JSON).
+  for (size_t i = 0; i < result.rig.cameras.size(); ++i) {
+    EXPECT_EQ(result.rig.cameras[i].centroid_rms_px, result.cameras[i].reprojection_rms_px);
+    EXPECT_GT(result.rig.cameras[i].centroid_rms_px, 0.7 * std::sqrt(2.0) * 0.15);
+  }
   EXPECT_LT(std::abs(result.wand_length.mean_mm), 0.1);
   EXPECT_LT(result.wand_length.rms_mm, 1.0);
   for (const CameraCalibrationReport& camera : result.cameras) {

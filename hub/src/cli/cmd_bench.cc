@@ -240,6 +240,7 @@ CaseResult RunCase(const BenchArgs& args, const MarkerTrajectories& motion, cons
     const Clock::time_point start = Clock::now();
     const double cpu_start = ThreadCpuMicroseconds();
     reconstructor.Process(frame_set, tracker.Predict(frame_number), &points);
+    tracker.FollowPointNoise(reconstructor.point_noise_mm());
     samples.clear();
     tracker.Update(frame_number, points, &samples);
     filler.Add(frame_number, samples);

@@ -163,6 +163,7 @@ void RunReconstruct(ReconstructArgs args) {
   args.chain.recon.use_predictions = !args.no_predictions;
   args.chain.tracker.assignment = AssignmentMethodFromString(args.assignment);
   CheckOptions(args.chain.recon);  // out-of-range numbers are usage errors, before any file is read
+  CheckOptions(args.chain.tracker);
   const Rig rig = LoadRigJson(args.calibration);
   SessionReader reader;
   reader.Open(args.session);
@@ -290,11 +291,14 @@ void AddReconstructCommand(CLI::App& app) {
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   command->add_option("--max-ray-distance-mm", args->chain.recon.graph.max_ray_distance_mm,
-                      "Epipolar graph: rays closer than this are linked")->capture_default_str();
+                      "Epipolar graph: rays closer than this are linked (at least: the gate widens with the "
+                      "centroid noise)")->capture_default_str();
   command->add_option("--cluster-distance-mm", args->chain.recon.clustering.max_ray_distance_mm,
-                      "Clustering matcher threshold")->capture_default_str();
+                      "Clustering matcher threshold (at least; widens with the noise)")->capture_default_str();
   command->add_option("--max-reprojection-px", args->chain.recon.triangulation.max_reprojection_px,
-                      "Views with a larger residual are rejected")->capture_default_str();
+                      "Views with a larger residual are rejected (at least; widens to 4 sigmas of the noise)")
+      ->capture_default_str();
+  AddRigOptions(*command, &args->chain.recon, &args->chain.tracker);
   command->add_flag("--no-hindsight-swaps", [args](int64_t) { args->chain.hindsight.enabled = false; },
                     "Keep identity trades between close markers as tracked (by default a trade that both "
                     "trajectories' next frames show is undone)");

@@ -396,8 +396,9 @@ void AddServeCommand(CLI::App& app) {
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   command->add_option("--max-ray-distance-mm", o.recon.graph.max_ray_distance_mm,
-                      "Epipolar gate of live reconstruction (as reconstruct's)")
+                      "Epipolar gate of live reconstruction (as reconstruct's: at least; widens with the noise)")
       ->capture_default_str();
+  AddRigOptions(*command, &o.recon, &o.tracker);
   command->add_flag("!--no-calibration-monitor", o.calibration_monitor,
                     "Do not watch the cameras' residuals for bumps (on by default: a moved camera is reported and "
                     "re-solved, /api/status calibration_monitor)");

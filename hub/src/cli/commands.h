@@ -12,6 +12,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "recon/recon_options.h"
+#include "track/track_options.h"
+
 namespace mocap {
 
 // A command line that cannot be run as given (exit status 2).
@@ -38,6 +41,11 @@ CLI::Option* AddUpAxisOption(CLI::App& command, int* axis, bool allow_auto, cons
 std::string UpAxisName(int axis);
 // A finite number within [lo, hi] (CLI::Range alone accepts NaN).
 CLI::Validator FiniteRange(double lo, double hi);
+
+// rig_options.cc: the options left once the gates follow the rig's centroid noise (the noise
+// itself, views needed, the Kalman process noise, the rigid model's thresholds), shared by
+// `reconstruct` and `serve` (and so hub.conf's keys of the same names).
+void AddRigOptions(CLI::App& command, ReconstructorOptions* recon, TrackerOptions* tracker);
 
 // The sub-command `name` of `app` (created on first use, requiring one sub-command of its own),
 // so that several files can add commands to one group ("sim rig", "sim wand", "calibrate wand").

@@ -30,6 +30,10 @@ struct Camera {
   // cam_from_world: x_cam = rotation * x_world + translation (OpenCV convention).
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  // Centroid noise: RMS length (px) of this camera's reprojection errors in the calibration
+  // that placed it (the wand solve's residuals; 2 px on a webcam, 0.05 on a machine-vision
+  // camera). 0: unknown. The reconstruction's gates follow it (recon/rig_noise.h).
+  double centroid_rms_px = 0.0;
 
   Eigen::Vector3d CenterInWorld() const;
   Eigen::Vector3d PointInCamera(const Eigen::Vector3d& point_in_world) const;

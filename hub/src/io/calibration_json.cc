@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -17,6 +18,9 @@ namespace mocap {
 namespace {
 
 using nlohmann::json;
+
+// A centroid noisier than this measures no marker (a blob is a few pixels wide).
+constexpr double kMaxCentroidRmsPx = 50.0;
 
 [[noreturn]] void Fail(const std::string& source, const std::string& reason) {
   throw std::runtime_error(source + ": " + reason);
@@ -132,6 +136,16 @@ Camera CameraFromJson(const json& entry, size_t index, const std::string& source
     CheckRange(camera.translation[i], -kMaxTranslationMm, kMaxTranslationMm,
                where + ": translation[" + std::to_string(i) + "]", source);
   }
+  const auto noise = entry.find("centroid_rms_px");
+  if (noise != entry.end()) {
+    camera.centroid_rms_px = Number(*noise, where + ": centroid_rms_px", source);
+    if (!(camera.centroid_rms_px >= 0.0 && camera.centroid_rms_px <= kMaxCentroidRmsPx)) {
+      char reason[160];
+      std::snprintf(reason, sizeof(reason), ": centroid_rms_px %g is out of range 0..%g (px)", camera.centroid_rms_px,
+                    kMaxCentroidRmsPx);
+      Fail(source, where + reason);
+    }
+  }
   return camera;
 }
 
@@ -181,6 +195,7 @@ json RigToJson(const Rig& rig) {
                        {"rotation", rotation},
                        {"translation",
                         {camera.translation.x(), camera.translation.y(), camera.translation.z()}}});
+    if (camera.centroid_rms_px > 0.0) cameras.back()["centroid_rms_px"] = camera.centroid_rms_px;
   }
   return json{{"units", "mm"}, {"cameras", cameras}};
 }

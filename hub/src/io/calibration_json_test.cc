@@ -43,6 +43,7 @@ TEST(CalibrationJsonTest, RoundTripIsExact) {
     camera.intrinsics = {1280, 800, 1100.123456789, 1099.5, 641.25, 399.75, {-0.21, 0.07, 1e-3, -2e-4, -0.013}};
     camera.rotation = Eigen::AngleAxisd(0.1 * id, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     camera.translation = Eigen::Vector3d(12.5, -300.25, 4000.0 + id);
+    camera.centroid_rms_px = id == 1 ? 0.0 : 1.8765;  // unknown on one camera: not written
     rig.cameras.push_back(camera);
   }
   const std::string path = testing::TempDir() + "/rig_round_trip.json";
@@ -62,6 +63,7 @@ TEST(CalibrationJsonTest, RoundTripIsExact) {
     EXPECT_EQ(a.intrinsics.distortion, b.intrinsics.distortion);
     EXPECT_LT((a.rotation - b.rotation).norm(), 1e-14);
     EXPECT_EQ(a.translation, b.translation);
+    EXPECT_EQ(a.centroid_rms_px, b.centroid_rms_px);
   }
 }
 
@@ -98,6 +100,11 @@ TEST(CalibrationJsonTest, ClearErrors) {
   camera = kCamera;
   ExpectLoadError(R"({"cameras": [)" + camera.replace(camera.find("0.0, 0.0]"), 9, "0.0, 0.0, 0.5]") + "}]}",
                   "beyond k3");
+  camera = kCamera;
+  ExpectLoadError(R"({"cameras": [)" + camera + R"(, "centroid_rms_px": -0.5}]})",
+                  "camera 3: centroid_rms_px -0.5 is out of range 0..50 (px)");
+  camera = kCamera;
+  ExpectLoadError(R"({"cameras": [)" + camera + R"(, "centroid_rms_px": "2"}]})", "centroid_rms_px must be a number");
 }
 
 // The probe: reconstruct accepted fx 1e308, distortion 1e10 and 5000 cameras without a word.

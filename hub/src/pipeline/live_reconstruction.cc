@@ -6,8 +6,7 @@
 namespace mocap::pipeline {
 namespace {
 
-TrackerOptions TrackerAt(double rate_hz) {
-  TrackerOptions options;
+TrackerOptions TrackerAt(double rate_hz, TrackerOptions options) {
   options.rate_hz = rate_hz;
   return options;
 }
@@ -16,8 +15,8 @@ TrackerOptions TrackerAt(double rate_hz) {
 
 LiveReconstruction::LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon,
                                        std::vector<RigidBodyDefinition> bodies, std::optional<MarkerSet> labels,
-                                       const BodyLiveFilterOptions& body_filter)
-    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz)), bodies_(std::move(bodies), {}, body_filter) {
+                                       const BodyLiveFilterOptions& body_filter, const TrackerOptions& tracker)
+    : reconstructor_(rig, recon), tracker_(TrackerAt(rate_hz, tracker)), bodies_(std::move(bodies), {}, body_filter) {
   if (labels) {
     frame_.label_names = std::make_shared<const std::vector<std::string>>(labels->names);
     labeller_.emplace(std::move(*labels));
@@ -35,6 +34,7 @@ void LiveReconstruction::Run(const FrameSet& set) {
     frame_.last_receive_ns = std::max(frame_.last_receive_ns, camera.receive_time_ns);
   }
   reconstructor_.Process(set, tracker_.Predict(set.frame_number), &points_);
+  tracker_.FollowPointNoise(reconstructor_.point_noise_mm());
   frame_.samples.clear();
   tracker_.Update(set.frame_number, points_, &frame_.samples);
   const std::vector<PointIdentity>& identities = tracker_.point_identities();

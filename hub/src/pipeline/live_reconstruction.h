@@ -30,7 +30,7 @@ class LiveReconstruction {
   // The rig must outlive this object. Throws std::invalid_argument on bad options.
   LiveReconstruction(const Rig& rig, double rate_hz, const ReconstructorOptions& recon = {},
                      std::vector<RigidBodyDefinition> bodies = {}, std::optional<MarkerSet> labels = {},
-                     const BodyLiveFilterOptions& body_filter = {});
+                     const BodyLiveFilterOptions& body_filter = {}, const TrackerOptions& tracker = {});
 
   // One assembled frame set; frame numbers must increase. now_ns() is read when the result is
   // complete. The returned frame stays valid until the next call.

@@ -33,6 +33,7 @@ bool OfflineReconstruction::Add(const FrameSet& set) {
   ++frames_;
   last_frame_ = set.frame_number;
   reconstructor_.Process(set, tracker_.Predict(set.frame_number), &points_);
+  tracker_.FollowPointNoise(reconstructor_.point_noise_mm());
   samples_.clear();
   tracker_.Update(set.frame_number, points_, &samples_);
   hindsight_.Add(set.frame_number, samples_);

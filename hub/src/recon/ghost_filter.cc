@@ -23,7 +23,7 @@ void GhostFilter::MarkExplained(const RigModel& rig, const FrameViews& views, co
     const Eigen::Vector3d p = cam.cam_from_world_rotation * point.point_in_world + cam.cam_from_world_translation;
     if (!(p.z() > triangulation_.min_depth_mm)) continue;
     const Eigen::Vector2d at = p.head<2>() / p.z();
-    const double merged_radius = triangulation_.max_merged_px / cam.focal_px;
+    const double merged_radius = triangulation_.MergedLimitPx() / cam.focal_px;
     const double radius = triangulation_.max_reprojection_px / cam.focal_px;
     index.ForEachWithin(views, c, at, merged_radius, [&](int o, double distance) {
       if (distance <= radius || (views.observations[o].flags & kBlobMerged)) explained_[o] = 1;

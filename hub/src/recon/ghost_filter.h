@@ -20,6 +20,8 @@ class GhostFilter {
  public:
   GhostFilter(const GhostFilterOptions& options, const TriangulationOptions& triangulation)
       : options_(options), triangulation_(triangulation) {}
+  // New gates (the rig's noise moved, recon/rig_noise.h).
+  void SetTriangulationOptions(const TriangulationOptions& triangulation) { triangulation_ = triangulation; }
 
   // Sets (*keep)[i] for every point; the first `tracked` points came from track predictions.
   // Releases the views of the points dropped in *used. Returns how many were dropped.

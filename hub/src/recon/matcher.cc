@@ -1,6 +1,8 @@
 // Matcher factory, option checks and the shared acceptance step.
 #include "recon/matcher.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 #include "recon/clustering_matcher.h"
@@ -10,8 +12,17 @@
 namespace mocap {
 namespace {
 
-void Require(bool condition, const char* message) {
+void Require(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument(message);
+}
+
+constexpr int kMaxViews = 64;
+constexpr double kMaxNoisePx = 50.0;
+
+std::string FormatNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", value);
+  return text;
 }
 
 }  // namespace
@@ -19,12 +30,13 @@ void Require(bool condition, const char* message) {
 void TriangulationOptions::Check() const {
   Require(min_views >= 2, "triangulation.min_views must be >= 2");
   Require(max_reprojection_px > 0.0, "triangulation.max_reprojection_px must be > 0");
-  Require(max_merged_px >= max_reprojection_px, "triangulation.max_merged_px must be >= max_reprojection_px");
+  Require(max_merged_px >= 0.0, "triangulation.max_merged_px must be >= 0");
   Require(refine_iterations >= 0, "triangulation.refine_iterations must be >= 0");
   Require(outlier_floor_px >= 0.0, "triangulation.outlier_floor_px must be >= 0");
   Require(outlier_ratio > 1.0, "triangulation.outlier_ratio must be > 1");
   Require(precise_fraction >= 0.0 && precise_fraction <= 1.0, "triangulation.precise_fraction must lie in 0..1");
   Require(min_depth_mm >= 0.0, "triangulation.min_depth_mm must be >= 0");
+  Require(two_view_max_unseen >= 0, "triangulation.two_view_max_unseen must be >= 0");
 }
 
 void EpipolarGraphOptions::Check() const {
@@ -61,8 +73,11 @@ void ReconstructorOptions::Check() const {
   clustering.Check();
   prediction.Check();
   ghosts.Check();
-  Require(min_views_without_prediction >= triangulation.min_views,
-          "min_views_without_prediction must be >= triangulation.min_views");
+  Require(min_views_without_prediction >= triangulation.min_views && min_views_without_prediction <= kMaxViews,
+          "min_views_without_prediction " + std::to_string(min_views_without_prediction) + " is out of range " +
+              std::to_string(triangulation.min_views) + ".." + std::to_string(kMaxViews));
+  Require(centroid_noise_px >= 0.0 && centroid_noise_px <= kMaxNoisePx,
+          "centroid_noise_px " + FormatNumber(centroid_noise_px) + " is out of range 0..50 (0: measured)");
   Require(seed_cameras == 0 || seed_cameras >= min_views_without_prediction,
           "seed_cameras must be 0 or >= min_views_without_prediction");
   Require(seed_from_blobs_per_camera >= 0.0, "seed_from_blobs_per_camera must be >= 0");
@@ -106,10 +121,32 @@ std::unique_ptr<Matcher> CreateMatcher(const ReconstructorOptions& options) {
   throw std::invalid_argument("unknown matcher type");
 }
 
-void AcceptCliquesInOrder(const RigModel& rig, const FrameViews& views,
-                          const std::vector<std::vector<int>>& cliques_in_order,
-                          const TriangulationOptions& options, UseCounts* used,
-                          std::vector<TriangulatedPoint>* points) {
+namespace {
+
+// Whether more than `limit` cameras other than the point's own have it in their image, in
+// front: cameras that should have seen it. A marker in the middle of an 8-camera ring seen by two
+// of them only is far less likely than two rays of other markers' blobs crossing there. Stops at
+// the first camera over the limit (spurious pairs on a large rig: after a few cameras).
+bool OthersShouldSee(const RigModel& rig, const FrameViews& views, const std::vector<int>& observations,
+                  const Eigen::Vector3d& point, double min_depth_mm, int limit) {
+  int count = 0;
+  for (int c = 0; c < rig.NumCameras() && count <= limit; ++c) {
+    bool own = false;
+    for (int index : observations) own = own || views.observations[index].camera == c;
+    if (own) continue;
+    const Camera& camera = *rig.camera(c).camera;
+    Eigen::Vector2d pixel;
+    if (camera.PointInCamera(point).z() < min_depth_mm || !camera.ProjectToPixel(point, &pixel)) continue;
+    count += camera.InImage(pixel);
+  }
+  return count > limit;
+}
+
+void AcceptPass(const RigModel& rig, const FrameViews& views, const std::vector<std::vector<int>>& cliques_in_order,
+                const TriangulationOptions& options, int min_views, UseCounts* used,
+                std::vector<TriangulatedPoint>* points) {
+  TriangulationOptions pass_options = options;
+  pass_options.min_views = min_views;
   std::vector<int> available;
   TriangulatedPoint point;
   for (const std::vector<int>& clique : cliques_in_order) {
@@ -117,11 +154,30 @@ void AcceptCliquesInOrder(const RigModel& rig, const FrameViews& views,
     for (int index : clique) {
       if (IsAvailable(views.observations[index], (*used)[index])) available.push_back(index);
     }
-    if (static_cast<int>(available.size()) < options.min_views) continue;
-    if (!TriangulateRobust(rig, views, available, options, &point)) continue;
+    if (static_cast<int>(available.size()) < min_views) continue;
+    if (static_cast<int>(available.size()) == 2) {
+      Eigen::Vector3d linear;
+      if (!TriangulateLinear(rig, views, available, &linear) ||
+          OthersShouldSee(rig, views, available, linear, options.min_depth_mm, options.two_view_max_unseen)) {
+        continue;
+      }
+    }
+    if (!TriangulateRobust(rig, views, available, pass_options, &point)) continue;
     MarkUsed(point, used);
     points->push_back(point);
   }
+}
+
+}  // namespace
+
+void AcceptCliquesInOrder(const RigModel& rig, const FrameViews& views,
+                          const std::vector<std::vector<int>>& cliques_in_order,
+                          const TriangulationOptions& options, UseCounts* used,
+                          std::vector<TriangulatedPoint>* points) {
+  // Points of three or more views first, whatever their order: a two-view candidate must not
+  // take a blob a better-supported point needs.
+  AcceptPass(rig, views, cliques_in_order, options, std::max(3, options.min_views), used, points);
+  if (options.min_views == 2) AcceptPass(rig, views, cliques_in_order, options, 2, used, points);
 }
 
 }  // namespace mocap

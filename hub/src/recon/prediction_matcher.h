@@ -40,6 +40,11 @@ class PredictionMatcher {
   PredictionMatcher(const PredictionMatchOptions& options,
                     const TriangulationOptions& triangulation_options)
       : options_(options), triangulation_options_(triangulation_options) {}
+  // New gates (the rig's noise moved, recon/rig_noise.h); buffers and counts are kept.
+  void SetOptions(const PredictionMatchOptions& options, const TriangulationOptions& triangulation_options) {
+    options_ = options;
+    triangulation_options_ = triangulation_options;
+  }
 
   // Appends the points found to *points and their track ids to *track_ids (parallel arrays).
   // Contested predictions (MarkContested) are skipped: their blobs stay free for the matcher.

@@ -25,12 +25,19 @@ struct TriangulationOptions {
   double precise_fraction = 0.1;
   // A view from a blob flagged merged is left out of the solve when min_views other views
   // remain, and stays one of the point's views when its residual is within this (its centroid
-  // lies between its markers, up to about a marker radius from each).
+  // lies between its markers, up to about a marker radius from each). Never below
+  // max_reprojection_px (MergedLimitPx): a merged blob is held to no tighter limit than others.
   double max_merged_px = 4.0;
   int refine_iterations = 4;
   // Points must lie at least this far in front of every camera that sees them.
   double min_depth_mm = 50.0;
+  // A matcher's point of two views only (min_views 2) is accepted when at most this many other
+  // cameras have it in their image: a marker amid a large rig that only two cameras see is far
+  // less likely than two rays of other markers' blobs crossing there. On two to four cameras
+  // (seed 000's pair, seed 001's four with a view in four hidden) it always passes.
+  int two_view_max_unseen = 2;
 
+  double MergedLimitPx() const { return max_merged_px > max_reprojection_px ? max_merged_px : max_reprojection_px; }
   void Check() const;
 };
 
@@ -102,9 +109,19 @@ MatcherType MatcherTypeFromString(const std::string& name);
 struct ReconstructorOptions {
   MatcherType matcher = MatcherType::kRelaxation;
   bool use_predictions = true;
-  // A marker no track predicted needs this many views: two rays always meet somewhere, so a
-  // two-view point of spurious blobs is indistinguishable from a marker within one frame.
-  int min_views_without_prediction = 3;
+  // A marker no track predicted needs this many views. Two rays always meet somewhere, so a
+  // two-view point may be a ghost within one frame: the matchers accept them after every point
+  // of three or more views and only where few other cameras should see them
+  // (triangulation.two_view_max_unseen), and the tracker confirms a track begun on them only
+  // once it persisted and moved like a marker (tracker.two_view_birth_frames). 3: never.
+  int min_views_without_prediction = 2;
+  // Centroid noise sigma per image axis (px) the gates follow (recon/rig_noise.h). 0: the
+  // calibration's (cameras' centroid_rms_px), then measured from the residuals continuously.
+  double centroid_noise_px = 0.0;
+  // Whether the gates follow the noise measured from the residuals (centroid_noise_px 0). A
+  // calibration monitor holds them to the calibration's noise instead: a bumped camera's
+  // residuals are the miscalibration it looks for, not noise to open the gates to.
+  bool follow_measured_noise = true;
   TriangulationOptions triangulation;
   EpipolarGraphOptions graph;
   RelaxationOptions relaxation;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace mocap {
 namespace {
@@ -22,12 +23,39 @@ void Lap(Clock::time_point* since, double* total) {
 
 Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options)
     : rig_(rig),
-      options_((options.Check(), options)),
-      matcher_(CreateMatcher(options)),
-      prediction_matcher_(options.prediction, options.triangulation),
-      ghost_filter_(options.ghosts, options.triangulation),
+      configured_((options.Check(), options)),
+      mm_per_px_(RigMmPerPx(rig)),
+      noise_meter_(options.centroid_noise_px > 0.0 ? options.centroid_noise_px : CalibratedNoisePx(rig)),
+      gate_noise_px_(noise_meter_.sigma_px()),
+      options_(GatesForNoise(configured_, gate_noise_px_, mm_per_px_)),
+      matcher_(CreateMatcher(options_)),
+      prediction_matcher_(options_.prediction, options_.triangulation),
+      ghost_filter_(options_.ghosts, options_.triangulation),
       seed_mask_(SpreadCameras(rig_, options.seed_cameras)),
       team_(options_.threads) {}
+
+void Reconstructor::FollowNoise(double sigma_px) {
+  if (std::abs(sigma_px - gate_noise_px_) <= 0.1 * gate_noise_px_) return;
+  const ReconstructorOptions gates = GatesForNoise(configured_, sigma_px, mm_per_px_);
+  gate_noise_px_ = sigma_px;
+  const auto same = [](const ReconstructorOptions& a, const ReconstructorOptions& b) {
+    return a.triangulation.max_reprojection_px == b.triangulation.max_reprojection_px &&
+           a.triangulation.max_merged_px == b.triangulation.max_merged_px &&
+           a.graph.max_ray_distance_mm == b.graph.max_ray_distance_mm &&
+           a.clustering.max_ray_distance_mm == b.clustering.max_ray_distance_mm &&
+           a.prediction.min_gate_px == b.prediction.min_gate_px && a.prediction.max_gate_px == b.prediction.max_gate_px;
+  };
+  // A rig as precise as the configured gates assume keeps them (and its matcher's buffers).
+  if (same(gates, options_)) return;
+  options_ = gates;
+  matcher_ = CreateMatcher(options_);
+  prediction_matcher_.SetOptions(options_.prediction, options_.triangulation);
+  ghost_filter_.SetTriangulationOptions(options_.triangulation);
+}
+
+double Reconstructor::point_noise_mm() const {
+  return gate_noise_px_ * mm_per_px_ * std::sqrt(2.0 / std::max(2.0, mean_views_));
+}
 
 void Reconstructor::CompleteFrom(size_t first) {
   // Matchers work on whole cliques; a view a clique missed (an edge just over the threshold)
@@ -141,6 +169,15 @@ void Reconstructor::Process(const FrameSet& frame_set,
     for (const TriangulatedPoint& point : triangulated_) rms_scratch_.push_back(point.rms_px);
     std::nth_element(rms_scratch_.begin(), rms_scratch_.begin() + rms_scratch_.size() / 2, rms_scratch_.end());
     median_rms_px_ = rms_scratch_[rms_scratch_.size() / 2];
+  }
+  if (!triangulated_.empty()) {
+    size_t views = 0;
+    for (const TriangulatedPoint& point : triangulated_) views += point.observations.size();
+    mean_views_ = static_cast<double>(views) / static_cast<double>(triangulated_.size());
+  }
+  if (configured_.follow_measured_noise && !(configured_.centroid_noise_px > 0.0)) {
+    noise_meter_.AddFrame(triangulated_);
+    if (noise_meter_.frames_measured() > 0) FollowNoise(noise_meter_.sigma_px());
   }
   ++stats_.frames;
   stats_.points += static_cast<long long>(triangulated_.size());

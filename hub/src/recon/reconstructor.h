@@ -14,6 +14,7 @@
 #include "recon/matcher.h"
 #include "recon/prediction_matcher.h"
 #include "recon/recon_options.h"
+#include "recon/rig_noise.h"
 #include "util/worker_team.h"
 
 namespace mocap {
@@ -60,6 +61,16 @@ class Reconstructor {
   const FrameViews& views() const { return views_; }
   const RigModel& rig_model() const { return rig_; }
   const ReconstructionStats& stats() const { return stats_; }
+  // The centroid noise (px per image axis) the gates follow now: the configured one, else the
+  // calibration's until measured, then the measured one (recon/rig_noise.h). 0: not known yet.
+  double centroid_noise_px() const { return gate_noise_px_; }
+  // A point's error that noise makes (one sigma, mm, at the working volume): the tracker's
+  // measurement noise follows it (Tracker::FollowPointNoise).
+  // A point of n views is good to about sqrt(2 / n) of a two-view one's error; the last frame's
+  // mean view count stands for n.
+  double point_noise_mm() const;
+  // The options in force: the configured ones with their gates widened to the noise.
+  const ReconstructorOptions& gates() const { return options_; }
   const ReconstructionStageTimes& stage_times() const { return stage_times_; }
   // The last frame's points with the views they were made from (same order as *points).
   const std::vector<TriangulatedPoint>& triangulated() const { return triangulated_; }
@@ -72,8 +83,16 @@ class Reconstructor {
   void MatchLeftovers(int leftover);
   // Gives the points from `first` on the views their cliques missed.
   void CompleteFrom(size_t first);
+  // Widens (or narrows back towards the configured floors) every gate for a centroid noise;
+  // a move of under a tenth, or one that leaves the gates where they are, changes nothing.
+  void FollowNoise(double sigma_px);
 
   RigModel rig_;
+  ReconstructorOptions configured_;
+  double mm_per_px_;
+  CentroidNoiseMeter noise_meter_;
+  double gate_noise_px_;
+  double mean_views_ = 2.0;  // the last frame's points' mean view count
   ReconstructorOptions options_;
   std::unique_ptr<Matcher> matcher_;
   PredictionMatcher prediction_matcher_;

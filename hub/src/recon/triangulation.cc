@@ -131,7 +131,7 @@ void TakeBackAside(const RigModel& rig, const FrameViews& views, const std::vect
   thread_local std::vector<double> errors;
   ReprojectionErrors(rig, views, aside, result->point_in_world, &errors);
   for (size_t i = 0; i < aside.size(); ++i) {
-    (errors[i] <= options.max_merged_px ? result->observations : result->rejected).push_back(aside[i]);
+    (errors[i] <= options.MergedLimitPx() ? result->observations : result->rejected).push_back(aside[i]);
   }
 }
 

@@ -114,6 +114,7 @@ void ServeOptions::Check() const {
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
   if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
   recon.Check();
+  tracker.Check();
   body_filter.Check();
   auth.Check();
   if (const std::string error = disk.Check(); !error.empty()) throw std::invalid_argument(error);
@@ -165,7 +166,7 @@ HubService::~HubService() = default;
 
 std::unique_ptr<pipeline::LiveReconstruction> HubService::MakeLive() const {
   return std::make_unique<pipeline::LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
-                                              options_.body_filter);
+                                                        options_.body_filter, options_.tracker);
 }
 
 void HubService::WarnAboutMissingKeys() const {

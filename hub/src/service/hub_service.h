@@ -74,6 +74,7 @@ struct ServeOptions {
   double request_timeout_s = 2.0;         // a node that does not answer a control this long
   int auto_mask_max_frames = 1000;
   ReconstructorOptions recon;             // as `reconstruct` takes them
+  TrackerOptions tracker;                 // likewise; its rate is rate_hz
   bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
   WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
   CaptureDiskOptions disk;                // the sessions disk's free space (capture.h)

@@ -1,20 +1,30 @@
 // Option checks and enum converters of the tracking layer.
 #include "track/track_options.h"
 
+#include <cstdio>
 #include <stdexcept>
+#include <string>
 
 namespace mocap {
 namespace {
 
-void Require(bool condition, const char* message) {
+void Require(bool condition, const std::string& message) {
   if (!condition) throw std::invalid_argument(message);
+}
+
+// Refuses a value outside [low, high] naming the field, the value and the range.
+void RequireRange(const char* field, double value, double low, double high, const char* unit) {
+  if (value >= low && value <= high) return;
+  char message[200];
+  std::snprintf(message, sizeof(message), "%s %g is out of range %g..%g%s", field, value, low, high, unit);
+  throw std::invalid_argument(message);
 }
 
 }  // namespace
 
 void KalmanOptions::Check() const {
-  Require(acceleration_noise > 0.0, "kalman.acceleration_noise must be > 0");
-  Require(measurement_noise_mm > 0.0, "kalman.measurement_noise_mm must be > 0");
+  RequireRange("kalman.acceleration_noise", acceleration_noise, 1.0, 1e7, " (mm/s^2)");
+  RequireRange("kalman.measurement_noise_mm", measurement_noise_mm, 1e-3, 1000.0, " (mm)");
   Require(initial_velocity_std > 0.0, "kalman.initial_velocity_std must be > 0");
 }
 
@@ -30,8 +40,8 @@ AssignmentMethod AssignmentMethodFromString(const std::string& name) {
 
 void RigidModelOptions::Check() const {
   Require(max_link_distance_mm > 0.0, "rigid.max_link_distance_mm must be > 0");
-  Require(max_deviation_mm > 0.0, "rigid.max_deviation_mm must be > 0");
-  Require(max_std_mm > 0.0, "rigid.max_std_mm must be > 0");
+  RequireRange("rigid.max_deviation_mm", max_deviation_mm, 0.1, 1000.0, " (mm)");
+  RequireRange("rigid.max_std_mm", max_std_mm, 0.1, 1000.0, " (mm)");
   Require(min_samples >= 2, "rigid.min_samples must be >= 2");
   Require(min_links_used >= 1, "rigid.min_links_used must be >= 1");
   Require(max_links_used >= min_links_used, "rigid.max_links_used must be >= min_links_used");
@@ -53,7 +63,10 @@ void TrackerOptions::Check() const {
   Require(min_gate_mm > 0.0 && max_gate_mm >= min_gate_mm,
           "tracker gates: need 0 < min_gate_mm <= max_gate_mm");
   Require(birth_frames >= 1, "tracker.birth_frames must be >= 1");
-  Require(birth_min_views >= 2, "tracker.birth_min_views must be >= 2");
+  Require(birth_min_views >= 2 && birth_min_views <= 64,
+          "tracker.birth_min_views " + std::to_string(birth_min_views) + " is out of range 2..64");
+  Require(two_view_birth_frames >= 1 && two_view_birth_frames <= 1000,
+          "tracker.two_view_birth_frames " + std::to_string(two_view_birth_frames) + " is out of range 1..1000");
   Require(max_predicted_s >= 0.0 && coast_s >= 0.0 && reacquire_s >= 0.0 && dropout_hold_s >= 0.0,
           "tracker durations must be >= 0");
   Require(reacquire_gate_mm > 0.0, "tracker.reacquire_gate_mm must be > 0");

@@ -88,9 +88,13 @@ struct TrackerOptions {
   double min_gate_mm = 10.0;
   double max_gate_mm = 120.0;
   // A new track is output once it has been measured in this many consecutive frames, each
-  // time with at least birth_min_views views.
+  // time with at least birth_min_views views; when any of those points had two views only (a
+  // ghost of two crossing rays makes one in every frame its blobs last), in
+  // two_view_birth_frames: the candidate must persist and keep within its gate of a
+  // constant-velocity path, as a marker moves and two unrelated rays' crossing does not.
   int birth_frames = 3;
-  int birth_min_views = 3;
+  int birth_min_views = 2;
+  int two_view_birth_frames = 6;
   // A confirmed track without measurement continues on rigid-model predictions for at most
   // this long (s) and coasts on its Kalman prediction (not output) for at most coast_s before
   // it is lost; a lost track can be re-acquired within reacquire_s by a new point near its

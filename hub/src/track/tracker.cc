@@ -11,7 +11,23 @@
 namespace mocap {
 
 Tracker::Tracker(const TrackerOptions& options)
-    : options_((options.Check(), options)), rigid_(options.rigid), swaps_(options.swaps) {}
+    : configured_((options.Check(), options)), options_(options), rigid_(options.rigid), swaps_(options.swaps) {}
+
+void Tracker::FollowPointNoise(double point_noise_mm) {
+  // The configured values were tuned on 0.05-0.3 px rigs, whose points come out at 0.2-0.7 mm:
+  // within a factor of two of them they stand (the figures of those rigs stay as they were).
+  if (!(point_noise_mm > 2.0 * configured_.kalman.measurement_noise_mm)) {
+    options_ = configured_;
+    return;
+  }
+  options_.kalman.measurement_noise_mm = std::max(configured_.kalman.measurement_noise_mm, point_noise_mm);
+  options_.min_gate_mm = std::max(configured_.min_gate_mm, kGateNoiseSigmas * point_noise_mm);
+  options_.max_gate_mm = std::max(configured_.max_gate_mm, options_.min_gate_mm);
+}
+
+int Tracker::BirthFramesOf(const Track& track) const {
+  return track.min_views >= 3 ? options_.birth_frames : std::max(options_.birth_frames, options_.two_view_birth_frames);
+}
 
 int Tracker::NewTrack(uint64_t frame_number, const Eigen::Vector3d& position) {
   int slot;
@@ -54,6 +70,8 @@ void Tracker::Finish(std::vector<TrackSample>* samples) {
   for (Track& track : tracks_) {
     if (track.state != State::kTentative) continue;
     // Measured in every frame since its birth with enough views; only the data ended too soon.
+    // Begun on two views, it must still have shown that it moves like a marker.
+    if (track.min_views < 3 && track.hits < BirthFramesOf(track)) continue;
     Promote(&track, samples);
   }
 }
@@ -444,7 +462,8 @@ void Tracker::ApplyMeasurements(uint64_t frame_number, const std::vector<Reconst
     ++track.age;
     if (track.state == State::kTentative) {
       track.history.emplace_back(frame_number, track.filter.position());
-      if (track.hits >= options_.birth_frames) Promote(&track, samples);
+      track.min_views = std::min(track.min_views, points[p].num_views);
+      if (track.hits >= BirthFramesOf(track)) Promote(&track, samples);
       continue;
     }
     // The triangulated point itself: the filter's estimate lags a hard-accelerating marker.
@@ -513,8 +532,9 @@ void Tracker::BirthTracks(uint64_t frame_number, const std::vector<Reconstructed
     Track& track = tracks_[slot];
     track.hits = 1;
     track.age = 1;
+    track.min_views = points[p].num_views;
     track.history.emplace_back(frame_number, points[p].point_in_world);
-    if (track.hits >= options_.birth_frames) Promote(&track, samples);
+    if (track.hits >= BirthFramesOf(track)) Promote(&track, samples);
   }
 }
 

@@ -72,6 +72,11 @@ class Tracker {
   const std::vector<PointIdentity>& point_identities() const { return point_identities_; }
   int NumMarkers() const { return next_marker_; }
   const TrackerStats& stats() const { return stats_; }
+  // Follows the reconstruction's point error (one sigma, mm: Reconstructor::point_noise_mm):
+  // the Kalman measurement noise and the smallest gate (kGateNoiseSigmas of it) widen to it,
+  // never below their configured values. 0: unknown, nothing changes.
+  static constexpr double kGateNoiseSigmas = 6.0;
+  void FollowPointNoise(double point_noise_mm);
 
  private:
   enum class State { kFree, kTentative, kActive, kLost };
@@ -84,6 +89,7 @@ class Tracker {
     int hits = 0;
     int age = 0;  // frames measured in total, orders predictions by trust
     uint64_t held = 0;  // drop-out frames since last measured (at most dropout_hold_s of them)
+    int min_views = 0;  // fewest views of its tentative points: two views need a longer birth
     uint64_t serial = 0;  // the track's id, unique over the tracker's life (a slot is reused, a serial never)
     Eigen::Vector3d reference = Eigen::Vector3d::Zero();  // where a lost track is looked for
     Eigen::Vector3d last_point = Eigen::Vector3d::Zero();  // last measured position
@@ -122,6 +128,8 @@ class Tracker {
   // Tentative -> active: a marker number, a birth, and the samples of its tentative frames.
   void Promote(Track* track, std::vector<TrackSample>* samples);
   double GateOf(const Track& track) const;
+  // Frames a tentative track must be measured in a row before it is confirmed.
+  int BirthFramesOf(const Track& track) const;
   TrackSample SampleOf(const Track& track, uint64_t frame_number, SampleKind kind) const;
   // Mean innovation (measured - predicted) of the `neighbours` measured tracks predicted
   // nearest to slot's prediction, within radius_mm (neighbours <= kMaxNeighbours).
@@ -150,7 +158,8 @@ class Tracker {
   void AssignByDistance(const SearchList& search, const std::vector<ReconstructedPoint>& points,
                         std::vector<int>* point_of_slot, std::vector<char>* point_taken);
 
-  TrackerOptions options_;
+  TrackerOptions configured_;
+  TrackerOptions options_;  // configured_ with the gates widened to the point noise
   std::vector<Track> tracks_;
   std::vector<int> free_slots_;
   RigidModel rigid_;
