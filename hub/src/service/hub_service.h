@@ -168,9 +168,6 @@ class HubService : public ServiceApi {
   void WarnAboutMissingKeys() const;
   void SaveMasks();
   const NodeEntry& KnownNode(uint32_t node_id) const;  // throws ApiError 404
-  nlohmann::json NodeJson(const NodeEntry& node) const;
-  nlohmann::json CaptureJson() const;
-  nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ under rig_mutex_)
   // Ends the wanding's capture, then its collection (409 when none runs).
   void FinishWanding(const std::string& reason, bool solve);
   std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
