@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "io/calibration_json.h"
+#include "service/hub_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
 #include "util/thread_priority.h"
@@ -77,23 +78,7 @@ SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns
   return info;
 }
 
-// The node's reception figures, or zeros for a node outside the calibration.
-const NodeStats& ReceptionOf(const IngestStats& stats, uint32_t node) {
-  static const NodeStats kNone;
-  auto it = stats.nodes.find(node);
-  return it == stats.nodes.end() ? kNone : it->second;
-}
-
 uint64_t EpochOf(const ServeOptions& o) { return o.epoch_ns ? o.epoch_ns : RealtimeNowNs(); }
-
-nlohmann::json RequestJson(const RequestResult& r) {
-  return {{"node", r.node_id},
-          {"outcome", RequestOutcomeName(r.outcome)},
-          {"reason", r.reason},
-          {"datagrams", r.datagrams},
-          {"retransmissions", r.retransmissions},
-          {"ms", static_cast<double>(r.finished_ns - r.submitted_ns) * 1e-6}};
-}
 
 }  // namespace
 
@@ -120,18 +105,6 @@ void ServeOptions::Check() const {
   if (const std::string error = disk.Check(); !error.empty()) throw std::invalid_argument(error);
 }
 
-struct HubService::PreviewWait {
-  uint32_t node_id = 0;
-  bool thresholded = false;
-  uint64_t deadline_ns = 0;
-  std::promise<PreviewImage> promise;
-};
-
-struct HubService::BlobsWait {
-  uint64_t deadline_ns = 0;
-  std::promise<BlobsSnapshot> promise;
-};
-
 HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
       rig_(LoadRigOrThrow(options_.calibration)),
@@ -144,7 +117,8 @@ HubService::HubService(ServeOptions options)
       labels_(options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
       live_(MakeLive()),
       captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_)),
-                options_.disk) {
+                options_.disk),
+      waiters_(Ns(kBlobsWaitSeconds)) {
   if (!options_.epoch_ns) options_.epoch_ns = start_ns_;
   if (options_.calibration_monitor)
     calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
@@ -263,7 +237,7 @@ void HubService::HandleDatagram(const Datagram& d) {
   } else if (packet.has_preview_chunk() && ingest_.IsCamera(packet.preview_chunk().node_id())) {
     PreviewImage image;
     if (previews_.Add(packet.preview_chunk(), d.receive_time_ns, &image) == PreviewAssembler::Outcome::kComplete)
-      OnPreview(image);
+      waiters_.Answer(image);
   } else if (packet.has_marker_frame()) {
     // A frame set completes with its last camera's datagram: publish it now, not at the next
     // loop turn. Until then its other cameras' datagrams are awaited without sleeping.
@@ -303,9 +277,7 @@ void HubService::OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d
 
 void HubService::Publish(const FrameSet& set) {
   if (mask_job_) CollectMaskFrames(set);
-  last_publish_ns_ = RealtimeNowNs();
-  for (auto& wait : blobs_waiters_) wait->promise.set_value(BlobsSnapshot{set, masks_});
-  blobs_waiters_.clear();
+  waiters_.OnFrameSet(set, masks_, RealtimeNowNs());
   const uint64_t start_ns = RealtimeNowNs();
   if (wanding_.collecting()) wanding_.Add(set);
   const pipeline::LiveFrame& frame = live_->Process(set, RealtimeNowNs);
@@ -314,23 +286,14 @@ void HubService::Publish(const FrameSet& set) {
     std::lock_guard<std::mutex> lock(subscribers_mutex_);
     for (auto& [id, subscriber] : subscribers_) subscriber(frame);
   }
-  processing_ms_.Add(static_cast<double>(frame.publish_ns - start_ns) * 1e-6);
-  ++frame_sets_;
-  points_published_ += frame.points.size();
-  for (const pipeline::LivePoint& p : frame.points) provisional_published_ += p.provisional();
-  // The hub's own latency: sets that waited out their deadline for an absent camera measure the
-  // deadline, not the hub, and are counted as incomplete instead.
-  if (set.cameras.size() == rig_.cameras.size() && frame.last_receive_ns && frame.publish_ns >= frame.last_receive_ns)
-    hub_latency_ms_.Add(static_cast<double>(frame.publish_ns - frame.last_receive_ns) * 1e-6);
-  for (const CameraFrame& camera : set.cameras)
-    if (camera.trigger_time_ns && camera.send_time_ns >= camera.trigger_time_ns)
-      trigger_to_send_ms_.Add(static_cast<double>(camera.send_time_ns - camera.trigger_time_ns) * 1e-6);
+  published_.Add(set, frame, rig_.cameras.size(), start_ns);
   if (captures_.running()) captures_.AddPublished(frame);
   if (calibration_monitor_) calibration_monitor_->Add(set, live_->reconstructor());
 }
 
 void HubService::Tick(uint64_t now) {
   captures_.Tick(ingest_.stats(), now);
+  published_.Refresh(now);
   Announce(now);
   ingest_.auth().ReloadIfChanged(now);
   OnRegistryEvents(registry_.Tick(now));
@@ -341,23 +304,7 @@ void HubService::Tick(uint64_t now) {
   }
   for (const RequestResult& result : tick.finished) OnRequestFinished(result);
   previews_.DiscardStale(now);
-  for (auto it = preview_waiters_.begin(); it != preview_waiters_.end();) {
-    if (now < (*it)->deadline_ns) {
-      ++it;
-      continue;
-    }
-    (*it)->promise.set_exception(std::make_exception_ptr(
-        ApiError(504, "node " + std::to_string((*it)->node_id) + " sent no complete preview in time")));
-    it = preview_waiters_.erase(it);
-  }
-  for (auto it = blobs_waiters_.begin(); it != blobs_waiters_.end();) {
-    if (now < (*it)->deadline_ns) {
-      ++it;
-      continue;
-    }
-    (*it)->promise.set_value(BlobsSnapshot{std::nullopt, masks_});
-    it = blobs_waiters_.erase(it);
-  }
+  waiters_.Expire(now, masks_);
   if (wanding_.collecting()) {
     std::string reason = wanding_.StopReason(now);
     // An operator who stops the wanding's capture (capture stop) ends the wanding with it.
@@ -413,29 +360,13 @@ void HubService::SendToNode(uint32_t node_id, const HostPort& to, const v1::Pack
 void HubService::OnRequestFinished(const RequestResult& result) {
   if (result.outcome == RequestOutcome::kRejected || result.outcome == RequestOutcome::kTimedOut)
     log::Warn("node {}: request {}: {}", result.node_id, RequestOutcomeName(result.outcome), result.reason);
-  auto waiter = request_waiters_.find(result.request_id);
-  if (waiter != request_waiters_.end()) {
-    waiter->second.set_value(result);
-    request_waiters_.erase(waiter);
-    return;
-  }
+  if (waiters_.Answer(result)) return;
   if (!mask_job_ || !mask_job_->Finished(result.request_id, RequestJson(result)) || !mask_job_->AllAnswered()) return;
   // Every node answered: the masks are the installation's now.
   masks_ = mask_job_->masks();
   SaveMasks();
   mask_job_->Succeed(MasksToJson(masks_), options_.masks_file);
   mask_job_.reset();
-}
-
-void HubService::OnPreview(const PreviewImage& image) {
-  for (auto it = preview_waiters_.begin(); it != preview_waiters_.end();) {
-    if ((*it)->node_id == image.node_id && (*it)->thresholded == image.thresholded) {
-      (*it)->promise.set_value(image);
-      it = preview_waiters_.erase(it);
-    } else {
-      ++it;
-    }
-  }
 }
 
 void HubService::CollectMaskFrames(const FrameSet& set) {
@@ -481,7 +412,7 @@ std::future<RequestResult> HubService::Submit(uint32_t node_id, const std::vecto
   if (!submitted.ok) throw ApiError(503, submitted.error);
   const HostPort to = ParseHostPort(node.address);
   for (const v1::Packet& packet : submitted.send) SendToNode(node_id, to, packet);
-  return request_waiters_[submitted.request_id].get_future();
+  return waiters_.ForRequest(submitted.request_id);
 }
 
 const NodeEntry& HubService::KnownNode(uint32_t node_id) const {
@@ -534,33 +465,13 @@ nlohmann::json HubService::Status() {
         {"cameras", rig_.cameras.size()},
         {"nodes_online", online},
         {"nodes_known", nodes.size()},
-        {"frame_sets", frame_sets_},
         {"incomplete_frame_sets", ingest_.assembler().incomplete_sets()},
         {"late_frames", ingest_.assembler().late_frames()},
-        {"points_published", points_published_},
-        {"provisional_points_published", provisional_published_},
         {"markers_confirmed", live_->tracker().NumMarkers()},
         {"malformed_datagrams", registry_.malformed_total()},
         {"unknown_datagrams", registry_.unknown_total()},
         {"unauthentic_datagrams", registry_.unauthentic_total()},
         {"wire", ingest_.auth().StatusJson()},
-        {"hub_latency_ms",
-         {{"p50", hub_latency_ms_.Percentile(50)},
-          {"p99", hub_latency_ms_.Percentile(99)},
-          {"max", hub_latency_ms_.max()},
-          {"frame_sets", hub_latency_ms_.count()},
-          {"definition",
-           "complete frame sets: last datagram received (kernel time) -> 3D result published"}}},
-        {"processing_ms",
-         {{"p50", processing_ms_.Percentile(50)},
-          {"p99", processing_ms_.Percentile(99)},
-          {"max", processing_ms_.max()},
-          {"definition", "reconstruction + tracking of one frame set"}}},
-        {"node_latency_ms",
-         {{"p50", trigger_to_send_ms_.Percentile(50)},
-          {"p99", trigger_to_send_ms_.Percentile(99)},
-          {"max", trigger_to_send_ms_.max()},
-          {"definition", "trigger (mid-exposure) -> the node sent the frame's datagrams, node clocks"}}},
         {"capture", captures_.Current(now)},
         {"last_capture", captures_.last()},
         {"sessions_disk", captures_.Disk()},
@@ -568,6 +479,7 @@ nlohmann::json HubService::Status() {
         {"requests_pending", controls_.pending()},
         {"calibration_monitor", calibration_monitor_ ? calibration_monitor_->StatusJson() : nlohmann::json(nullptr)},
     };
+    published_.AddTo(&status);  // the latest snapshot: a few numbers, whatever the reservoirs hold
     std::lock_guard<std::mutex> lock(status_sections_mutex_);
     for (const auto& [name, section] : status_sections_) status[name] = section();
     return status;
@@ -579,60 +491,16 @@ void HubService::AddStatusSection(const std::string& name, std::function<nlohman
   status_sections_[name] = std::move(section);
 }
 
-nlohmann::json HubService::NodeJson(const NodeEntry& n) const {
-  const uint64_t now = RealtimeNowNs();
-  const NodeStats& reception = ReceptionOf(ingest_.stats(), n.id);
-  nlohmann::json j = {
-      {"id", n.id},
-      {"address", n.address},
-      {"state", n.lost ? "lost" : NodeStateName(n.state)},
-      {"firmware", n.firmware_version},
-      {"fps", n.fps},
-      {"detect_us_mean", n.detect_time_us_mean},
-      {"detect_us_max", n.detect_time_us_max},
-      {"frames_captured", n.frames_captured},
-      {"frames_sent", n.frames_sent},
-      {"frames_dropped", n.frames_dropped},
-      {"last_frame", n.last_frame_number},
-      {"off_clock_frames", reception.off_clock_frames},
-      {"off_clock_s", reception.off_clock_s},
-      {"rescaled_frames", reception.rescaled_frames},
-      {"wrong_size_frames", reception.wrong_size_frames},
-      {"last_seen_s", n.last_seen_ns && now > n.last_seen_ns ? static_cast<double>(now - n.last_seen_ns) * 1e-9 : 0.0},
-      {"times_lost", n.times_lost},
-      {"restarts", n.restarts},
-      {"threshold", n.threshold},
-      {"exposure_us", n.exposure_us},
-      {"gain_milli", n.gain_milli},
-      {"width", n.width},
-      {"height", n.height},
-      {"control_rejected", n.control_rejected},
-      {"auth_rejected_by_node", n.auth_rejected},
-      {"camera_reopens", n.camera_reopens},
-      {"sync",
-       {{"edge_jitter_ns", n.sync.edge_jitter_ns},
-        {"unmatched_frames", n.sync.unmatched_frames},
-        {"missed_edges", n.sync.missed_edges},
-        {"spurious_edges", n.sync.spurious_edges}}},
-      {"has_status", n.has_status},
-      {"masked", false},
-  };
-  j["temperature_c"] = n.has_temperature ? nlohmann::json(n.temperature_c) : nlohmann::json(nullptr);
-  for (const CameraMask& m : masks_)
-    if (m.camera_id == n.id) j["masked"] = !m.regions.empty();
-  return j;
-}
-
 nlohmann::json HubService::Nodes() {
   return OnLoop([this] {
     nlohmann::json list = nlohmann::json::array();
-    for (const NodeEntry& n : registry_.Nodes()) list.push_back(NodeJson(n));
+    for (const NodeEntry& n : registry_.Nodes()) list.push_back(NodeJson(n, ingest_.stats(), masks_, RealtimeNowNs()));
     return list;
   });
 }
 
 nlohmann::json HubService::Node(uint32_t node_id) {
-  return OnLoop([this, node_id] { return NodeJson(KnownNode(node_id)); });
+  return OnLoop([this, node_id] { return NodeJson(KnownNode(node_id), ingest_.stats(), masks_, RealtimeNowNs()); });
 }
 
 nlohmann::json HubService::Configure(uint32_t node_id, const CameraSettings& s) {
@@ -681,13 +549,7 @@ std::vector<uint8_t> HubService::PreviewPng(uint32_t node_id, bool thresholded, 
     c.mutable_preview_request()->set_mode(thresholded ? v1::PREVIEW_MODE_THRESHOLDED : v1::PREVIEW_MODE_RAW);
     c.mutable_preview_request()->set_downscale(downscale);
     Submit(node_id, {c});  // the image itself is the answer that counts
-    auto wait = std::make_unique<PreviewWait>();
-    wait->node_id = node_id;
-    wait->thresholded = thresholded;
-    wait->deadline_ns = RealtimeNowNs() + Ns(options_.request_timeout_s);
-    std::future<PreviewImage> future = wait->promise.get_future();
-    preview_waiters_.push_back(std::move(wait));
-    return future;
+    return waiters_.ForPreview(node_id, thresholded, RealtimeNowNs() + Ns(options_.request_timeout_s));
   });
   return EncodePng(Await(std::move(image), options_.request_timeout_s + 1.0));
 }
@@ -754,68 +616,14 @@ std::string HubService::SessionFile(const std::string& name, const std::string& 
 
 nlohmann::json HubService::Calibration() {
   std::lock_guard<std::mutex> lock(rig_mutex_);
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const Camera& c : rig_.cameras) {
-    const CameraIntrinsics& k = c.intrinsics;
-    nlohmann::json rotation = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r) rotation.push_back({c.rotation(r, 0), c.rotation(r, 1), c.rotation(r, 2)});
-    const Eigen::Vector3d centre = c.CenterInWorld();
-    cameras.push_back({{"id", c.id},
-                       {"width", k.width},
-                       {"height", k.height},
-                       {"fx", k.fx},
-                       {"fy", k.fy},
-                       {"cx", k.cx},
-                       {"cy", k.cy},
-                       {"distortion", k.distortion},
-                       {"rotation", rotation},
-                       {"translation", {c.translation.x(), c.translation.y(), c.translation.z()}},
-                       {"centre", {centre.x(), centre.y(), centre.z()}}});
-  }
-  return {{"units", "mm"}, {"file", calibration_source_}, {"cameras", cameras}};
-}
-
-nlohmann::json HubService::BlobsJson(const BlobsSnapshot& snapshot) const {
-  const FrameSet* set = snapshot.set ? &*snapshot.set : nullptr;
-  std::lock_guard<std::mutex> lock(rig_mutex_);
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const Camera& c : rig_.cameras) {
-    nlohmann::json blobs = nlohmann::json::array();
-    bool seen = false;
-    if (set) {
-      for (const CameraFrame& frame : set->cameras) {
-        if (frame.camera_id != c.id) continue;
-        seen = true;
-        for (const Blob& b : frame.blobs) blobs.push_back({b.pixel.x(), b.pixel.y(), b.area});
-      }
-    }
-    nlohmann::json mask = nlohmann::json::array();
-    for (const CameraMask& m : snapshot.masks)
-      if (m.camera_id == c.id)
-        for (const MaskRect& r : m.regions) mask.push_back({r.x, r.y, r.width, r.height});
-    cameras.push_back({{"id", c.id},
-                       {"width", c.intrinsics.width},
-                       {"height", c.intrinsics.height},
-                       {"seen", seen},
-                       {"blobs", blobs},
-                       {"mask", mask}});
-  }
-  return {{"frame", set ? nlohmann::json(set->frame_number) : nlohmann::json(nullptr)}, {"cameras", cameras}};
+  return {{"units", "mm"}, {"file", calibration_source_}, {"cameras", CamerasJson(rig_)}};
 }
 
 nlohmann::json HubService::Blobs() {
-  std::future<BlobsSnapshot> answer = OnLoop([this] {
-    auto wait = std::make_unique<BlobsWait>();
-    const uint64_t now = RealtimeNowNs();
-    wait->deadline_ns = now + Ns(kBlobsWaitSeconds);
-    std::future<BlobsSnapshot> future = wait->promise.get_future();
-    if (now > last_publish_ns_ + Ns(kBlobsWaitSeconds))
-      wait->promise.set_value(BlobsSnapshot{std::nullopt, masks_});  // nothing flows: don't wait
-    else
-      blobs_waiters_.push_back(std::move(wait));
-    return future;
-  });
-  return BlobsJson(Await(std::move(answer), kBlobsWaitSeconds + 1.0));
+  std::future<BlobsSnapshot> answer = OnLoop([this] { return waiters_.ForBlobs(RealtimeNowNs(), masks_); });
+  const BlobsSnapshot snapshot = Await(std::move(answer), kBlobsWaitSeconds + 1.0);
+  std::lock_guard<std::mutex> lock(rig_mutex_);
+  return BlobsJson(rig_, snapshot);
 }
 
 // ---- live wanding ----

@@ -42,9 +42,10 @@
 #include "service/live_wanding.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
+#include "service/published_statistics.h"
 #include "service/service_api.h"
+#include "service/waiters.h"
 #include "service/wand_collection.h"
-#include "util/latency_sample.h"
 
 namespace mocap::service {
 
@@ -144,9 +145,6 @@ class HubService : public ServiceApi {
   void AddStatusSection(const std::string& name, std::function<nlohmann::json()> section);
 
  private:
-  struct PreviewWait;
-  struct BlobsWait;
-
   // Runs f on the loop thread and returns its result (or rethrows its exception).
   template <typename F>
   auto OnLoop(F f) -> decltype(f());
@@ -161,7 +159,6 @@ class HubService : public ServiceApi {
   void Announce(uint64_t now_ns);
   void OnRegistryEvents(const std::vector<RegistryEvent>& events);
   void OnRequestFinished(const RequestResult& result);
-  void OnPreview(const PreviewImage& image);
   // Into the mask job; its last frame set wanted computes the masks and sends them.
   void CollectMaskFrames(const FrameSet& set);
   void FailMaskJob(const std::string& reason, int status);
@@ -172,13 +169,6 @@ class HubService : public ServiceApi {
   void WarnAboutMissingKeys() const;
   void SaveMasks();
   const NodeEntry& KnownNode(uint32_t node_id) const;  // throws ApiError 404
-  nlohmann::json NodeJson(const NodeEntry& node) const;
-  nlohmann::json CaptureJson() const;
-  struct BlobsSnapshot {
-    std::optional<FrameSet> set;       // none: no frame set in time
-    std::vector<CameraMask> masks;
-  };
-  nlohmann::json BlobsJson(const BlobsSnapshot& snapshot) const;  // any thread (reads rig_ under rig_mutex_)
   // Ends the wanding's capture, then its collection (409 when none runs).
   void FinishWanding(const std::string& reason, bool solve);
   std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
@@ -209,20 +199,12 @@ class HubService : public ServiceApi {
   Captures captures_;
   std::vector<CameraMask> masks_;
 
-  // Statistics of what was published.
-  uint64_t frame_sets_ = 0;
-  uint64_t points_published_ = 0;
-  uint64_t provisional_published_ = 0;
-  LatencySample hub_latency_ms_;  // last datagram of a set received -> its result published
-  LatencySample trigger_to_send_ms_;  // per camera frame, on the nodes' clocks
-  LatencySample processing_ms_;       // reconstruction + tracking of one frame set
+  // What was published: counts and latencies, their percentiles refreshed from Tick.
+  PublishedStatistics published_;
 
-  // Loop-owned waiters.
-  std::map<uint64_t, std::promise<RequestResult>> request_waiters_;
-  std::vector<std::unique_ptr<PreviewWait>> preview_waiters_;
+  // Loop-owned: requests waiting for what the nodes send; the automatic mask being made.
+  Waiters waiters_;
   std::unique_ptr<AutoMaskJob> mask_job_;
-  std::vector<std::unique_ptr<BlobsWait>> blobs_waiters_;
-  uint64_t last_publish_ns_ = 0;
   uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
 
   // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
