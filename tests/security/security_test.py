@@ -104,6 +104,15 @@ class SecurityTest(unittest.TestCase):
             "--out", cls.viewer_file)
         with open(cls.viewer_file) as f:
             cls.viewer = f.read().strip()
+        # serve looks at its token store at most once a second: a token issued while it runs is
+        # taken within that second (not at once, which the tests below would otherwise assume).
+        viewer = f"Authorization: Bearer {cls.viewer}\r\n"
+        try:
+            wait_for("serve to take the new viewer token",
+                     lambda: request(cls.port, "GET", "/api/status", headers=viewer)[0] == 200, timeout=5.0)
+        except BaseException:
+            cls.tearDownClass()
+            raise
 
     @classmethod
     def make_namespace(cls):
