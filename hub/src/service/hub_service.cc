@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <utility>
 
 #include "io/calibration_json.h"
+#include "service/calibration_files.h"
 #include "service/hub_json.h"
 #include "util/json_file.h"
 #include "util/log.h"
@@ -24,90 +24,11 @@ constexpr double kLoopAnswerSeconds = 5.0;
 
 uint64_t Ns(double seconds) { return static_cast<uint64_t>(seconds * 1e9); }
 
-FrameSetAssemblerOptions AssemblyOf(const ServeOptions& o, uint64_t epoch_ns) {
-  FrameSetAssemblerOptions a;
-  a.deadline_ns = static_cast<uint64_t>(o.deadline_ms * 1e6);
-  a.free_run = o.free_run;
-  a.rate_hz = o.rate_hz;
-  a.epoch_ns = epoch_ns;
-  return a;
-}
-
-std::vector<uint32_t> CameraIds(const Rig& rig) {
-  std::vector<uint32_t> ids;
-  for (const Camera& c : rig.cameras) ids.push_back(c.id);
-  return ids;
-}
-
-bool SameCameras(const Rig& a, const Rig& b) {
-  std::vector<uint32_t> x = CameraIds(a), y = CameraIds(b);
-  std::sort(x.begin(), x.end());
-  std::sort(y.begin(), y.end());
-  return x == y;
-}
-
-NodeRegistryOptions RegistryOf(const ServeOptions& o, const Rig& rig) {
-  NodeRegistryOptions r;
-  r.lost_after_ns = Ns(o.node_lost_after_s);
-  for (const Camera& c : rig.cameras) r.allowed_nodes.insert(c.id);
-  return r;
-}
-
-ControlRequestsOptions ControlsOf(const ServeOptions& o, uint64_t now_ns) {
-  ControlRequestsOptions c;
-  c.timeout_ns = Ns(o.request_timeout_s);
-  // A restarted hub must not reuse the sequences of a mask image a node may still hold
-  // half-assembled: start from the clock (tenths of a second wrap after 13 years).
-  c.first_sequence = static_cast<uint32_t>((now_ns / 100'000'000ull) % 0xF0000000ull) + 1;
-  return c;
-}
-
-Rig LoadRigOrThrow(const std::string& path) {
-  if (path.empty()) throw std::invalid_argument("serve needs a calibration (--calibration FILE)");
-  Rig rig = LoadRigJson(path);
-  if (rig.cameras.size() < 2) throw std::invalid_argument(path + ": needs at least 2 cameras");
-  return rig;
-}
-
-SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns) {
-  SessionInfo info;
-  info.rate_hz = o.rate_hz;
-  info.epoch_ns = epoch_ns;
-  info.free_run = o.free_run;
-  info.camera_ids = CameraIds(rig);
-  return info;
-}
-
-uint64_t EpochOf(const ServeOptions& o) { return o.epoch_ns ? o.epoch_ns : RealtimeNowNs(); }
-
 }  // namespace
-
-void ServeOptions::Check() const {
-  ParseHostPort(listen);
-  if (!announce.empty()) ParseHostPort(announce);
-  if (!(rate_hz > 0.0 && rate_hz <= 1000.0)) throw std::invalid_argument("rate must be within (0, 1000] Hz");
-  if (!(deadline_ms > 0.0 && deadline_ms <= 1000.0)) throw std::invalid_argument("deadline must be within (0, 1000] ms");
-  if (!(busy_poll_us >= 0.0 && busy_poll_us <= 100000.0))
-    throw std::invalid_argument("busy poll must be within [0, 100000] us");
-  if (realtime_priority < 0 || realtime_priority > 99)
-    throw std::invalid_argument("realtime priority must be within [0, 99] (0: off)");
-  if (!(node_lost_after_s >= 0.5 && node_lost_after_s <= 3600.0))
-    throw std::invalid_argument("node-lost-after must be within [0.5, 3600] s");
-  if (!(request_timeout_s >= 0.05 && request_timeout_s <= 60.0))
-    throw std::invalid_argument("request timeout must be within [0.05, 60] s");
-  if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
-    throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
-  if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
-  recon.Check();
-  tracker.Check();
-  body_filter.Check();
-  auth.Check();
-  if (const std::string error = disk.Check(); !error.empty()) throw std::invalid_argument(error);
-}
 
 HubService::HubService(ServeOptions options)
     : options_((options.Check(), std::move(options))),
-      rig_(LoadRigOrThrow(options_.calibration)),
+      rig_(LoadServeRig(options_.calibration)),
       calibration_source_(options_.calibration),
       start_ns_(RealtimeNowNs()),
       ingest_(CameraIds(rig_), AssemblyOf(options_, EpochOf(options_)), options_.auth, ImageSizesOf(rig_)),
@@ -678,17 +599,6 @@ nlohmann::json HubService::SolveWanding(const std::string& refine_intrinsics) {
   });
 }
 
-std::string DatedCopyName(const std::string& path, uint64_t now_ns) {
-  const std::time_t seconds = static_cast<std::time_t>(now_ns / 1'000'000'000);
-  std::tm utc{};
-  gmtime_r(&seconds, &utc);
-  char stamp[32];
-  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H%M%SZ", &utc);
-  std::string name = path + "." + stamp;
-  for (int n = 2; std::filesystem::exists(name); ++n) name = path + "." + stamp + "-" + std::to_string(n);
-  return name;
-}
-
 nlohmann::json HubService::ApplyWandCalibration(bool save) {
   return OnLoop([this, save] {
     wanding_.Poll();
@@ -703,7 +613,7 @@ nlohmann::json HubService::ApplyWandCalibration(bool save) {
     }
     std::string source = o.calibration_file;
     if (save) {
-      SaveCalibration(o.calibration);
+      ReplaceCalibrationKeepingOld(options_.calibration, o.calibration, RealtimeNowNs());
       source = options_.calibration;
     }
     UseRig(o.rig, source);
@@ -739,7 +649,7 @@ nlohmann::json HubService::ApplyMonitorSolve(uint32_t camera_id, bool save) {
     }
     std::string source = calibration_source_;
     if (save) {
-      SaveCalibration(document);
+      ReplaceCalibrationKeepingOld(options_.calibration, document, RealtimeNowNs());
       source = options_.calibration;
     }
     UseRig(rig, source);
@@ -747,20 +657,6 @@ nlohmann::json HubService::ApplyMonitorSolve(uint32_t camera_id, bool save) {
               save ? " and saved to " + options_.calibration : "");
     return calibration_monitor_->StatusJson();
   });
-}
-
-void HubService::SaveCalibration(const nlohmann::json& document) {
-  // Every old file stays beside the new one, named by when it was replaced, so that an
-  // operator can go back to any of them (and an unwanted apply overwrites none).
-  const std::string kept = DatedCopyName(options_.calibration, RealtimeNowNs());
-  std::error_code ec;
-  std::filesystem::copy_file(options_.calibration, kept, std::filesystem::copy_options::none, ec);
-  if (ec) throw ApiError(500, kept + ": cannot keep the old calibration: " + ec.message());
-  try {
-    WriteJsonFile(document, options_.calibration);
-  } catch (const std::exception& e) {
-    throw ApiError(500, e.what());
-  }
 }
 
 void HubService::UseRig(const Rig& rig, const std::string& source) {

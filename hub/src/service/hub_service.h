@@ -43,50 +43,12 @@
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
 #include "service/published_statistics.h"
+#include "service/serve_options.h"
 #include "service/service_api.h"
 #include "service/waiters.h"
 #include "service/wand_collection.h"
 
 namespace mocap::service {
-
-struct ServeOptions {
-  std::string listen = "0.0.0.0:30000";   // UDP from the nodes
-  std::string calibration;                // calibration JSON: the cameras and their geometry
-  std::string sessions_dir = "sessions";  // captures go to sessions_dir/NAME
-  std::string masks_file;                 // the installation's masks (JSON); empty: none kept
-  std::string bodies_file;                // rigid bodies (bodies/body_definition.h); empty: none
-  BodyLiveFilterOptions body_filter;      // their orientations refined from past frames
-  std::string labels_file;                // marker set (labels/marker_set.h); empty: unnamed points
-  double rate_hz = 240.0;
-  uint64_t epoch_ns = 0;                  // time of frame 0; 0 = the service's start
-  std::string announce;                   // broadcast HOST:PORT for HubAnnounce; empty = none
-  double deadline_ms = 20.0;              // a frame set waits this long for late cameras
-  // While a frame set is arriving, the loop polls the socket without sleeping for up to this long
-  // after each datagram (0: it sleeps at once). A sleeping thread, and a virtual CPU gone idle,
-  // take tens to hundreds of microseconds to wake; spinning through the few milliseconds a set's
-  // datagrams take to arrive saves that on its last one, for a core busy meanwhile.
-  double busy_poll_us = 0.0;
-  // The frame loop under SCHED_FIFO at this priority (1-99; 0: the ordinary policy): no ordinary
-  // thread of any process on its core delays a frame set. Needs root, CAP_SYS_NICE or an
-  // RLIMIT_RTPRIO (the systemd unit's LimitRTPRIO=); refused, serve warns and runs on.
-  int realtime_priority = 0;
-  bool free_run = false;
-  double node_lost_after_s = 3.0;
-  double request_timeout_s = 2.0;         // a node that does not answer a control this long
-  int auto_mask_max_frames = 1000;
-  ReconstructorOptions recon;             // as `reconstruct` takes them
-  TrackerOptions tracker;                 // likewise; its rate is rate_hz
-  bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
-  WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
-  CaptureDiskOptions disk;                // the sessions disk's free space (capture.h)
-
-  // Throws std::invalid_argument naming the bad option.
-  void Check() const;
-};
-
-// PATH.2026-11-27T230704Z (UTC at now_ns; -2, -3, ... when that exists): where an applied
-// calibration keeps the file it replaces.
-std::string DatedCopyName(const std::string& path, uint64_t now_ns);
 
 class HubService : public ServiceApi {
  public:
@@ -173,7 +135,6 @@ class HubService : public ServiceApi {
   void FinishWanding(const std::string& reason, bool solve);
   std::unique_ptr<pipeline::LiveReconstruction> MakeLive() const;
   // Loop only: writes `document` over --calibration (every old file kept as CAL.<UTC time>).
-  void SaveCalibration(const nlohmann::json& document);
   // Loop only: the live reconstruction (and a fresh monitor) run with `rig` from now on.
   void UseRig(const Rig& rig, const std::string& source);
 
