@@ -1,6 +1,8 @@
 // The live hub's JSON views (see hub_json.h).
 #include "service/hub_json.h"
 
+#include "io/calibration_json.h"
+
 namespace mocap::service {
 namespace {
 
@@ -68,23 +70,10 @@ nlohmann::json NodeJson(const NodeEntry& n, const IngestStats& stats, const std:
 }
 
 nlohmann::json CamerasJson(const Rig& rig) {
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const Camera& c : rig.cameras) {
-    const CameraIntrinsics& k = c.intrinsics;
-    nlohmann::json rotation = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r) rotation.push_back({c.rotation(r, 0), c.rotation(r, 1), c.rotation(r, 2)});
-    const Eigen::Vector3d centre = c.CenterInWorld();
-    cameras.push_back({{"id", c.id},
-                       {"width", k.width},
-                       {"height", k.height},
-                       {"fx", k.fx},
-                       {"fy", k.fy},
-                       {"cx", k.cx},
-                       {"cy", k.cy},
-                       {"distortion", k.distortion},
-                       {"rotation", rotation},
-                       {"translation", {c.translation.x(), c.translation.y(), c.translation.z()}},
-                       {"centre", {centre.x(), centre.y(), centre.z()}}});
+  nlohmann::json cameras = RigToJson(rig)["cameras"];  // the calibration file's own fields
+  for (size_t i = 0; i < rig.cameras.size(); ++i) {
+    const Eigen::Vector3d centre = rig.cameras[i].CenterInWorld();
+    cameras[i]["centre"] = {centre.x(), centre.y(), centre.z()};
   }
   return cameras;
 }
