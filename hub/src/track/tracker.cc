@@ -17,9 +17,11 @@ void Tracker::FollowPointNoise(double point_noise_mm) {
   // The configured values were tuned on 0.05-0.3 px rigs, whose points come out at 0.2-0.7 mm:
   // within a factor of two of them they stand (the figures of those rigs stay as they were).
   if (!(point_noise_mm > 2.0 * configured_.kalman.measurement_noise_mm)) {
-    options_ = configured_;
+    if (following_noise_) options_ = configured_;  // once, not every frame of a precise rig
+    following_noise_ = false;
     return;
   }
+  following_noise_ = true;
   options_.kalman.measurement_noise_mm = std::max(configured_.kalman.measurement_noise_mm, point_noise_mm);
   options_.min_gate_mm = std::max(configured_.min_gate_mm, kGateNoiseSigmas * point_noise_mm);
   options_.max_gate_mm = std::max(configured_.max_gate_mm, options_.min_gate_mm);

@@ -160,6 +160,7 @@ class Tracker {
 
   TrackerOptions configured_;
   TrackerOptions options_;  // configured_ with the gates widened to the point noise
+  bool following_noise_ = false;  // options_ differ from configured_
   std::vector<Track> tracks_;
   std::vector<int> free_slots_;
   RigidModel rigid_;
