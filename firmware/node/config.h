@@ -13,6 +13,7 @@
 
 #include "common/log.h"
 #include "node/keyfile.h"
+#include "sync/sync.h"
 
 #define MN_CONFIG_STR 256
 #define MN_CONFIG_ERR 512
@@ -23,12 +24,6 @@ enum mn_source_kind {
     MN_SOURCE_V4L2,      /* v4l2:/dev/videoN */
     MN_SOURCE_LIBCAMERA, /* libcamera:N (camera index) */
     MN_SOURCE_REPLAY,    /* replay:DIR (recorded frames) */
-};
-
-enum mn_sync_kind {
-    MN_SYNC_NONE, /* free run: frame numbers from capture time */
-    MN_SYNC_GPIO, /* gpio:CHIP:LINE edge events */
-    MN_SYNC_SIM,  /* sim:RATE simulated edges (tests, simulated sessions) */
 };
 
 /* A plain struct rather than an opaque type: it is only typed, already-checked values, read by

@@ -231,7 +231,16 @@ struct mn_node *mn_node_new(const struct mn_config *cfg, char *err, size_t errle
         snprintf(err, errlen, "out of memory");
         goto fail;
     }
-    n->sync = mn_sync_open(cfg, &n->grid, err, errlen);
+    const struct mn_sync_params sync = {
+        .kind = cfg->sync_kind,
+        .gpio = {.chip = cfg->gpio_chip, .line = cfg->gpio_line, .falling = cfg->gpio_falling},
+        .sim = {.grid = n->grid,
+                .jitter_ns = (int64_t)cfg->sim_jitter_us * 1000,
+                .missed = cfg->sim_missed,
+                .spurious = cfg->sim_spurious,
+                .seed = cfg->sim_seed},
+    };
+    n->sync = mn_sync_open(&sync, err, errlen);
     if (n->sync == NULL)
         goto fail;
     n->free_run = mn_sync_free_run(n->sync);

@@ -42,15 +42,14 @@ const struct mn_sync_ops mn_sync_none_ops = {
     .close = none_close,
 };
 
-struct mn_sync *mn_sync_open(const struct mn_config *cfg, const struct mn_grid *grid, char *err,
-                             size_t errlen)
+struct mn_sync *mn_sync_open(const struct mn_sync_params *params, char *err, size_t errlen)
 {
     struct mn_sync *s = calloc(1, sizeof(*s));
     if (s == NULL) {
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    switch (cfg->sync_kind) {
+    switch (params->kind) {
     case MN_SYNC_NONE:
         s->ops = &mn_sync_none_ops;
         s->impl = s; /* stateless; any non-NULL value */
@@ -58,28 +57,21 @@ struct mn_sync *mn_sync_open(const struct mn_config *cfg, const struct mn_grid *
     case MN_SYNC_GPIO:
 #ifdef MN_HAVE_GPIOD
         s->ops = &mn_sync_gpio_ops;
-        s->impl = mn_sync_gpio_new(cfg->gpio_chip, cfg->gpio_line, cfg->gpio_falling, err, errlen);
+        s->impl = mn_sync_gpio_new(params->gpio.chip, params->gpio.line, params->gpio.falling, err,
+                                   errlen);
 #else
         snprintf(err, errlen, "gpio:%s:%u: this mocap-node was built without libgpiod (the "
                               "static variant); use mocap-node for a trigger line",
-                 cfg->gpio_chip, cfg->gpio_line);
+                 params->gpio.chip, params->gpio.line);
         errno = ENOTSUP;
 #endif
         break;
-    case MN_SYNC_SIM: {
-        struct mn_sim_sync_params sp = {
-            .grid = *grid,
-            .jitter_ns = (int64_t)cfg->sim_jitter_us * 1000,
-            .missed = cfg->sim_missed,
-            .spurious = cfg->sim_spurious,
-            .seed = cfg->sim_seed,
-        };
+    case MN_SYNC_SIM:
         s->ops = &mn_sync_sim_ops;
-        s->impl = mn_sync_sim_new(&sp);
+        s->impl = mn_sync_sim_new(&params->sim);
         if (s->impl == NULL)
             snprintf(err, errlen, "sim sync: out of memory");
         break;
-    }
     }
     if (s->impl == NULL) {
         int e = errno;

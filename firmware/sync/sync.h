@@ -8,8 +8,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "node/config.h"
 #include "sync/grid.h"
+
+enum mn_sync_kind {
+    MN_SYNC_NONE, /* free run: frame numbers from capture time */
+    MN_SYNC_GPIO, /* gpio:CHIP:LINE edge events */
+    MN_SYNC_SIM,  /* sim:RATE simulated edges (tests, simulated sessions) */
+};
 
 struct mn_sync_ops {
     const char *name;
@@ -30,12 +35,24 @@ struct mn_sim_sync_params {
     uint32_t seed;
 };
 
+struct mn_gpio_sync_params {
+    const char *chip; /* gpiochip name or path */
+    uint32_t line;
+    bool falling;     /* trigger on the falling edge instead of the rising one */
+};
+
+/* What mn_sync_open needs: the kind, and the parameters of that kind (the others are ignored). */
+struct mn_sync_params {
+    enum mn_sync_kind kind;
+    struct mn_gpio_sync_params gpio;
+    struct mn_sim_sync_params sim;
+};
+
 struct mn_sync;
 
-/* Opens the source cfg->sync_kind names. NULL with errno set on failure (and the reason in err);
+/* Opens the source params->kind names. NULL with errno set on failure (and the reason in err);
  * close with mn_sync_close. */
-struct mn_sync *mn_sync_open(const struct mn_config *cfg, const struct mn_grid *grid, char *err,
-                             size_t errlen);
+struct mn_sync *mn_sync_open(const struct mn_sync_params *params, char *err, size_t errlen);
 void mn_sync_close(struct mn_sync *s);
 
 const char *mn_sync_name(const struct mn_sync *s);

@@ -10,7 +10,6 @@
 
 #include <cmocka.h>
 
-#include "node/config.h"
 #include "sync/grid.h"
 #include "sync/pairing.h"
 #include "sync/sync.h"
