@@ -265,134 +265,182 @@ void WriteC3d(const MarkerTrajectories& trajectories, const std::string& path) {
 
 // ---- reader ----
 
-MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string& source) {
-  auto fail = [&](const std::string& reason) -> void { throw std::runtime_error(source + ": " + reason); };
-  if (bytes.size() < kBlock) fail("too short for a C3D header (" + std::to_string(bytes.size()) + " bytes)");
-  const uint8_t* h = bytes.data();
-  if (h[1] != kKey || h[0] == 0) fail("not a C3D file (no 0x50 key in the header)");
-  const size_t param_at = (size_t{h[0]} - 1) * kBlock;
-  if (param_at + 4 > bytes.size()) fail("parameter section past the end of the file");
-  const uint8_t processor = bytes[param_at + 3];
-  if (processor == kDec || processor == kMips)
-    fail(std::string(processor == kDec ? "DEC" : "MIPS (big-endian)") + " C3D files are not supported; convert to Intel");
-  if (processor != kIntel) fail("unknown processor type " + std::to_string(processor));
-  const size_t param_end = std::min(bytes.size(), param_at + std::max<size_t>(1, bytes[param_at + 2]) * kBlock);
+namespace {
 
+[[noreturn]] void Refuse(const std::string& source, const std::string& reason) {
+  throw std::runtime_error(source + ": " + reason);
+}
+
+// The parameter section: groups by id, parameters by (group id, name).
+struct C3dParameters {
   std::map<int, std::string> groups;
   std::map<std::pair<int, std::string>, Param> params;
-  for (size_t pos = param_at + 4; pos + 2 <= param_end;) {
-    const int name_len = std::abs(static_cast<int8_t>(bytes[pos]));
-    const int id = static_cast<int8_t>(bytes[pos + 1]);
-    if (name_len == 0 || id == 0) break;
-    const size_t name_at = pos + 2, link_at = name_at + static_cast<size_t>(name_len);
-    if (link_at + 2 > param_end) fail("parameter record past the end of the section");
-    const std::string name = Upper(std::string(reinterpret_cast<const char*>(&bytes[name_at]), static_cast<size_t>(name_len)));
-    const uint16_t link = U16(&bytes[link_at]);
-    if (id < 0) {
-      groups[-id] = name;
-    } else {
-      size_t p = link_at + 2;
-      if (p + 2 > param_end) fail("parameter " + name + " truncated");
-      Param param;
-      param.type = static_cast<int8_t>(bytes[p]);
-      const size_t ndims = bytes[p + 1];
-      p += 2;
-      if (param.type != -1 && param.type != 1 && param.type != 2 && param.type != 4)
-        fail("parameter " + name + " has type " + std::to_string(param.type));
-      if (p + ndims > param_end) fail("parameter " + name + " truncated");
-      size_t count = 1;
-      for (size_t d = 0; d < ndims; ++d) param.dims.push_back(bytes[p + d]), count *= bytes[p + d];
-      p += ndims;
-      const size_t size = count * static_cast<size_t>(std::abs(param.type));
-      if (p + size > param_end) fail("parameter " + name + " data past the end of the section");
-      param.data.assign(bytes.begin() + static_cast<long>(p), bytes.begin() + static_cast<long>(p + size));
-      params[{id, name}] = std::move(param);
-    }
-    if (link == 0) break;
-    pos = link_at + link;
-  }
-  auto find = [&](const std::string& group, const std::string& name) -> const Param* {
+
+  const Param* Find(const std::string& group, const std::string& name) const {
     for (const auto& [id, g] : groups) {
       if (g != group) continue;
       auto it = params.find({id, name});
       if (it != params.end()) return &it->second;
     }
     return nullptr;
-  };
-  auto number = [&](const std::string& group, const std::string& name, double fallback) {
-    const Param* p = find(group, name);
+  }
+  double Number(const std::string& group, const std::string& name, double fallback) const {
+    const Param* p = Find(group, name);
     if (p == nullptr || p->data.empty()) return fallback;
     if (p->type == 2 && p->data.size() >= 2) return static_cast<double>(U16(p->data.data()));
     if (p->type == 4 && p->data.size() >= 4) return static_cast<double>(F32(p->data.data()));
     if (p->type == 1) return static_cast<double>(p->data[0]);
     return fallback;
-  };
+  }
+};
 
-  // USED and DATA_START are 16-bit counts in the format; a parameter may still hold them as a
-  // float of any size (converting one past size_t is undefined, and a huge USED would name
-  // that many markers): out of range is refused.
-  const auto count16 = [&](const char* name, double value) {
-    if (!(value >= 0.0 && value <= 65535.0)) fail(std::string("POINT:") + name + " out of range");
-    return static_cast<size_t>(value);
-  };
-  const size_t points = count16("USED", number("POINT", "USED", U16(h + 2)));
-  const double scale = number("POINT", "SCALE", F32(h + 12));
-  const double rate = number("POINT", "RATE", F32(h + 20));
-  const size_t data_start = count16("DATA_START", number("POINT", "DATA_START", U16(h + 16)));
-  if (!(rate > 0.0) || !std::isfinite(rate)) fail("no usable POINT:RATE");
-  if (!std::isfinite(scale) || scale == 0.0) fail("no usable POINT:SCALE");
-  if (data_start == 0) fail("no usable POINT:DATA_START");
-  const size_t analog_per_frame = U16(h + 4);  // analog samples of all channels per 3-D frame
-  const bool floats = scale < 0.0;
-  const size_t value_size = floats ? 4 : 2;
-  const size_t frame_size = (points * 4 + analog_per_frame) * value_size;
-  const size_t data_at = (data_start - 1) * kBlock;
-  if (data_at > bytes.size()) fail("POINT:DATA_START past the end of the file");
-  double declared = number("POINT", "LONG_FRAMES", -1.0);
-  if (!(declared >= 0.0)) declared = number("POINT", "FRAMES", static_cast<double>(U16(h + 8)) - U16(h + 6) + 1);
-  // A file cut short (a writer that crashed) keeps the frames it has; no promise in the header
-  // makes the reader allocate more than the file holds (compared as doubles: a float LONG_FRAMES
-  // may be past any size_t).
-  const size_t held = frame_size > 0 ? (bytes.size() - data_at) / frame_size : 0;
-  const size_t frames = declared > 0.0 ? (declared < static_cast<double>(held) ? static_cast<size_t>(declared) : held) : 0;
+// One parameter record's type, dimensions and data from `p` (just past its name and link).
+Param ReadParameter(const std::vector<uint8_t>& bytes, size_t p, size_t param_end, const std::string& name,
+                    const std::string& source) {
+  if (p + 2 > param_end) Refuse(source, "parameter " + name + " truncated");
+  Param param;
+  param.type = static_cast<int8_t>(bytes[p]);
+  const size_t ndims = bytes[p + 1];
+  p += 2;
+  if (param.type != -1 && param.type != 1 && param.type != 2 && param.type != 4)
+    Refuse(source, "parameter " + name + " has type " + std::to_string(param.type));
+  if (p + ndims > param_end) Refuse(source, "parameter " + name + " truncated");
+  size_t count = 1;
+  for (size_t d = 0; d < ndims; ++d) param.dims.push_back(bytes[p + d]), count *= bytes[p + d];
+  p += ndims;
+  const size_t size = count * static_cast<size_t>(std::abs(param.type));
+  if (p + size > param_end) Refuse(source, "parameter " + name + " data past the end of the section");
+  param.data.assign(bytes.begin() + static_cast<long>(p), bytes.begin() + static_cast<long>(p + size));
+  return param;
+}
 
-  MarkerTrajectories out;
-  out.rate_hz = rate;
-  for (size_t chunk = 0; out.names.size() < points; ++chunk) {
-    const Param* labels = find("POINT", chunk == 0 ? "LABELS" : "LABELS" + std::to_string(chunk + 1));
+C3dParameters ReadParameterSection(const std::vector<uint8_t>& bytes, const std::string& source) {
+  const size_t param_at = (size_t{bytes[0]} - 1) * kBlock;
+  if (param_at + 4 > bytes.size()) Refuse(source, "parameter section past the end of the file");
+  const uint8_t processor = bytes[param_at + 3];
+  if (processor == kDec || processor == kMips)
+    Refuse(source, std::string(processor == kDec ? "DEC" : "MIPS (big-endian)") +
+                       " C3D files are not supported; convert to Intel");
+  if (processor != kIntel) Refuse(source, "unknown processor type " + std::to_string(processor));
+  const size_t param_end = std::min(bytes.size(), param_at + std::max<size_t>(1, bytes[param_at + 2]) * kBlock);
+  C3dParameters section;
+  for (size_t pos = param_at + 4; pos + 2 <= param_end;) {
+    const int name_len = std::abs(static_cast<int8_t>(bytes[pos]));
+    const int id = static_cast<int8_t>(bytes[pos + 1]);
+    if (name_len == 0 || id == 0) break;
+    const size_t name_at = pos + 2, link_at = name_at + static_cast<size_t>(name_len);
+    if (link_at + 2 > param_end) Refuse(source, "parameter record past the end of the section");
+    const std::string name = Upper(std::string(reinterpret_cast<const char*>(&bytes[name_at]), static_cast<size_t>(name_len)));
+    const uint16_t link = U16(&bytes[link_at]);
+    if (id < 0) {
+      section.groups[-id] = name;
+    } else {
+      section.params[{id, name}] = ReadParameter(bytes, link_at + 2, param_end, name, source);
+    }
+    if (link == 0) break;
+    pos = link_at + link;
+  }
+  return section;
+}
+
+// POINT:LABELS, LABELS2, ... (each at most 255 names); unnamed points get default names.
+std::vector<std::string> PointLabels(const C3dParameters& section, size_t points) {
+  std::vector<std::string> names;
+  for (size_t chunk = 0; names.size() < points; ++chunk) {
+    const Param* labels = section.Find("POINT", chunk == 0 ? "LABELS" : "LABELS" + std::to_string(chunk + 1));
     if (labels == nullptr || labels->type != -1 || labels->dims.size() != 2 || labels->dims[1] == 0) break;
     const size_t width = labels->dims[0];
-    for (size_t i = 0; i < labels->dims[1] && out.names.size() < points; ++i) {
+    for (size_t i = 0; i < labels->dims[1] && names.size() < points; ++i) {
       // Labels of width 0 hold no bytes at all: no name to read (and no element to point at).
       std::string name = width == 0 ? std::string()
                                      : std::string(reinterpret_cast<const char*>(&labels->data[i * width]), width);
       name.erase(name.find_last_not_of(" \0", std::string::npos, 2) + 1);
-      out.names.push_back(name.empty() ? DefaultMarkerName(out.names.size()) : name);
+      names.push_back(name.empty() ? DefaultMarkerName(names.size()) : name);
     }
   }
-  while (out.names.size() < points) out.names.push_back(DefaultMarkerName(out.names.size()));
+  while (names.size() < points) names.push_back(DefaultMarkerName(names.size()));
+  return names;
+}
 
-  uint64_t first = U16(h + 6) > 0 ? U16(h + 6) - 1u : 0u;
-  if (const Param* start = find("TRIAL", "ACTUAL_START_FIELD"); start && start->type == 2 && start->data.size() >= 4) {
+// How the point data is laid out, from the header and the POINT group.
+struct PointLayout {
+  size_t points = 0;
+  double scale = 1.0;   // negative: floats
+  size_t value_size = 2;
+  size_t frame_size = 0;  // bytes per frame, analog samples included
+  size_t data_at = 0;
+  size_t frames = 0;      // what the header promises, cut to what the file holds
+  uint64_t first = 0;     // frame number of the first row
+};
+
+PointLayout ReadPointLayout(const std::vector<uint8_t>& bytes, const C3dParameters& section, double* rate,
+                            const std::string& source) {
+  const uint8_t* h = bytes.data();
+  // USED and DATA_START are 16-bit counts in the format; a parameter may still hold them as a
+  // float of any size (converting one past size_t is undefined, and a huge USED would name
+  // that many markers): out of range is refused.
+  const auto count16 = [&](const char* name, double value) {
+    if (!(value >= 0.0 && value <= 65535.0)) Refuse(source, std::string("POINT:") + name + " out of range");
+    return static_cast<size_t>(value);
+  };
+  PointLayout layout;
+  layout.points = count16("USED", section.Number("POINT", "USED", U16(h + 2)));
+  layout.scale = section.Number("POINT", "SCALE", F32(h + 12));
+  *rate = section.Number("POINT", "RATE", F32(h + 20));
+  const size_t data_start = count16("DATA_START", section.Number("POINT", "DATA_START", U16(h + 16)));
+  if (!(*rate > 0.0) || !std::isfinite(*rate)) Refuse(source, "no usable POINT:RATE");
+  if (!std::isfinite(layout.scale) || layout.scale == 0.0) Refuse(source, "no usable POINT:SCALE");
+  if (data_start == 0) Refuse(source, "no usable POINT:DATA_START");
+  const size_t analog_per_frame = U16(h + 4);  // analog samples of all channels per 3-D frame
+  layout.value_size = layout.scale < 0.0 ? 4 : 2;
+  layout.frame_size = (layout.points * 4 + analog_per_frame) * layout.value_size;
+  layout.data_at = (data_start - 1) * kBlock;
+  if (layout.data_at > bytes.size()) Refuse(source, "POINT:DATA_START past the end of the file");
+  double declared = section.Number("POINT", "LONG_FRAMES", -1.0);
+  if (!(declared >= 0.0)) declared = section.Number("POINT", "FRAMES", static_cast<double>(U16(h + 8)) - U16(h + 6) + 1);
+  // A file cut short (a writer that crashed) keeps the frames it has; no promise in the header
+  // makes the reader allocate more than the file holds (compared as doubles: a float LONG_FRAMES
+  // may be past any size_t).
+  const size_t held = layout.frame_size > 0 ? (bytes.size() - layout.data_at) / layout.frame_size : 0;
+  layout.frames = declared > 0.0 ? (declared < static_cast<double>(held) ? static_cast<size_t>(declared) : held) : 0;
+  layout.first = U16(h + 6) > 0 ? U16(h + 6) - 1u : 0u;
+  if (const Param* start = section.Find("TRIAL", "ACTUAL_START_FIELD"); start && start->type == 2 && start->data.size() >= 4) {
     const uint64_t field = U16(start->data.data()) | (uint64_t{U16(start->data.data() + 2)} << 16);
-    if (field > 0) first = field - 1;
+    if (field > 0) layout.first = field - 1;
   }
-  out.points.reserve(frames * points);
-  for (size_t f = 0; f < frames; ++f) {
-    const size_t i = out.AddFrame(first + f);
-    const uint8_t* row = &bytes[data_at + f * frame_size];
-    for (size_t m = 0; m < points; ++m) {
+  return layout;
+}
+
+void ReadPointFrames(const std::vector<uint8_t>& bytes, const PointLayout& layout, MarkerTrajectories* out) {
+  const bool floats = layout.scale < 0.0;
+  out->points.reserve(layout.frames * layout.points);
+  for (size_t f = 0; f < layout.frames; ++f) {
+    const size_t i = out->AddFrame(layout.first + f);
+    const uint8_t* row = &bytes[layout.data_at + f * layout.frame_size];
+    for (size_t m = 0; m < layout.points; ++m) {
       double v[4];
       for (int k = 0; k < 4; ++k) {
-        const uint8_t* p = row + (m * 4 + static_cast<size_t>(k)) * value_size;
+        const uint8_t* p = row + (m * 4 + static_cast<size_t>(k)) * layout.value_size;
         v[k] = floats ? static_cast<double>(F32(p)) : static_cast<double>(static_cast<int16_t>(U16(p)));
       }
       if (v[3] < 0.0) continue;  // the residual word says: no point here
-      const double s = floats ? 1.0 : scale;
+      const double s = floats ? 1.0 : layout.scale;
       const Eigen::Vector3d point(v[0] * s, v[1] * s, v[2] * s);
-      if (point.allFinite()) out.At(i, m) = point;
+      if (point.allFinite()) out->At(i, m) = point;
     }
   }
+}
+
+}  // namespace
+
+MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string& source) {
+  if (bytes.size() < kBlock) Refuse(source, "too short for a C3D header (" + std::to_string(bytes.size()) + " bytes)");
+  if (bytes[1] != kKey || bytes[0] == 0) Refuse(source, "not a C3D file (no 0x50 key in the header)");
+  const C3dParameters section = ReadParameterSection(bytes, source);
+  MarkerTrajectories out;
+  const PointLayout layout = ReadPointLayout(bytes, section, &out.rate_hz, source);
+  out.names = PointLabels(section, layout.points);
+  ReadPointFrames(bytes, layout, &out);
   return out;
 }
 

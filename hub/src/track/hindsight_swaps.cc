@@ -83,6 +83,13 @@ void HindsightSwaps::RelabelForGood(size_t from_row, const std::vector<int>& lab
 //    smoothly, an optimal assignment (chains of three or more markers included).
 void HindsightSwaps::JudgeBoundary(size_t t, int before) {
   const int first = kBefore - before;  // window index of the first row held
+  if (!GatherColumns(t, first)) return;
+  MarkJumpsAndBends(first, before);
+  UndoShortTrades(t, first);
+  TradeForGood(t, before);
+}
+
+bool HindsightSwaps::GatherColumns(size_t t, int first) {
   // Every sample's column is one of the columns issued so far.
   const int num_columns = static_cast<int>(last_frame_of_column_.size());
   // present_[column]: one bit per window row holding a sample of the column.
@@ -108,16 +115,12 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
       if (present_[column] >> k & 1) judged.positions[k] = window_[static_cast<size_t>(k) * num_columns + column];
     }
   }
-  if (columns_.size() < 2) return;
+  return columns_.size() >= 2;
+}
+
+void HindsightSwaps::MarkJumpsAndBends(int first, int before) {
   // Only a column that jumps here can be part of a trade: its second differences at t-1 and t.
   const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
-  const double radius2 = options_.pair_radius_mm * options_.pair_radius_mm;
-  // A column's position in window row k (nullptr where it has none).
-  const auto own = [&](const Column& column) {
-    return [&column, this](int k) -> const Eigen::Vector3d* {
-      return present_[column.label] >> k & 1 ? &column.positions[k] : nullptr;
-    };
-  };
   neighbours_.resize(columns_.size());
   for (size_t i = 0; i < columns_.size(); ++i) {
     Column& column = columns_[i];
@@ -127,96 +130,100 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
     column.jumps = jump >= 0.25 * min_jump2;
     distances_.SteadyNeighbours(column.label, &neighbours_[i]);
     if (neighbours_[i].empty()) continue;
-    const double after = RigidExcess(i, kBefore, kHeldRows, -1, own(column));
+    const double after = RigidExcess(i, kBefore, kHeldRows, -1, Own(column));
     // Bent: by 2 mm beyond the tolerance over the four rows from the boundary (or 4 mm in one).
     column.bends = after > 0.0 && after >= options_.rigid_weight * kBentExcess &&
-                   RigidExcess(i, first, kBefore, -1, own(column)) <= 0.25 * after;
+                   RigidExcess(i, first, kBefore, -1, Own(column)) <= 0.25 * after;
   }
-  const auto close = [&](const Column& a, const Column& b) {
-    return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <= radius2;
-  };
-  std::vector<int> label(last_frame_of_column_.size());
-  const auto identity = [&]() { std::iota(label.begin(), label.end(), 0); };
+}
 
-  // 1. Short trades.
-  for (;;) {
-    double best_gain = 0.0;
-    size_t best_i = 0, best_j = 0;
-    int best_frames = 0;
-    for (size_t i = 0; i < columns_.size(); ++i) {
-      const Column& a = columns_[i];
-      if (!(a.jumps || a.bends) || !a.full || a.used) continue;
-      for (size_t j = 0; j < columns_.size(); ++j) {
-        const Column& b = columns_[j];
-        if (j == i || !b.full || b.used || ((b.jumps || b.bends) && j < i) || !close(a, b)) continue;
-        bool as_is[kHeldRows] = {};
-        const double roughness_now = Roughness(a.positions, b.positions, as_is, first) +
-                                     Roughness(b.positions, a.positions, as_is, first);
-        for (int frames = 1; frames <= 2; ++frames) {
-          bool traded[kHeldRows] = {};
-          for (int k = kBefore; k < kBefore + frames; ++k) traded[k] = true;
-          // Both columns' distances from the boundary on, as they are and traded: a trade back
-          // that leaves the later rows bent is no repair (a trade for good may be).
-          const auto traded_a = [&](int k) { return k < kBefore + frames ? own(b)(k) : own(a)(k); };
-          const auto traded_b = [&](int k) { return k < kBefore + frames ? own(a)(k) : own(b)(k); };
-          const double now = roughness_now + RigidExcess(i, kBefore, kHeldRows, b.label, own(a)) +
-                             RigidExcess(j, kBefore, kHeldRows, a.label, own(b));
-          const double then = Roughness(a.positions, b.positions, traded, first) +
-                              Roughness(b.positions, a.positions, traded, first) +
-                              RigidExcess(i, kBefore, kHeldRows, b.label, traded_a) +
-                              RigidExcess(j, kBefore, kHeldRows, a.label, traded_b);
-          const double gain = now - then;
-          if (then <= options_.improvement * now && gain >= min_jump2 && gain > best_gain) {
-            best_gain = gain;
-            best_i = i;
-            best_j = j;
-            best_frames = frames;
-          }
+bool HindsightSwaps::Close(const Column& a, const Column& b) const {
+  return (a.positions[kBefore - 1] - b.positions[kBefore - 1]).squaredNorm() <=
+         options_.pair_radius_mm * options_.pair_radius_mm;
+}
+
+void HindsightSwaps::UndoShortTrades(size_t t, int first) {
+  std::vector<int> label(last_frame_of_column_.size());
+  ShortTrade best;
+  while (BestShortTrade(first, &best)) {
+    std::iota(label.begin(), label.end(), 0);
+    std::swap(label[columns_[best.i].label], label[columns_[best.j].label]);
+    Relabel(t, t + best.frames, label);
+    ++swaps_undone_;
+    columns_[best.i].used = columns_[best.j].used = true;
+    // The rows changed under the other columns' positions only for these two; both are done.
+  }
+}
+
+bool HindsightSwaps::BestShortTrade(int first, ShortTrade* best) const {
+  const double min_jump2 = options_.min_jump_mm * options_.min_jump_mm;
+  *best = ShortTrade{};
+  for (size_t i = 0; i < columns_.size(); ++i) {
+    const Column& a = columns_[i];
+    if (!(a.jumps || a.bends) || !a.full || a.used) continue;
+    for (size_t j = 0; j < columns_.size(); ++j) {
+      const Column& b = columns_[j];
+      if (j == i || !b.full || b.used || ((b.jumps || b.bends) && j < i) || !Close(a, b)) continue;
+      bool as_is[kHeldRows] = {};
+      const double roughness_now = Roughness(a.positions, b.positions, as_is, first) +
+                                   Roughness(b.positions, a.positions, as_is, first);
+      for (int frames = 1; frames <= 2; ++frames) {
+        bool traded[kHeldRows] = {};
+        for (int k = kBefore; k < kBefore + frames; ++k) traded[k] = true;
+        // Both columns' distances from the boundary on, as they are and traded: a trade back
+        // that leaves the later rows bent is no repair (a trade for good may be).
+        const auto traded_a = [&](int k) { return k < kBefore + frames ? Own(b)(k) : Own(a)(k); };
+        const auto traded_b = [&](int k) { return k < kBefore + frames ? Own(a)(k) : Own(b)(k); };
+        const double now = roughness_now + RigidExcess(i, kBefore, kHeldRows, b.label, Own(a)) +
+                           RigidExcess(j, kBefore, kHeldRows, a.label, Own(b));
+        const double then = Roughness(a.positions, b.positions, traded, first) +
+                            Roughness(b.positions, a.positions, traded, first) +
+                            RigidExcess(i, kBefore, kHeldRows, b.label, traded_a) +
+                            RigidExcess(j, kBefore, kHeldRows, a.label, traded_b);
+        const double gain = now - then;
+        if (then <= options_.improvement * now && gain >= min_jump2 && gain > best->gain) {
+          *best = ShortTrade{i, j, frames, gain};
         }
       }
     }
-    if (best_frames == 0) break;
-    identity();
-    std::swap(label[columns_[best_i].label], label[columns_[best_j].label]);
-    Relabel(t, t + best_frames, label);
-    ++swaps_undone_;
-    columns_[best_i].used = columns_[best_j].used = true;
-    // The rows changed under the other columns' positions only for these two; both are done.
   }
+  return best->frames > 0;
+}
 
-  // 2. Trades for good: the group is every jumping column and the columns close to one.
+double HindsightSwaps::JoinCost(const Column& past, const Column& future, int before) const {
+  const Eigen::Vector3d* p = past.positions;
+  const Eigen::Vector3d* f = future.positions;
+  if (before == 1) return SquaredSecondDifference(p[kBefore - 1], f[kBefore], f[kBefore + 1]);
+  return JoinRoughness(p[kBefore - 2], p[kBefore - 1], f[kBefore], f[kBefore + 1]);
+}
+
+void HindsightSwaps::TradeForGood(size_t t, int before) {
+  // The group is every jumping column and the columns close to one.
   group_.clear();
   for (size_t i = 0; i < columns_.size(); ++i) {
     if (columns_[i].used) continue;
     bool take = columns_[i].jumps || columns_[i].bends;
     for (size_t j = 0; j < columns_.size() && !take; ++j) {
-      take = (columns_[j].jumps || columns_[j].bends) && !columns_[j].used && close(columns_[i], columns_[j]);
+      take = (columns_[j].jumps || columns_[j].bends) && !columns_[j].used && Close(columns_[i], columns_[j]);
     }
     if (take) group_.push_back(static_cast<int>(i));
   }
   if (group_.size() < 2) return;
-  // join(i, j): roughness where column i's past continues into column j's future.
-  const auto join = [&](const Column& past, const Column& future) {
-    const Eigen::Vector3d* p = past.positions;
-    const Eigen::Vector3d* f = future.positions;
-    if (before == 1) return SquaredSecondDifference(p[kBefore - 1], f[kBefore], f[kBefore + 1]);
-    return JoinRoughness(p[kBefore - 2], p[kBefore - 1], f[kBefore], f[kBefore + 1]);
-  };
   // Each entry's distances are judged as if the two traded (exact for pairs; a cycle of three or
   // more is judged whole below).
   const size_t n = group_.size();
   Eigen::MatrixXd cost(n, n);
-  takes_.assign(num_columns, -1);
+  takes_.assign(last_frame_of_column_.size(), -1);
   for (size_t r = 0; r < n; ++r) {
     const Column& past = columns_[group_[r]];
     for (size_t c = 0; c < n; ++c) {
       const Column& future = columns_[group_[c]];
-      if (r != c && !close(past, future)) {
+      if (r != c && !Close(past, future)) {
         cost(r, c) = kForbidden;
         continue;
       }
       if (r != c) takes_[future.label] = group_[r];
-      cost(r, c) = join(past, future) + RigidExcess(group_[r], kBefore, kHeldRows, -1, own(future), &takes_);
+      cost(r, c) = JoinCost(past, future, before) + RigidExcess(group_[r], kBefore, kHeldRows, -1, Own(future), &takes_);
       takes_[future.label] = -1;
     }
   }
@@ -233,12 +240,13 @@ void HindsightSwaps::JudgeBoundary(size_t t, int before) {
     }
     for (size_t k : cycle) {
       const Column& future = columns_[group_[chosen[k]]];
-      *then += join(columns_[group_[k]], future) +
-               RigidExcess(group_[k], kBefore, kHeldRows, -1, own(future), &takes_);
+      *then += JoinCost(columns_[group_[k]], future, before) +
+               RigidExcess(group_[k], kBefore, kHeldRows, -1, Own(future), &takes_);
     }
     for (size_t k : cycle) takes_[columns_[group_[k]].label] = -1;
   };
-  identity();
+  std::vector<int> label(last_frame_of_column_.size());
+  std::iota(label.begin(), label.end(), 0);
   if (AcceptCycles(cost, &label, judge) > 0) RelabelForGood(t, label);
 }
 

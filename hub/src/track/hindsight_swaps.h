@@ -68,8 +68,37 @@ class HindsightSwaps {
   static constexpr size_t kStartRows = 16;
   void JudgeStart();
   void LabelStartBackward();
-  // Judges the boundary before rows_[t] with `before` rows before it (2, or 1 at the start).
+  // Judges the boundary before rows_[t] with `before` rows before it (2, or 1 at the start), in
+  // four stages:
   void JudgeBoundary(size_t t, int before);
+  // Fills present_, window_ and columns_ with the columns present across the boundary; false
+  // when fewer than two are.
+  bool GatherColumns(size_t t, int first);
+  // Each column's jumps (acceleration at the boundary) and bends (its steady distances broken).
+  void MarkJumpsAndBends(int first, int before);
+  // Pairs traded for one or two frames, traded back, best gain first.
+  struct ShortTrade {
+    size_t i = 0, j = 0;  // columns_ indices
+    int frames = 0;       // 0: none found
+    double gain = 0.0;
+  };
+  void UndoShortTrades(size_t t, int first);
+  bool BestShortTrade(int first, ShortTrade* best) const;
+  // Jumping columns and their close neighbours reassigned for good, past to future.
+  void TradeForGood(size_t t, int before);
+  // Roughness where `past`'s rows before the boundary continue into `future`'s.
+  double JoinCost(const Column& past, const Column& future, int before) const;
+  // Close at the row before the boundary (options_.pair_radius_mm).
+  bool Close(const Column& a, const Column& b) const;
+  // A column's position in window row k (nullptr where it has none), for RigidExcess.
+  struct OwnRows {
+    const HindsightSwaps* self;
+    const Column* column;
+    const Eigen::Vector3d* operator()(int k) const {
+      return self->present_[column->label] >> k & 1 ? &column->positions[k] : nullptr;
+    }
+  };
+  OwnRows Own(const Column& column) const { return OwnRows{this, &column}; }
   // The optimal assignment of `cost` (rows: items, each column the item whose data would join it;
   // the identity always allowed): each of its cycles that removes most of the identity's cost is
   // accepted, label[item_labels_[column]] = item_labels_[row]. Returns the cycles accepted.
