@@ -39,213 +39,272 @@ void MarkerEvalOptions::Check() const {
   }
 }
 
-MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTrajectories& result,
-                                 const MarkerVisibility* visibility, const MarkerEvalOptions& options,
-                                 const PublishedIdentity* identity) {
-  options.Check();
-  if (!(truth.rate_hz > 0.0) || !(result.rate_hz > 0.0)) throw std::invalid_argument("truth and result need a rate");
-  const size_t truth_markers = truth.NumMarkers();
-  const size_t result_markers = result.NumMarkers();
-  if (identity != nullptr &&
-      (identity->track.size() != result.points.size() || identity->name.size() != result.points.size())) {
-    throw std::invalid_argument("point identities are not one per cell of the result");
-  }
+namespace {
 
-  std::unordered_map<uint64_t, size_t> visibility_index;
-  if (visibility != nullptr) {
-    if (visibility->names != truth.names) {
-      throw std::invalid_argument("visibility marker names differ from the truth's");
-    }
-    for (size_t f = 0; f < visibility->NumFrames(); ++f) visibility_index[visibility->frame_numbers[f]] = f;
-  }
+// EvaluateMarkers' state: the names and tracks of the result, the frames aligned, and what each
+// track and truth marker did so far. Score() walks the truth frames once; Finish() turns the
+// counts into the report's shares and error statistics.
+class MarkerScorer {
+ public:
+  MarkerScorer(const MarkerTrajectories& truth, const MarkerTrajectories& result, const MarkerVisibility* visibility,
+               const MarkerEvalOptions& options, const PublishedIdentity* identity);
+  void Score();
+  MarkerEvalReport Finish();
 
-  // Names: each point's name is an index into `names` (-1: unnamed); its truth marker, -1 for a
-  // name the truth does not have and for the hub's anonymous names.
-  const std::vector<std::string>& names = identity != nullptr ? identity->names : result.names;
-  std::unordered_map<std::string, long> truth_marker_of_name;
-  for (size_t m = 0; m < truth_markers; ++m) truth_marker_of_name[truth.names[m]] = static_cast<long>(m);
-  std::vector<long> named_as(names.size(), -1);
-  std::vector<char> anonymous(names.size(), 0);
-  for (size_t k = 0; k < names.size(); ++k) {
-    anonymous[k] = IsAnonymousMarkerName(names[k]);
-    const auto it = truth_marker_of_name.find(names[k]);
-    if (it != truth_marker_of_name.end() && !anonymous[k]) named_as[k] = it->second;
-  }
-  const bool labels = std::any_of(named_as.begin(), named_as.end(), [](long m) { return m >= 0; });
-  const auto name_of = [&](size_t r, size_t column) -> long {
-    if (identity == nullptr) return anonymous[column] ? -1 : static_cast<long>(column);
-    return identity->name[r * result_markers + column];
-  };
-  // Tracks: a column of a TRC, a published id of a live result (dense indices in order seen).
-  std::unordered_map<int64_t, size_t> track_index;
-  const auto track_of = [&](size_t r, size_t column) -> long {
-    const int64_t key = identity == nullptr ? static_cast<int64_t>(column) : identity->track[r * result_markers + column];
-    if (key < 0) return -1;
-    return static_cast<long>(track_index.emplace(key, track_index.size()).first->second);
-  };
-  double worst_share = 1.0;
-
-  std::unordered_map<uint64_t, size_t> truth_index;
-  for (size_t f = 0; f < truth.NumFrames(); ++f) truth_index[truth.frame_numbers[f]] = f;
-  // For each truth frame, the aligned result frame (or none: the result wrote no row then).
-  std::vector<long> result_of_truth(truth.NumFrames(), -1);
-  MarkerEvalReport report;
-  report.gate_mm = options.gate_mm;
-  report.names_from_frame = options.names_from_frame;
-  report.visibility_used = visibility != nullptr;
-  for (size_t r = 0; r < result.NumFrames(); ++r) {
-    const long t = AlignedTruthFrame(truth_index, truth.rate_hz, result.TimeOf(r));
-    if (t < 0 || result_of_truth[t] >= 0) {
-      ++report.unaligned_result_frames;
-    } else {
-      result_of_truth[t] = static_cast<long>(r);
-      ++report.result_frames;
-    }
-  }
-
-  std::vector<char> truth_ever(truth_markers, 0);
-  std::vector<long> truth_frames_present(truth_markers, 0);
-  std::vector<long> last_track_of_marker(truth_markers, -1);
-  std::vector<size_t> id_changes_of_marker(truth_markers, 0);
+ private:
   struct TrackState {
     long last_match = -1;  // truth marker
     long last_name = -1;   // index into names
     size_t name_changes = 0;
   };
-  std::vector<TrackState> tracks;
-  const TruthExchanges exchanges = FindTruthExchanges(truth);
-  report.truth_exchanges = exchanges.count;
-  std::vector<double> errors;
-  std::vector<size_t> present_truth, present_result;
-  report.frames = truth.NumFrames();
-  for (size_t t = 0; t < truth.NumFrames(); ++t) {
-    present_truth.clear();
-    present_result.clear();
-    for (size_t m = 0; m < truth_markers; ++m) {
-      if (truth.Has(t, m)) {
-        present_truth.push_back(m);
-        ++truth_frames_present[m];
-      }
-    }
-    const long r = result_of_truth[t];
-    if (r >= 0) {
-      for (size_t k = 0; k < result_markers; ++k) {
-        if (result.Has(r, k)) present_result.push_back(k);
-      }
-    }
-    Eigen::MatrixXd cost(present_result.size(), present_truth.size());
-    for (size_t i = 0; i < present_result.size(); ++i) {
-      for (size_t j = 0; j < present_truth.size(); ++j) {
-        cost(i, j) = (result.At(r, present_result[i]) - truth.At(t, present_truth[j])).norm();
-      }
-    }
-    const std::vector<int> match = SolveAssignment(cost, options.gate_mm);
+  void IndexNames();
+  void AlignFrames();
+  void ScoreFrame(size_t t);
+  // One result point matched to truth `marker` (-1: none) at truth frame t.
+  void ScorePoint(size_t t, size_t r, size_t column, long marker, size_t* frame_correct, size_t* frame_points);
+  void CountExpected(size_t t, const std::vector<char>& truth_matched);
+  // The result point's name (an index into names_, -1: unnamed) and track (dense, -1: none).
+  long NameOf(size_t r, size_t column) const;
+  long TrackOf(size_t r, size_t column);
 
-    std::vector<char> truth_matched(present_truth.size(), 0);
-    size_t frame_correct = 0, frame_points = 0;
-    for (size_t i = 0; i < present_result.size(); ++i) {
-      const size_t column = present_result[i];
-      ++report.result_points;
-      const long marker = match[i] >= 0 ? static_cast<long>(present_truth[match[i]]) : -1;
-      const long name = name_of(static_cast<size_t>(r), column);
-      const long track = track_of(static_cast<size_t>(r), column);
-      if (marker < 0 || truth_frames_present[marker] >= options.names_from_frame) {
-        ++report.label_points;
-        ++frame_points;
-        if (name >= 0 && named_as[name] >= 0) {
-          ++report.named_points;
-          if (named_as[name] == marker) {
-            ++report.correctly_named;
-            ++frame_correct;
-          } else {
-            ++report.wrongly_named;
-          }
-        } else {
-          ++report.unnamed_points;
-        }
-      }
-      if (track >= 0) {
-        if (static_cast<size_t>(track) >= tracks.size()) tracks.resize(track + 1);
-        TrackState& state = tracks[track];
-        if (name >= 0 && !anonymous[name]) {
-          if (state.last_name >= 0 && state.last_name != name) ++state.name_changes;
-          state.last_name = name;
-        }
-      }
-      if (marker < 0) {
-        ++report.ghosts;
-        continue;
-      }
-      truth_matched[match[i]] = 1;
-      errors.push_back(cost(i, match[i]));
-      if (track < 0) continue;
-      // An id change: this truth marker is now followed by another track than it last was.
-      if (last_track_of_marker[marker] >= 0 && last_track_of_marker[marker] != track) ++id_changes_of_marker[marker];
-      last_track_of_marker[marker] = track;
-      // A swap: this output trajectory now follows a different truth marker than it last did.
-      TrackState& state = tracks[track];
-      if (state.last_match >= 0 && state.last_match != marker) {
-        ++report.swaps;
-        if (exchanges.Involves(t, marker) || exchanges.Involves(t, static_cast<size_t>(state.last_match))) {
-          ++report.swaps_at_truth_exchanges;
-        }
-      }
-      state.last_match = marker;
-    }
+  const MarkerTrajectories& truth_;
+  const MarkerTrajectories& result_;
+  const MarkerVisibility* visibility_;
+  const MarkerEvalOptions& options_;
+  const PublishedIdentity* identity_;
+  const size_t truth_markers_, result_markers_;
+  MarkerEvalReport report_;
+  std::unordered_map<uint64_t, size_t> visibility_index_;
+  // Names: each point's name is an index into names_; its truth marker (named_as_), -1 for a
+  // name the truth does not have and for the hub's anonymous names.
+  const std::vector<std::string>& names_;
+  std::vector<long> named_as_;
+  std::vector<char> anonymous_;
+  bool labels_ = false;
+  // Tracks: a column of a TRC, a published id of a live result (dense indices in order seen).
+  std::unordered_map<int64_t, size_t> track_index_;
+  std::vector<TrackState> tracks_;
+  std::vector<long> result_of_truth_;  // by truth frame: the aligned result frame, or -1
+  std::vector<char> truth_ever_;
+  std::vector<long> truth_frames_present_;
+  std::vector<long> last_track_of_marker_;
+  std::vector<size_t> id_changes_of_marker_;
+  TruthExchanges exchanges_;
+  double worst_share_ = 1.0;
+  std::vector<double> errors_;
+  std::vector<size_t> present_truth_, present_result_;
+};
 
-    if (labels && frame_points > 0)
-      worst_share = std::min(worst_share, static_cast<double>(frame_correct) / frame_points);
-
-    long visibility_frame = -1;
-    if (visibility != nullptr) {
-      const auto it = visibility_index.find(truth.frame_numbers[t]);
-      if (it != visibility_index.end()) visibility_frame = static_cast<long>(it->second);
+MarkerScorer::MarkerScorer(const MarkerTrajectories& truth, const MarkerTrajectories& result,
+                           const MarkerVisibility* visibility, const MarkerEvalOptions& options,
+                           const PublishedIdentity* identity)
+    : truth_(truth), result_(result), visibility_(visibility), options_(options), identity_(identity),
+      truth_markers_(truth.NumMarkers()), result_markers_(result.NumMarkers()),
+      names_(identity != nullptr ? identity->names : result.names),
+      truth_ever_(truth_markers_, 0), truth_frames_present_(truth_markers_, 0),
+      last_track_of_marker_(truth_markers_, -1), id_changes_of_marker_(truth_markers_, 0),
+      exchanges_(FindTruthExchanges(truth)) {
+  options.Check();
+  if (!(truth.rate_hz > 0.0) || !(result.rate_hz > 0.0)) throw std::invalid_argument("truth and result need a rate");
+  if (identity != nullptr &&
+      (identity->track.size() != result.points.size() || identity->name.size() != result.points.size())) {
+    throw std::invalid_argument("point identities are not one per cell of the result");
+  }
+  if (visibility != nullptr) {
+    if (visibility->names != truth.names) {
+      throw std::invalid_argument("visibility marker names differ from the truth's");
     }
-    for (size_t j = 0; j < present_truth.size(); ++j) {
-      const size_t marker = present_truth[j];
-      truth_ever[marker] = 1;
-      ++report.truth_points;
-      // Without a visibility row for this frame every present marker counts.
-      const bool expected = visibility == nullptr || visibility_frame < 0 ||
-                            visibility->At(visibility_frame, marker) >= options.min_cameras;
-      if (!expected) continue;
-      ++report.expected_points;
-      if (!truth_matched[j]) ++report.missing;
+    for (size_t f = 0; f < visibility->NumFrames(); ++f) visibility_index_[visibility->frame_numbers[f]] = f;
+  }
+  report_.gate_mm = options.gate_mm;
+  report_.names_from_frame = options.names_from_frame;
+  report_.visibility_used = visibility != nullptr;
+  report_.truth_exchanges = exchanges_.count;
+  report_.frames = truth.NumFrames();
+  IndexNames();
+  AlignFrames();
+}
+
+void MarkerScorer::IndexNames() {
+  std::unordered_map<std::string, long> truth_marker_of_name;
+  for (size_t m = 0; m < truth_markers_; ++m) truth_marker_of_name[truth_.names[m]] = static_cast<long>(m);
+  named_as_.assign(names_.size(), -1);
+  anonymous_.assign(names_.size(), 0);
+  for (size_t k = 0; k < names_.size(); ++k) {
+    anonymous_[k] = IsAnonymousMarkerName(names_[k]);
+    const auto it = truth_marker_of_name.find(names_[k]);
+    if (it != truth_marker_of_name.end() && !anonymous_[k]) named_as_[k] = it->second;
+  }
+  labels_ = std::any_of(named_as_.begin(), named_as_.end(), [](long m) { return m >= 0; });
+}
+
+void MarkerScorer::AlignFrames() {
+  std::unordered_map<uint64_t, size_t> truth_index;
+  for (size_t f = 0; f < truth_.NumFrames(); ++f) truth_index[truth_.frame_numbers[f]] = f;
+  result_of_truth_.assign(truth_.NumFrames(), -1);
+  for (size_t r = 0; r < result_.NumFrames(); ++r) {
+    const long t = AlignedTruthFrame(truth_index, truth_.rate_hz, result_.TimeOf(r));
+    if (t < 0 || result_of_truth_[t] >= 0) {
+      ++report_.unaligned_result_frames;
+    } else {
+      result_of_truth_[t] = static_cast<long>(r);
+      ++report_.result_frames;
     }
   }
+}
 
-  report.matched = errors.size();
-  report.labels_compared = labels;
-  if (labels && report.label_points > 0) {
+long MarkerScorer::NameOf(size_t r, size_t column) const {
+  if (identity_ == nullptr) return anonymous_[column] ? -1 : static_cast<long>(column);
+  return identity_->name[r * result_markers_ + column];
+}
+
+long MarkerScorer::TrackOf(size_t r, size_t column) {
+  const int64_t key =
+      identity_ == nullptr ? static_cast<int64_t>(column) : identity_->track[r * result_markers_ + column];
+  if (key < 0) return -1;
+  return static_cast<long>(track_index_.emplace(key, track_index_.size()).first->second);
+}
+
+void MarkerScorer::Score() {
+  for (size_t t = 0; t < truth_.NumFrames(); ++t) ScoreFrame(t);
+}
+
+void MarkerScorer::ScoreFrame(size_t t) {
+  present_truth_.clear();
+  present_result_.clear();
+  for (size_t m = 0; m < truth_markers_; ++m) {
+    if (truth_.Has(t, m)) {
+      present_truth_.push_back(m);
+      ++truth_frames_present_[m];
+    }
+  }
+  const long r = result_of_truth_[t];
+  if (r >= 0) {
+    for (size_t k = 0; k < result_markers_; ++k) {
+      if (result_.Has(r, k)) present_result_.push_back(k);
+    }
+  }
+  Eigen::MatrixXd cost(present_result_.size(), present_truth_.size());
+  for (size_t i = 0; i < present_result_.size(); ++i) {
+    for (size_t j = 0; j < present_truth_.size(); ++j) {
+      cost(i, j) = (result_.At(r, present_result_[i]) - truth_.At(t, present_truth_[j])).norm();
+    }
+  }
+  const std::vector<int> match = SolveAssignment(cost, options_.gate_mm);
+  std::vector<char> truth_matched(present_truth_.size(), 0);
+  size_t frame_correct = 0, frame_points = 0;
+  for (size_t i = 0; i < present_result_.size(); ++i) {
+    const long marker = match[i] >= 0 ? static_cast<long>(present_truth_[match[i]]) : -1;
+    ScorePoint(t, static_cast<size_t>(r), present_result_[i], marker, &frame_correct, &frame_points);
+    if (marker < 0) continue;
+    truth_matched[match[i]] = 1;
+    errors_.push_back(cost(i, match[i]));
+  }
+  if (labels_ && frame_points > 0)
+    worst_share_ = std::min(worst_share_, static_cast<double>(frame_correct) / frame_points);
+  CountExpected(t, truth_matched);
+}
+
+void MarkerScorer::ScorePoint(size_t t, size_t r, size_t column, long marker, size_t* frame_correct,
+                              size_t* frame_points) {
+  ++report_.result_points;
+  const long name = NameOf(r, column);
+  const long track = TrackOf(r, column);
+  if (marker < 0 || truth_frames_present_[marker] >= options_.names_from_frame) {
+    ++report_.label_points;
+    ++*frame_points;
+    if (name >= 0 && named_as_[name] >= 0) {
+      ++report_.named_points;
+      if (named_as_[name] == marker) {
+        ++report_.correctly_named;
+        ++*frame_correct;
+      } else {
+        ++report_.wrongly_named;
+      }
+    } else {
+      ++report_.unnamed_points;
+    }
+  }
+  if (track >= 0) {
+    if (static_cast<size_t>(track) >= tracks_.size()) tracks_.resize(track + 1);
+    TrackState& state = tracks_[track];
+    if (name >= 0 && !anonymous_[name]) {
+      if (state.last_name >= 0 && state.last_name != name) ++state.name_changes;
+      state.last_name = name;
+    }
+  }
+  if (marker < 0) {
+    ++report_.ghosts;
+    return;
+  }
+  if (track < 0) return;
+  // An id change: this truth marker is now followed by another track than it last was.
+  if (last_track_of_marker_[marker] >= 0 && last_track_of_marker_[marker] != track) ++id_changes_of_marker_[marker];
+  last_track_of_marker_[marker] = track;
+  // A swap: this output trajectory now follows a different truth marker than it last did.
+  TrackState& state = tracks_[track];
+  if (state.last_match >= 0 && state.last_match != marker) {
+    ++report_.swaps;
+    if (exchanges_.Involves(t, marker) || exchanges_.Involves(t, static_cast<size_t>(state.last_match))) {
+      ++report_.swaps_at_truth_exchanges;
+    }
+  }
+  state.last_match = marker;
+}
+
+void MarkerScorer::CountExpected(size_t t, const std::vector<char>& truth_matched) {
+  long visibility_frame = -1;
+  if (visibility_ != nullptr) {
+    const auto it = visibility_index_.find(truth_.frame_numbers[t]);
+    if (it != visibility_index_.end()) visibility_frame = static_cast<long>(it->second);
+  }
+  for (size_t j = 0; j < present_truth_.size(); ++j) {
+    const size_t marker = present_truth_[j];
+    truth_ever_[marker] = 1;
+    ++report_.truth_points;
+    // Without a visibility row for this frame every present marker counts.
+    const bool expected = visibility_ == nullptr || visibility_frame < 0 ||
+                          visibility_->At(visibility_frame, marker) >= options_.min_cameras;
+    if (!expected) continue;
+    ++report_.expected_points;
+    if (!truth_matched[j]) ++report_.missing;
+  }
+}
+
+MarkerEvalReport MarkerScorer::Finish() {
+  MarkerEvalReport& report = report_;
+  report.matched = errors_.size();
+  report.labels_compared = labels_;
+  if (labels_ && report.label_points > 0) {
     report.correct_share = static_cast<double>(report.correctly_named) / report.label_points;
     report.wrong_share = static_cast<double>(report.wrongly_named) / report.label_points;
     report.unnamed_share = static_cast<double>(report.unnamed_points) / report.label_points;
-    report.worst_frame_correct_share = worst_share;
+    report.worst_frame_correct_share = worst_share_;
   }
-  for (size_t changes : id_changes_of_marker) {
+  for (size_t changes : id_changes_of_marker_) {
     report.id_changes += changes;
     report.max_id_changes = std::max(report.max_id_changes, changes);
   }
-  for (const TrackState& state : tracks) {
+  for (const TrackState& state : tracks_) {
     report.name_changes += state.name_changes;
     report.tracks_renamed += state.name_changes > 0;
     report.max_name_changes = std::max(report.max_name_changes, state.name_changes);
   }
-  report.trajectories = track_index.size();
-  report.truth_markers = static_cast<size_t>(std::count(truth_ever.begin(), truth_ever.end(), 1));
-  if (!errors.empty()) {
+  report.trajectories = track_index_.size();
+  report.truth_markers = static_cast<size_t>(std::count(truth_ever_.begin(), truth_ever_.end(), 1));
+  if (!errors_.empty()) {
     double sum = 0.0, sum_squares = 0.0;
-    for (double e : errors) {
+    for (double e : errors_) {
       sum += e;
       sum_squares += e * e;
     }
-    report.mean_error_mm = sum / errors.size();
-    report.rmse_mm = std::sqrt(sum_squares / errors.size());
-    report.max_error_mm = *std::max_element(errors.begin(), errors.end());
+    report.mean_error_mm = sum / errors_.size();
+    report.rmse_mm = std::sqrt(sum_squares / errors_.size());
+    report.max_error_mm = *std::max_element(errors_.begin(), errors_.end());
     // Nearest-rank 95th percentile.
-    const size_t rank = static_cast<size_t>(std::ceil(0.95 * errors.size())) - 1;
-    std::nth_element(errors.begin(), errors.begin() + rank, errors.end());
-    report.p95_error_mm = errors[rank];
+    const size_t rank = static_cast<size_t>(std::ceil(0.95 * errors_.size())) - 1;
+    std::nth_element(errors_.begin(), errors_.begin() + rank, errors_.end());
+    report.p95_error_mm = errors_[rank];
   }
   if (report.frames > 0) {
     report.ghosts_per_frame = static_cast<double>(report.ghosts) / report.frames;
@@ -256,6 +315,16 @@ MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTr
     report.id_changes_per_marker = static_cast<double>(report.id_changes) / report.truth_markers;
   }
   return report;
+}
+
+}  // namespace
+
+MarkerEvalReport EvaluateMarkers(const MarkerTrajectories& truth, const MarkerTrajectories& result,
+                                 const MarkerVisibility* visibility, const MarkerEvalOptions& options,
+                                 const PublishedIdentity* identity) {
+  MarkerScorer scorer(truth, result, visibility, options, identity);
+  scorer.Score();
+  return scorer.Finish();
 }
 
 nlohmann::json MarkerEvalReport::ToJson() const {
