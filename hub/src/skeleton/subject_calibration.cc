@@ -198,221 +198,297 @@ std::vector<Eigen::Vector3d> FrameObservations(const MarkerTrajectories& markers
   return observed;
 }
 
-SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const MarkerTrajectories& markers,
-                                    const SubjectCalibrationOptions& options) {
-  options.Check();
-  skeleton_template.Check();
+namespace {
+
+using TrackedPoses = std::vector<std::pair<size_t, std::vector<double>>>;
+
+// The joint fit's parameter blocks: the picked frames' poses, each segment's offset below the
+// root (a bone's length or a 3-D offset) and each marker's offset on its segment.
+struct JointFitParameters {
+  std::vector<std::vector<double>> poses, offsets, marker_offsets;
+};
+
+// CalibrateSubject's stages. Round 0 holds every joint centre at the scaled template's and fits
+// the marker offsets only: tracking with the raw template is too rough to tell a still joint
+// from a moving one (it showed 10-17 deg of spurious turning at standing legs). Round 1 tracks
+// with that skeleton and measures each joint's range; rounds 1 and 2 free the centres of the
+// joints that turned.
+class SubjectCalibrator {
+ public:
+  SubjectCalibrator(const Skeleton& skeleton_template, const MarkerTrajectories& markers,
+                    const SubjectCalibrationOptions& options);
+  SubjectCalibration Run();
+
+ private:
+  void SelectWindow();
+  // Frames for the joint fit: evenly spread over the tracked ones; the first is the reference.
+  std::vector<size_t> PickFrames(size_t tracked) const;
+  // Each joint's range over the picked frames decides whether the trial finds its centre.
+  void MeasureJointRanges(const TrackedPoses& tracked, const std::vector<size_t>& pick);
+  void FitRound(const TrackedPoses& tracked, const std::vector<size_t>& pick);
+  JointFitParameters InitialParameters(const TrackedPoses& tracked, const std::vector<size_t>& pick) const;
+  void AddMarkerCosts(ceres::Problem* problem, JointFitParameters* fit, const TrackedPoses& tracked,
+                      const std::vector<size_t>& pick) const;
+  void AddPriors(ceres::Problem* problem, JointFitParameters* fit) const;
+  void Solve(ceres::Problem* problem, JointFitParameters* fit) const;
+  void MeasureResiduals(const JointFitParameters& fit, const TrackedPoses& tracked, const std::vector<size_t>& pick);
+
+  const MarkerTrajectories& markers_;
+  const SubjectCalibrationOptions& options_;
+  const std::vector<int> columns_;
+  std::vector<size_t> window_;
+  SubjectCalibration result_;
+  Skeleton scaled_template_, skeleton_;
+  std::vector<std::vector<int>> chains_;
+  std::vector<Eigen::Vector3d> bone_dirs_;
+  std::vector<bool> held_;
+};
+
+SubjectCalibrator::SubjectCalibrator(const Skeleton& skeleton_template, const MarkerTrajectories& markers,
+                                     const SubjectCalibrationOptions& options)
+    : markers_(markers), options_((options.Check(), options)),
+      columns_((skeleton_template.Check(), MarkerColumns(skeleton_template, markers))) {
   if (markers.NumFrames() == 0 || !(markers.rate_hz > 0.0)) throw std::invalid_argument("trial: no frames");
-  const std::vector<int> columns = MarkerColumns(skeleton_template, markers);
-  const double t0 = markers.TimeOf(0) + options.start_s;
-  std::vector<size_t> window;
-  for (size_t f = 0; f < markers.NumFrames(); ++f) {
-    const double t = markers.TimeOf(f);
-    if (t >= t0 - 1e-9 && t < t0 + options.duration_s - 1e-9) window.push_back(f);
-  }
-  if (window.size() < 5)
-    throw std::invalid_argument("trial: " + std::to_string(window.size()) + " frames in the window from " +
-                                std::to_string(options.start_s) + " s for " + std::to_string(options.duration_s) +
-                                " s (at least 5 needed)");
-  for (size_t m = 0; m < columns.size(); ++m) {
+  SelectWindow();
+  for (size_t m = 0; m < columns_.size(); ++m) {
     bool seen = false;
-    for (size_t f : window) seen = seen || (columns[m] >= 0 && markers.Has(f, columns[m]));
+    for (size_t f : window_) seen = seen || (columns_[m] >= 0 && markers.Has(f, columns_[m]));
     if (!seen)
       throw std::invalid_argument("marker " + skeleton_template.markers[m].name +
-                                  (columns[m] < 0 ? " is not in the trial" : " is never seen in the window") +
+                                  (columns_[m] < 0 ? " is not in the trial" : " is never seen in the window") +
                                   ": its offset cannot be calibrated");
   }
+  result_.scale = HeightScale(skeleton_template, markers, columns_, window_);
+  scaled_template_ = Scaled(skeleton_template, result_.scale);
+  skeleton_ = scaled_template_;
+  chains_ = SegmentChains(skeleton_);
+  bone_dirs_.assign(skeleton_.NumSegments(), Eigen::Vector3d::Zero());
+  for (size_t g = 0; g < skeleton_.NumSegments(); ++g)
+    if (skeleton_.segments[g].bone) bone_dirs_[g] = skeleton_.segments[g].offset.normalized();
+  held_.assign(skeleton_.NumSegments(), true);
+}
 
-  SubjectCalibration result;
-  result.scale = HeightScale(skeleton_template, markers, columns, window);
-  const Skeleton scaled_template = Scaled(skeleton_template, result.scale);
-  Skeleton skeleton = scaled_template;
-  const size_t n_seg = skeleton.NumSegments();
-  const size_t n_pose = skeleton.NumPoseParameters();
-  const auto chains = SegmentChains(skeleton);
-  std::vector<Eigen::Vector3d> bone_dirs(n_seg, Eigen::Vector3d::Zero());
-  for (size_t g = 0; g < n_seg; ++g)
-    if (skeleton.segments[g].bone) bone_dirs[g] = skeleton.segments[g].offset.normalized();
+void SubjectCalibrator::SelectWindow() {
+  const double t0 = markers_.TimeOf(0) + options_.start_s;
+  for (size_t f = 0; f < markers_.NumFrames(); ++f) {
+    const double t = markers_.TimeOf(f);
+    if (t >= t0 - 1e-9 && t < t0 + options_.duration_s - 1e-9) window_.push_back(f);
+  }
+  if (window_.size() < 5)
+    throw std::invalid_argument("trial: " + std::to_string(window_.size()) + " frames in the window from " +
+                                std::to_string(options_.start_s) + " s for " + std::to_string(options_.duration_s) +
+                                " s (at least 5 needed)");
+}
 
-  // Round 0 holds every joint centre at the scaled template's and fits the marker offsets only:
-  // tracking with the raw template is too rough to tell a still joint from a moving one (it
-  // showed 10-17 deg of spurious turning at standing legs). Round 1 tracks with that skeleton
-  // and measures each joint's range; rounds 1 and 2 free the centres of the joints that turned.
-  std::vector<bool> held(n_seg, true);
+SubjectCalibration SubjectCalibrator::Run() {
   for (int round = 0; round < 3; ++round) {
-    const auto tracked = TrackWindow(skeleton, markers, columns, window);
+    const TrackedPoses tracked = TrackWindow(skeleton_, markers_, columns_, window_);
     if (tracked.size() < 5)
       throw std::invalid_argument("trial: only " + std::to_string(tracked.size()) +
                                   " frames of the window could be posed with the template");
-    // Frames for the joint fit: evenly spread over the tracked ones; the first is the reference.
-    std::vector<size_t> pick;
-    const size_t k = std::min<size_t>(options.max_frames, tracked.size());
-    for (size_t i = 0; i < k; ++i) pick.push_back(i * (tracked.size() - 1) / std::max<size_t>(1, k - 1));
-    pick.erase(std::unique(pick.begin(), pick.end()), pick.end());
-
-    // Each joint's range over the picked frames decides whether the trial finds its centre.
-    if (round == 1) {
-      std::vector<SkeletonPoseState> states(pick.size());
-      for (size_t i = 0; i < pick.size(); ++i)
-        ForwardKinematics(skeleton, tracked[pick[i]].second.data(), nullptr, &states[i]);
-      result.joints.clear();
-      std::vector<std::string> still;
-      for (size_t g = 1; g < n_seg; ++g) {
-        const int p = skeleton.segments[g].parent;
-        double range = 0.0;
-        for (size_t a = 0; a < states.size(); ++a)
-          for (size_t b = a + 1; b < states.size(); ++b) {
-            const Eigen::Matrix3d ra = states[a].rotation[p].transpose() * states[a].rotation[g];
-            const Eigen::Matrix3d rb = states[b].rotation[p].transpose() * states[b].rotation[g];
-            range = std::max(range, RotationAngleDeg(ra.transpose() * rb));
-          }
-        JointCalibration joint;
-        joint.segment = skeleton.segments[g].name;
-        joint.range_deg = range;
-        joint.functional = range >= options.min_joint_range_deg;
-        held[g] = !joint.functional;
-        if (held[g]) still.push_back(joint.segment + " (" + std::to_string(static_cast<int>(std::round(range))) + " deg)");
-        result.joints.push_back(joint);
-      }
-      if (!still.empty() && !options.keep_template_centres) {
-        std::string list;
-        for (const std::string& s : still) list += (list.empty() ? "" : ", ") + s;
-        throw std::invalid_argument("joints turning less than " + std::to_string(options.min_joint_range_deg) +
-                                    " deg in the window, whose centres the trial cannot determine: " + list +
-                                    " (use a range-of-motion trial, or keep the template's centres)");
-      }
-    }
-
-    // Parameters of the joint fit.
-    std::vector<std::vector<double>> poses;
-    for (size_t i : pick) poses.push_back(tracked[i].second);
-    std::vector<std::vector<double>> offsets(n_seg);
-    for (size_t g = 1; g < n_seg; ++g) {
-      const SkeletonSegment& s = skeleton.segments[g];
-      if (s.bone)
-        offsets[g] = {s.offset.norm()};
-      else
-        offsets[g] = {s.offset.x(), s.offset.y(), s.offset.z()};
-    }
-    std::vector<std::vector<double>> marker_offsets;
-    for (const SkeletonMarker& m : skeleton.markers) marker_offsets.push_back({m.offset.x(), m.offset.y(), m.offset.z()});
-
-    ceres::Problem problem;  // owns the costs and the one loss they share
-    std::vector<double> lower, upper;
-    PoseBounds(skeleton, &lower, &upper);
-    auto* loss = new ceres::HuberLoss(kLossScaleMm);
-    for (size_t i = 0; i < poses.size(); ++i) {
-      const size_t f = tracked[pick[i]].first;
-      for (size_t m = 0; m < skeleton.markers.size(); ++m) {
-        if (columns[m] < 0 || !markers.Has(f, columns[m])) continue;
-        const int s = skeleton.markers[m].segment;
-        std::vector<int> chain_dofs;
-        std::vector<double*> blocks = {poses[i].data()};
-        for (int g : chains[s]) {
-          const size_t first = skeleton.FirstDof(g);
-          for (size_t d = 0; d < skeleton.segments[g].dofs.size(); ++d) chain_dofs.push_back(static_cast<int>(first + d));
-          if (g != 0) blocks.push_back(offsets[g].data());
-        }
-        blocks.push_back(marker_offsets[m].data());
-        problem.AddResidualBlock(new MarkerCalibrationCost(&skeleton, &bone_dirs, chains[s],
-                                                           chain_dofs, markers.At(f, columns[m])),
-                                 loss, blocks);
-      }
-      for (size_t k2 = 0; k2 < n_pose; ++k2) {
-        if (std::isfinite(lower[k2])) problem.SetParameterLowerBound(poses[i].data(), static_cast<int>(k2), lower[k2]);
-        if (std::isfinite(upper[k2])) problem.SetParameterUpperBound(poses[i].data(), static_cast<int>(k2), upper[k2]);
-      }
-    }
-    // Gauge: reference_zero segments' angles are zero in the reference (first picked) frame.
-    std::vector<int> zero_entries;
-    for (size_t g = 0; g < n_seg; ++g) {
-      if (!skeleton.segments[g].reference_zero) continue;
-      const size_t first = skeleton.FirstDof(g);
-      for (size_t d = 0; d < skeleton.segments[g].dofs.size(); ++d)
-        if (g != 0 || skeleton.segments[g].dofs[d].axis != 1) zero_entries.push_back(static_cast<int>(first + d));
-    }
-    if (!zero_entries.empty())
-      problem.AddResidualBlock(new PriorCost(std::vector<double>(zero_entries.size(), 0.0), zero_entries,
-                                             static_cast<int>(n_pose), kReferenceZeroWeight),
-                               nullptr, poses[0].data());
-    for (size_t g = 1; g < n_seg; ++g) {
-      if (!problem.HasParameterBlock(offsets[g].data())) continue;
-      const SkeletonSegment& s = scaled_template.segments[g];
-      std::vector<double> target = skeleton.segments[g].bone ? std::vector<double>{s.offset.norm()}
-                                                             : std::vector<double>{s.offset.x(), s.offset.y(), s.offset.z()};
-      // A hinge's centre can slide along its axis without changing any marker's path: that
-      // component stays at the scaled template's like a still joint's centre.
-      const int hinge_axis = !s.bone && s.dofs.size() == 1 ? s.dofs[0].axis : -1;
-      std::vector<int> free_entries, held_entries;
-      std::vector<double> free_target, held_target;
-      for (size_t e = 0; e < target.size(); ++e) {
-        const bool hold = held[g] || static_cast<int>(e) == hinge_axis;
-        (hold ? held_entries : free_entries).push_back(static_cast<int>(e));
-        (hold ? held_target : free_target).push_back(target[e]);
-      }
-      const int size = static_cast<int>(target.size());
-      if (!free_entries.empty())
-        problem.AddResidualBlock(new PriorCost(free_target, free_entries, size, 1.0 / kFreeCentreSigmaMm), nullptr,
-                                 offsets[g].data());
-      if (!held_entries.empty())
-        problem.AddResidualBlock(new PriorCost(held_target, held_entries, size, 1.0 / kHeldCentreSigmaMm), nullptr,
-                                 offsets[g].data());
-    }
-    for (size_t m = 0; m < skeleton.markers.size(); ++m) {
-      if (!problem.HasParameterBlock(marker_offsets[m].data())) continue;
-      problem.AddResidualBlock(new PriorCost(marker_offsets[m], {0, 1, 2}, 3, 1.0 / kMarkerOffsetSigmaMm), nullptr,
-                               marker_offsets[m].data());
-    }
-    ceres::Solver::Options solver_options;
-    // No marker residual holds two frames' poses: they are eliminated frame by frame (Schur), leaving
-    // a small dense system in the offsets.
-    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (auto& pose : poses) ordering->AddElementToGroup(pose.data(), 0);
-    for (size_t g = 1; g < n_seg; ++g)
-      if (problem.HasParameterBlock(offsets[g].data())) ordering->AddElementToGroup(offsets[g].data(), 1);
-    for (auto& m : marker_offsets)
-      if (problem.HasParameterBlock(m.data())) ordering->AddElementToGroup(m.data(), 1);
-    solver_options.linear_solver_ordering = ordering;
-    solver_options.max_num_iterations = 100;
-    solver_options.num_threads = 1;
-    solver_options.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver_options, &problem, &summary);
-    if (!summary.IsSolutionUsable()) throw std::invalid_argument("calibration fit failed: " + summary.message);
-
-    for (size_t g = 1; g < n_seg; ++g) {
-      SkeletonSegment& s = skeleton.segments[g];
-      s.offset = s.bone ? Eigen::Vector3d(bone_dirs[g] * offsets[g][0])
-                        : Eigen::Vector3d(offsets[g][0], offsets[g][1], offsets[g][2]);
-    }
-    for (size_t m = 0; m < skeleton.markers.size(); ++m)
-      skeleton.markers[m].offset = Eigen::Vector3d(marker_offsets[m][0], marker_offsets[m][1], marker_offsets[m][2]);
-
-    // Residuals over the fitted frames.
-    double sum = 0.0;
-    int count = 0;
-    result.max_mm = 0.0;
-    SkeletonPoseState state;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      ForwardKinematics(skeleton, poses[i].data(), nullptr, &state);
-      const size_t f = tracked[pick[i]].first;
-      for (size_t m = 0; m < skeleton.markers.size(); ++m) {
-        if (columns[m] < 0 || !markers.Has(f, columns[m])) continue;
-        const double d = (MarkerInSkeleton(state, skeleton.markers[m].segment, skeleton.markers[m].offset) -
-                          markers.At(f, columns[m])).norm();
-        sum += d * d;
-        ++count;
-        result.max_mm = std::max(result.max_mm, d);
-      }
-    }
-    result.rms_mm = count ? std::sqrt(sum / count) : 0.0;
-    result.frames_used = static_cast<int>(poses.size());
+    const std::vector<size_t> pick = PickFrames(tracked.size());
+    if (round == 1) MeasureJointRanges(tracked, pick);
+    FitRound(tracked, pick);
   }
-  for (JointCalibration& joint : result.joints) joint.length_mm = skeleton.segments[skeleton.FindSegment(joint.segment)].offset.norm();
-  skeleton.calibrated = true;
-  result.skeleton = skeleton;
-  return result;
+  for (JointCalibration& joint : result_.joints)
+    joint.length_mm = skeleton_.segments[skeleton_.FindSegment(joint.segment)].offset.norm();
+  skeleton_.calibrated = true;
+  result_.skeleton = skeleton_;
+  return result_;
+}
+
+std::vector<size_t> SubjectCalibrator::PickFrames(size_t tracked) const {
+  std::vector<size_t> pick;
+  const size_t k = std::min<size_t>(options_.max_frames, tracked);
+  for (size_t i = 0; i < k; ++i) pick.push_back(i * (tracked - 1) / std::max<size_t>(1, k - 1));
+  pick.erase(std::unique(pick.begin(), pick.end()), pick.end());
+  return pick;
+}
+
+void SubjectCalibrator::MeasureJointRanges(const TrackedPoses& tracked, const std::vector<size_t>& pick) {
+  std::vector<SkeletonPoseState> states(pick.size());
+  for (size_t i = 0; i < pick.size(); ++i)
+    ForwardKinematics(skeleton_, tracked[pick[i]].second.data(), nullptr, &states[i]);
+  result_.joints.clear();
+  std::vector<std::string> still;
+  for (size_t g = 1; g < skeleton_.NumSegments(); ++g) {
+    const int p = skeleton_.segments[g].parent;
+    double range = 0.0;
+    for (size_t a = 0; a < states.size(); ++a)
+      for (size_t b = a + 1; b < states.size(); ++b) {
+        const Eigen::Matrix3d ra = states[a].rotation[p].transpose() * states[a].rotation[g];
+        const Eigen::Matrix3d rb = states[b].rotation[p].transpose() * states[b].rotation[g];
+        range = std::max(range, RotationAngleDeg(ra.transpose() * rb));
+      }
+    JointCalibration joint;
+    joint.segment = skeleton_.segments[g].name;
+    joint.range_deg = range;
+    joint.functional = range >= options_.min_joint_range_deg;
+    held_[g] = !joint.functional;
+    if (held_[g]) still.push_back(joint.segment + " (" + std::to_string(static_cast<int>(std::round(range))) + " deg)");
+    result_.joints.push_back(joint);
+  }
+  if (!still.empty() && !options_.keep_template_centres) {
+    std::string list;
+    for (const std::string& s : still) list += (list.empty() ? "" : ", ") + s;
+    throw std::invalid_argument("joints turning less than " + std::to_string(options_.min_joint_range_deg) +
+                                " deg in the window, whose centres the trial cannot determine: " + list +
+                                " (use a range-of-motion trial, or keep the template's centres)");
+  }
+}
+
+JointFitParameters SubjectCalibrator::InitialParameters(const TrackedPoses& tracked,
+                                                        const std::vector<size_t>& pick) const {
+  JointFitParameters fit;
+  for (size_t i : pick) fit.poses.push_back(tracked[i].second);
+  fit.offsets.resize(skeleton_.NumSegments());
+  for (size_t g = 1; g < skeleton_.NumSegments(); ++g) {
+    const SkeletonSegment& s = skeleton_.segments[g];
+    if (s.bone)
+      fit.offsets[g] = {s.offset.norm()};
+    else
+      fit.offsets[g] = {s.offset.x(), s.offset.y(), s.offset.z()};
+  }
+  for (const SkeletonMarker& m : skeleton_.markers) fit.marker_offsets.push_back({m.offset.x(), m.offset.y(), m.offset.z()});
+  return fit;
+}
+
+void SubjectCalibrator::FitRound(const TrackedPoses& tracked, const std::vector<size_t>& pick) {
+  JointFitParameters fit = InitialParameters(tracked, pick);
+  ceres::Problem problem;  // owns the costs and the one loss they share
+  AddMarkerCosts(&problem, &fit, tracked, pick);
+  AddPriors(&problem, &fit);
+  Solve(&problem, &fit);
+  for (size_t g = 1; g < skeleton_.NumSegments(); ++g) {
+    SkeletonSegment& s = skeleton_.segments[g];
+    s.offset = s.bone ? Eigen::Vector3d(bone_dirs_[g] * fit.offsets[g][0])
+                      : Eigen::Vector3d(fit.offsets[g][0], fit.offsets[g][1], fit.offsets[g][2]);
+  }
+  for (size_t m = 0; m < skeleton_.markers.size(); ++m)
+    skeleton_.markers[m].offset = Eigen::Vector3d(fit.marker_offsets[m][0], fit.marker_offsets[m][1], fit.marker_offsets[m][2]);
+  MeasureResiduals(fit, tracked, pick);
+}
+
+void SubjectCalibrator::AddMarkerCosts(ceres::Problem* problem, JointFitParameters* fit, const TrackedPoses& tracked,
+                                       const std::vector<size_t>& pick) const {
+  std::vector<double> lower, upper;
+  PoseBounds(skeleton_, &lower, &upper);
+  auto* loss = new ceres::HuberLoss(kLossScaleMm);
+  for (size_t i = 0; i < fit->poses.size(); ++i) {
+    const size_t f = tracked[pick[i]].first;
+    for (size_t m = 0; m < skeleton_.markers.size(); ++m) {
+      if (columns_[m] < 0 || !markers_.Has(f, columns_[m])) continue;
+      const int s = skeleton_.markers[m].segment;
+      std::vector<int> chain_dofs;
+      std::vector<double*> blocks = {fit->poses[i].data()};
+      for (int g : chains_[s]) {
+        const size_t first = skeleton_.FirstDof(g);
+        for (size_t d = 0; d < skeleton_.segments[g].dofs.size(); ++d) chain_dofs.push_back(static_cast<int>(first + d));
+        if (g != 0) blocks.push_back(fit->offsets[g].data());
+      }
+      blocks.push_back(fit->marker_offsets[m].data());
+      problem->AddResidualBlock(new MarkerCalibrationCost(&skeleton_, &bone_dirs_, chains_[s], chain_dofs,
+                                                          markers_.At(f, columns_[m])),
+                                loss, blocks);
+    }
+    for (size_t k = 0; k < skeleton_.NumPoseParameters(); ++k) {
+      if (std::isfinite(lower[k])) problem->SetParameterLowerBound(fit->poses[i].data(), static_cast<int>(k), lower[k]);
+      if (std::isfinite(upper[k])) problem->SetParameterUpperBound(fit->poses[i].data(), static_cast<int>(k), upper[k]);
+    }
+  }
+}
+
+void SubjectCalibrator::AddPriors(ceres::Problem* problem, JointFitParameters* fit) const {
+  const size_t n_seg = skeleton_.NumSegments();
+  // Gauge: reference_zero segments' angles are zero in the reference (first picked) frame.
+  std::vector<int> zero_entries;
+  for (size_t g = 0; g < n_seg; ++g) {
+    if (!skeleton_.segments[g].reference_zero) continue;
+    const size_t first = skeleton_.FirstDof(g);
+    for (size_t d = 0; d < skeleton_.segments[g].dofs.size(); ++d)
+      if (g != 0 || skeleton_.segments[g].dofs[d].axis != 1) zero_entries.push_back(static_cast<int>(first + d));
+  }
+  if (!zero_entries.empty())
+    problem->AddResidualBlock(new PriorCost(std::vector<double>(zero_entries.size(), 0.0), zero_entries,
+                                            static_cast<int>(skeleton_.NumPoseParameters()), kReferenceZeroWeight),
+                              nullptr, fit->poses[0].data());
+  for (size_t g = 1; g < n_seg; ++g) {
+    if (!problem->HasParameterBlock(fit->offsets[g].data())) continue;
+    const SkeletonSegment& s = scaled_template_.segments[g];
+    std::vector<double> target = skeleton_.segments[g].bone ? std::vector<double>{s.offset.norm()}
+                                                            : std::vector<double>{s.offset.x(), s.offset.y(), s.offset.z()};
+    // A hinge's centre can slide along its axis without changing any marker's path: that
+    // component stays at the scaled template's like a still joint's centre.
+    const int hinge_axis = !s.bone && s.dofs.size() == 1 ? s.dofs[0].axis : -1;
+    std::vector<int> free_entries, held_entries;
+    std::vector<double> free_target, held_target;
+    for (size_t e = 0; e < target.size(); ++e) {
+      const bool hold = held_[g] || static_cast<int>(e) == hinge_axis;
+      (hold ? held_entries : free_entries).push_back(static_cast<int>(e));
+      (hold ? held_target : free_target).push_back(target[e]);
+    }
+    const int size = static_cast<int>(target.size());
+    if (!free_entries.empty())
+      problem->AddResidualBlock(new PriorCost(free_target, free_entries, size, 1.0 / kFreeCentreSigmaMm), nullptr,
+                                fit->offsets[g].data());
+    if (!held_entries.empty())
+      problem->AddResidualBlock(new PriorCost(held_target, held_entries, size, 1.0 / kHeldCentreSigmaMm), nullptr,
+                                fit->offsets[g].data());
+  }
+  for (size_t m = 0; m < skeleton_.markers.size(); ++m) {
+    if (!problem->HasParameterBlock(fit->marker_offsets[m].data())) continue;
+    problem->AddResidualBlock(new PriorCost(fit->marker_offsets[m], {0, 1, 2}, 3, 1.0 / kMarkerOffsetSigmaMm), nullptr,
+                              fit->marker_offsets[m].data());
+  }
+}
+
+void SubjectCalibrator::Solve(ceres::Problem* problem, JointFitParameters* fit) const {
+  ceres::Solver::Options solver_options;
+  // No marker residual holds two frames' poses: they are eliminated frame by frame (Schur), leaving
+  // a small dense system in the offsets.
+  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (auto& pose : fit->poses) ordering->AddElementToGroup(pose.data(), 0);
+  for (size_t g = 1; g < skeleton_.NumSegments(); ++g)
+    if (problem->HasParameterBlock(fit->offsets[g].data())) ordering->AddElementToGroup(fit->offsets[g].data(), 1);
+  for (auto& m : fit->marker_offsets)
+    if (problem->HasParameterBlock(m.data())) ordering->AddElementToGroup(m.data(), 1);
+  solver_options.linear_solver_ordering = ordering;
+  solver_options.max_num_iterations = 100;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, problem, &summary);
+  if (!summary.IsSolutionUsable()) throw std::invalid_argument("calibration fit failed: " + summary.message);
+}
+
+void SubjectCalibrator::MeasureResiduals(const JointFitParameters& fit, const TrackedPoses& tracked,
+                                         const std::vector<size_t>& pick) {
+  double sum = 0.0;
+  int count = 0;
+  result_.max_mm = 0.0;
+  SkeletonPoseState state;
+  for (size_t i = 0; i < fit.poses.size(); ++i) {
+    ForwardKinematics(skeleton_, fit.poses[i].data(), nullptr, &state);
+    const size_t f = tracked[pick[i]].first;
+    for (size_t m = 0; m < skeleton_.markers.size(); ++m) {
+      if (columns_[m] < 0 || !markers_.Has(f, columns_[m])) continue;
+      const double d = (MarkerInSkeleton(state, skeleton_.markers[m].segment, skeleton_.markers[m].offset) -
+                        markers_.At(f, columns_[m])).norm();
+      sum += d * d;
+      ++count;
+      result_.max_mm = std::max(result_.max_mm, d);
+    }
+  }
+  result_.rms_mm = count ? std::sqrt(sum / count) : 0.0;
+  result_.frames_used = static_cast<int>(fit.poses.size());
+}
+
+}  // namespace
+
+SubjectCalibration CalibrateSubject(const Skeleton& skeleton_template, const MarkerTrajectories& markers,
+                                    const SubjectCalibrationOptions& options) {
+  return SubjectCalibrator(skeleton_template, markers, options).Run();
 }
 
 }  // namespace mocap
