@@ -162,12 +162,24 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
                                     std::vector<int>* blob_markers) {
   const Camera& camera = rig_.cameras[index];
   CameraState& state = states_[index];
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-
+  Draws draws;  // one set per camera frame: the normal distribution keeps its second value
   const std::vector<MarkerImage> spots = ImageMarkers(index, points);
-  const bool dropped = options_.drop_frames > 0.0 && unit(state.rng) < options_.drop_frames;
+  const bool dropped = options_.drop_frames > 0.0 && draws.unit(state.rng) < options_.drop_frames;
+  const std::vector<int> parent = MergeOverlapping(spots);
+  if (dropped) return false;
+  // Markers seen only count for frames that reach the hub.
+  for (const MarkerImage& spot : spots) ++(*cameras_seeing)[spot.marker];
+  out->camera_id = camera.id;
+  out->frame_number = frame_number;
+  out->width = static_cast<uint32_t>(camera.intrinsics.width);
+  out->height = static_cast<uint32_t>(camera.intrinsics.height);
+  AddMarkerBlobs(index, spots, parent, &draws, out, blob_markers);
+  AddSpuriousBlobs(index, &draws, out, blob_markers);
+  SortInScanlineOrder(out, blob_markers);
+  return true;
+}
 
+std::vector<int> FaultyProjector::MergeOverlapping(const std::vector<MarkerImage>& spots) const {
   // Blobs that overlap in the image become one (transitively), as thresholding would see them.
   // Sweep in x so only neighbours within the largest possible merge distance are compared.
   double max_radius = 0.0;
@@ -186,32 +198,29 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
       if ((a.pixel - b.pixel).norm() < limit) parent[FindRoot(parent, order[i])] = FindRoot(parent, order[j]);
     }
   }
+  return parent;
+}
 
-  if (dropped) return false;
-  // Markers seen only count for frames that reach the hub.
-  for (const MarkerImage& spot : spots) ++(*cameras_seeing)[spot.marker];
-  CameraFrame& frame = *out;
-  frame.camera_id = camera.id;
-  frame.frame_number = frame_number;
-  frame.width = static_cast<uint32_t>(camera.intrinsics.width);
-  frame.height = static_cast<uint32_t>(camera.intrinsics.height);
-
-  const auto add_noise = [&](Eigen::Vector2d pixel) {
-    if (options_.noise_px > 0.0) pixel += options_.noise_px * Eigen::Vector2d(gauss(state.rng), gauss(state.rng));
-    return pixel;
-  };
+Eigen::Vector2d FaultyProjector::MeasuredPixel(size_t index, Eigen::Vector2d pixel, Draws* draws) {
+  const Camera& camera = rig_.cameras[index];
+  std::mt19937_64& rng = states_[index].rng;
+  if (options_.noise_px > 0.0) pixel += options_.noise_px * Eigen::Vector2d(draws->gauss(rng), draws->gauss(rng));
   // Noise can push an edge blob off the sensor; a detector would report it on the last pixel.
   // The margin survives the wire's 1/256 px rounding.
-  const auto clamp_to_image = [&](Eigen::Vector2d pixel) {
-    pixel.x() = std::clamp(pixel.x(), 0.0, camera.intrinsics.width - 1.0 / 128.0);
-    pixel.y() = std::clamp(pixel.y(), 0.0, camera.intrinsics.height - 1.0 / 128.0);
-    return pixel;
-  };
+  pixel.x() = std::clamp(pixel.x(), 0.0, camera.intrinsics.width - 1.0 / 128.0);
+  pixel.y() = std::clamp(pixel.y(), 0.0, camera.intrinsics.height - 1.0 / 128.0);
+  return pixel;
+}
 
+void FaultyProjector::AddMarkerBlobs(size_t index, const std::vector<MarkerImage>& spots,
+                                     const std::vector<int>& parent, Draws* draws, CameraFrame* frame,
+                                     std::vector<int>* blob_markers) {
+  const Camera& camera = rig_.cameras[index];
   // Spots grouped by blob (root), in spot order within a group, so the output does not depend on
   // the sweep order.
+  std::vector<int> roots = parent;
   std::vector<std::pair<int, int>> grouped(spots.size());
-  for (size_t s = 0; s < spots.size(); ++s) grouped[s] = {FindRoot(parent, static_cast<int>(s)), static_cast<int>(s)};
+  for (size_t s = 0; s < spots.size(); ++s) grouped[s] = {FindRoot(roots, static_cast<int>(s)), static_cast<int>(s)};
   std::sort(grouped.begin(), grouped.end());
   for (size_t begin = 0; begin < grouped.size();) {
     size_t end = begin;
@@ -230,7 +239,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     blob_markers->push_back(static_cast<int>(spots[grouped[begin].second].marker));
     begin = end;
     Blob blob;
-    blob.pixel = clamp_to_image(add_noise(weighted / area));
+    blob.pixel = MeasuredPixel(index, weighted / area, draws);
     blob.area = static_cast<uint32_t>(std::max(1.0, std::round(area)));
     blob.peak = static_cast<uint32_t>(MarkerPeak(nearest));
     blob.mean = static_cast<uint32_t>(std::round(0.7 * blob.peak));
@@ -243,17 +252,22 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
         blob.pixel.y() > camera.intrinsics.height - radius) {
       blob.flags |= kBlobBorder;
     }
-    frame.blobs.push_back(blob);
+    frame->blobs.push_back(blob);
   }
+}
 
+void FaultyProjector::AddSpuriousBlobs(size_t index, Draws* draws, CameraFrame* frame,
+                                       std::vector<int>* blob_markers) {
+  const Camera& camera = rig_.cameras[index];
+  CameraState& state = states_[index];
   // False blobs: static reflections keep their place, flicker appears anywhere for one frame.
   const auto add_spurious = [&](const Eigen::Vector2d& pixel) {
     Blob blob;
-    blob.pixel = clamp_to_image(add_noise(pixel));
-    blob.area = 1 + static_cast<uint32_t>(unit(state.rng) * 12.0);
-    blob.peak = 80 + static_cast<uint32_t>(unit(state.rng) * 175.0);
+    blob.pixel = MeasuredPixel(index, pixel, draws);
+    blob.area = 1 + static_cast<uint32_t>(draws->unit(state.rng) * 12.0);
+    blob.peak = 80 + static_cast<uint32_t>(draws->unit(state.rng) * 175.0);
     blob.mean = static_cast<uint32_t>(0.7 * blob.peak);
-    frame.blobs.push_back(blob);
+    frame->blobs.push_back(blob);
     blob_markers->push_back(-1);
   };
   for (const Eigen::Vector2d& spot : state.static_spots) add_spurious(spot);
@@ -262,29 +276,31 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
     std::poisson_distribution<int> flicker(flicker_mean);
     const int count = flicker(state.rng);
     for (int k = 0; k < count; ++k) {
-      add_spurious(Eigen::Vector2d(unit(state.rng) * camera.intrinsics.width, unit(state.rng) * camera.intrinsics.height));
+      add_spurious(Eigen::Vector2d(draws->unit(state.rng) * camera.intrinsics.width,
+                                   draws->unit(state.rng) * camera.intrinsics.height));
     }
   }
+}
 
+void FaultyProjector::SortInScanlineOrder(CameraFrame* frame, std::vector<int>* blob_markers) {
   // Detectors report blobs in scanline order, which carries no marker identity (the markers of
   // the blobs follow their blobs).
-  std::vector<size_t> scanline(frame.blobs.size());
+  std::vector<size_t> scanline(frame->blobs.size());
   std::iota(scanline.begin(), scanline.end(), size_t{0});
   std::sort(scanline.begin(), scanline.end(), [&](size_t i, size_t j) {
-    const Eigen::Vector2d& a = frame.blobs[i].pixel;
-    const Eigen::Vector2d& b = frame.blobs[j].pixel;
+    const Eigen::Vector2d& a = frame->blobs[i].pixel;
+    const Eigen::Vector2d& b = frame->blobs[j].pixel;
     if (a.y() != b.y()) return a.y() < b.y();
     return a.x() != b.x() ? a.x() < b.x() : i < j;
   });
   std::vector<Blob> blobs(scanline.size());
   std::vector<int> markers(scanline.size());
   for (size_t k = 0; k < scanline.size(); ++k) {
-    blobs[k] = frame.blobs[scanline[k]];
+    blobs[k] = frame->blobs[scanline[k]];
     markers[k] = (*blob_markers)[scanline[k]];
   }
-  frame.blobs.swap(blobs);
+  frame->blobs.swap(blobs);
   blob_markers->swap(markers);
-  return true;
 }
 
 }  // namespace mocap

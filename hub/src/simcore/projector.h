@@ -78,9 +78,23 @@ class FaultyProjector {
     double valid_radius = 0.0;
   };
 
+  // The random draws of one camera frame, in the order the stages below make them.
+  struct Draws {
+    std::uniform_real_distribution<double> unit{0.0, 1.0};
+    std::normal_distribution<double> gauss{0.0, 1.0};
+  };
   // False when the camera drops this frame.
   bool ProjectCamera(size_t index, uint64_t frame_number, const Eigen::Vector3d* points,
                      std::vector<int>* cameras_seeing, CameraFrame* frame, std::vector<int>* blob_markers);
+  // Union-find parents of the spots that overlap (merge into one blob).
+  std::vector<int> MergeOverlapping(const std::vector<MarkerImage>& spots) const;
+  // A blob's centroid as the node measures it: with centroid noise, kept on the sensor.
+  Eigen::Vector2d MeasuredPixel(size_t index, Eigen::Vector2d pixel, Draws* draws);
+  void AddMarkerBlobs(size_t index, const std::vector<MarkerImage>& spots, const std::vector<int>& parent,
+                      Draws* draws, CameraFrame* frame, std::vector<int>* blob_markers);
+  // Static reflections and one-frame flicker.
+  void AddSpuriousBlobs(size_t index, Draws* draws, CameraFrame* frame, std::vector<int>* blob_markers);
+  static void SortInScanlineOrder(CameraFrame* frame, std::vector<int>* blob_markers);
 
   const Rig& rig_;
   size_t num_markers_;
