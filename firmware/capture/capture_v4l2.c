@@ -92,16 +92,18 @@ static uint32_t fourcc_of(const char *name)
     return v4l2_fourcc(c[0], c[1], c[2], c[3]);
 }
 
-/* Appends the fourcc as v4l2-ctl --list-formats names it ("Y10", no trailing blank) to the
- * comma-separated list in buf; false when it does not fit. */
+/* Appends the fourcc as v4l2-ctl --list-formats names it ("Y10", no trailing blank, "-BE" for
+ * a big-endian variant) to the comma-separated list in buf; false when it does not fit. */
 static bool append_fourcc(char *buf, size_t len, size_t *used, uint32_t fourcc)
 {
     char name[5];
-    memcpy(name, &fourcc, 4);
+    uint32_t plain = fourcc & ~(1u << 31); /* the big-endian variant flag */
+    memcpy(name, &plain, 4);
     name[4] = '\0';
     for (int i = 3; i > 0 && name[i] == ' '; i--)
         name[i] = '\0';
-    int n = snprintf(buf + *used, len - *used, "%s%s", *used ? ", " : "", name);
+    int n = snprintf(buf + *used, len - *used, "%s%s%s", *used ? ", " : "", name,
+                     plain != fourcc ? "-BE" : "");
     if (n < 0 || (size_t)n >= len - *used) {
         buf[*used] = '\0';
         return false;

@@ -369,13 +369,17 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[3].count, 1);
     assert_int_equal(rx.acks[3].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
 
-    /* Refused requests are answered with the node's reason: one out of the node's range, one
-     * the camera cannot apply (a recording's exposure is fixed). */
+    /* Refused requests are answered with the node's reason: one out of the node's range, two
+     * the camera cannot apply (a recording's exposure and picture are fixed). */
     c = control(7, 4, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 0;
     send_control(&t, &c);
     c = control(7, 5, mocap_v1_Control_set_exposure_tag);
     c.command.set_exposure.exposure_us = 800;
+    send_control(&t, &c);
+    c = control(7, 7, mocap_v1_Control_set_picture_tag);
+    c.command.set_picture.set_contrast = true;
+    c.command.set_picture.contrast_pct = 40;
     send_control(&t, &c);
     run_for(&t, 50);
     assert_int_equal(rx.acks[4].count, 1);
@@ -385,6 +389,9 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[5].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
     if (strstr(rx.acks[5].reason, "cannot set exposure 800 us") == NULL)
         fail_msg("exposure ack reason: '%s'", rx.acks[5].reason);
+    assert_int_equal(rx.acks[7].count, 1);
+    assert_int_equal(rx.acks[7].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
+    assert_string_equal(rx.acks[7].reason, "cannot set contrast 40 %: the camera has no such control");
 
     /* Stop: nothing more is sent. */
     c = control(7, 6, mocap_v1_Control_stop_tag);
@@ -395,11 +402,11 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.marker_datagrams, after_stop);
     mn_node_get_stats(t.node, &st);
     assert_false(st.running);
-    assert_int_equal(st.control_rejected, 2); /* threshold, exposure */
+    assert_int_equal(st.control_rejected, 3); /* threshold, exposure, contrast */
     assert_int_equal(st.auth_rejected, 2);    /* the two garbage datagrams */
     assert_int_equal(rx.acks[6].count, 1);
     assert_int_equal(rx.acks[6].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
-    assert_int_equal(rx.ack_datagrams, 5);
+    assert_int_equal(rx.ack_datagrams, 6);
     assert_int_equal(rx.bad_datagrams, 0);
     /* Everything the node sent was sealed under its key, counters strictly increasing. */
     assert_int_equal(rx.unauthentic_datagrams, 0);
