@@ -93,7 +93,8 @@ static uint32_t fourcc_of(const char *name)
 }
 
 /* Appends the fourcc as v4l2-ctl --list-formats names it ("Y10", no trailing blank, "-BE" for
- * a big-endian variant) to the comma-separated list in buf; false when it does not fit. */
+ * a big-endian variant) to the comma-separated list in buf; false when it does not fit (the
+ * list then ends in ", ..."). */
 static bool append_fourcc(char *buf, size_t len, size_t *used, uint32_t fourcc)
 {
     char name[5];
@@ -105,7 +106,8 @@ static bool append_fourcc(char *buf, size_t len, size_t *used, uint32_t fourcc)
     int n = snprintf(buf + *used, len - *used, "%s%s%s", *used ? ", " : "", name,
                      plain != fourcc ? "-BE" : "");
     if (n < 0 || (size_t)n >= len - *used) {
-        buf[*used] = '\0';
+        /* Cut here, and say so when there is room. */
+        snprintf(buf + *used, len - *used, "%s", *used && len - *used > 5 ? ", ..." : "");
         return false;
     }
     *used += (size_t)n;
