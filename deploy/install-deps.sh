@@ -46,7 +46,7 @@ HOST_PACKAGES=(
     # the kernel tests (tests/kernel): vimc.ko and gpio-sim.ko built out of tree from the kernel's
     # source against its headers; libcamera's vimc IPA and cam tool and udevd in the VM
     linux-source-6.1 linux-headers-amd64 libcamera-ipa libcamera-tools udev
-    # MJPEG webcams: libjpeg-turbo's TurboJPEG API
+    # MJPEG webcams and recorded JPEG frames (required by the node): libjpeg-turbo's TurboJPEG API
     libturbojpeg0-dev
     # measurement
     time zlib1g-dev
@@ -70,7 +70,7 @@ CROSS_PACKAGES=(
     libsodium-dev:arm64
     # the node's libcamera source, built and linked for the boards it runs on
     libcamera-dev:arm64
-    # MJPEG webcams on the boards
+    # MJPEG webcams on the boards (required, like libgpiod)
     libturbojpeg0-dev:arm64
 )
 

@@ -3,7 +3,11 @@
  * time plus the trigger-to-frame delay and, when paced, released at that time by a timerfd, so
  * the simulated trigger and the pairing number it k. A node started late skips to the current
  * slot, as a real camera would. Unpaced (as fast as possible), every frame is released at once
- * with the same synthetic stamps. The recording vanishing is reported like an unplugged camera. */
+ * with the same synthetic stamps. The recording vanishing is reported like an unplugged camera.
+ * A directory without frames.mcf but with *.jpg files is a webcam's recorded MJPEG frames
+ * (jpeg_frames.h): file k is frame k, decoded to luma by the V4L2 source's MJPEG decoder; a
+ * file that does not decode is dropped (its frame number skipped, as a camera's lost frame) and
+ * counted, with a warning at most every few seconds. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,15 +17,21 @@
 
 #include "common/clock.h"
 #include "common/log.h"
+#include "common/ratelimit.h"
 #include "framefile/framefile.h"
 #include "capture/capture.h"
+#include "capture/jpeg_frames.h"
 
 struct replay {
     struct mn_replay_params p;
     char dir[MN_CONFIG_STR];
     char file[MN_CONFIG_STR + 16];
-    struct mn_ff_reader *reader;
-    struct mn_ff_info info;
+    struct mn_ff_reader *reader;     /* frames.mcf, or */
+    struct mn_jpeg_frames *jpegs;    /* recorded JPEG frames */
+    size_t jpeg_next;                /* index of the next JPEG file */
+    uint64_t undecodable;            /* JPEG frames dropped */
+    struct mn_ratelimit drop_log;
+    struct mn_ff_info info;          /* size (and, for frames.mcf, the rest of its header) */
     uint8_t *pixels;          /* the one "capture buffer" */
     int timer_fd;             /* paced mode only */
     bool loaded;              /* pixels hold the next frame to release */
@@ -47,14 +57,29 @@ void *mn_capture_replay_new(const struct mn_replay_params *params, uint32_t *out
     snprintf(r->dir, sizeof(r->dir), "%s", params->dir);
     r->p.dir = r->dir;
     snprintf(r->file, sizeof(r->file), "%s/%s", r->dir, MN_FF_FILE_NAME);
-    const char *why = "unknown reason";
-    r->reader = mn_ff_reader_open(r->dir, &why);
-    if (r->reader == NULL) {
-        e = errno;
-        snprintf(err, errlen, "replay %s: %s", r->dir, why);
-        goto fail_free;
+    if (access(r->file, F_OK) < 0 && mn_jpeg_frames_present(r->dir)) {
+        char why[320];
+        r->jpegs = mn_jpeg_frames_open(r->dir, &r->info.width, &r->info.height, why,
+                                       sizeof(why));
+        if (r->jpegs == NULL) {
+            e = errno;
+            snprintf(err, errlen, "replay %s", why);
+            goto fail_free;
+        }
+        mn_ratelimit_init(&r->drop_log, 5 * MN_NS_PER_SEC, 1);
+        snprintf(r->file, sizeof(r->file), "%s", r->dir); /* what must stay readable */
+        mn_log_info("replay %s: %zu JPEG frames, %ux%u", r->dir, mn_jpeg_frames_count(r->jpegs),
+                    r->info.width, r->info.height);
+    } else {
+        const char *why = "unknown reason";
+        r->reader = mn_ff_reader_open(r->dir, &why);
+        if (r->reader == NULL) {
+            e = errno;
+            snprintf(err, errlen, "replay %s: %s", r->dir, why);
+            goto fail_free;
+        }
+        r->info = *mn_ff_reader_info(r->reader);
     }
-    r->info = *mn_ff_reader_info(r->reader);
     r->pixels = malloc((size_t)r->info.width * r->info.height);
     if (r->pixels == NULL) {
         e = ENOMEM;
@@ -78,6 +103,7 @@ fail_pixels:
     free(r->pixels);
 fail_reader:
     mn_ff_reader_close(r->reader);
+    mn_jpeg_frames_close(r->jpegs);
 fail_free:
     free(r);
     errno = e;
@@ -113,9 +139,47 @@ static int64_t due_time(const struct replay *r, int64_t frame_number)
     return mn_grid_slot_mono(&r->p.grid, frame_number) + r->p.trigger_delay_ns;
 }
 
+/* A JPEG file that did not decode: counted, and said at most once per few seconds. */
+static void jpeg_dropped(struct replay *r, const char *why)
+{
+    r->undecodable++;
+    uint64_t before = 0;
+    if (mn_ratelimit_allow(&r->drop_log, mn_clock_mono_ns(), &before))
+        mn_log_warn("replay: dropping a frame that does not decode (%llu so far): %s",
+                    (unsigned long long)r->undecodable, why);
+}
+
+/* The next JPEG file that decodes into pixels, as load_next. */
+static int load_next_jpeg(struct replay *r)
+{
+    size_t count = mn_jpeg_frames_count(r->jpegs);
+    for (size_t tried = 0; tried <= count; tried++) {
+        if (access(r->file, R_OK) < 0)
+            return -1;
+        if (r->jpeg_next == count) {
+            if (!r->p.loop)
+                return 0;
+            r->loop_offset += count;
+            r->jpeg_next = 0;
+        }
+        size_t index = r->jpeg_next++;
+        char why[512];
+        if (mn_jpeg_frames_read(r->jpegs, index, r->pixels, why, sizeof(why)) < 0) {
+            jpeg_dropped(r, why);
+            continue;
+        }
+        r->frame_number = (int64_t)(index + r->loop_offset);
+        r->loaded = true;
+        return 1;
+    }
+    return 0; /* a whole pass without one frame that decodes */
+}
+
 /* Reads the next recorded frame into pixels; 1, 0 at the end (no loop), -1 on error. */
 static int load_next(struct replay *r)
 {
+    if (r->jpegs != NULL)
+        return load_next_jpeg(r);
     /* A camera that disappears: the recording's file is gone (its directory removed). */
     if (access(r->file, R_OK) < 0)
         return -1;
@@ -233,6 +297,7 @@ static void replay_close(void *impl)
         close(r->timer_fd);
     free(r->pixels);
     mn_ff_reader_close(r->reader);
+    mn_jpeg_frames_close(r->jpegs);
     free(r);
 }
 

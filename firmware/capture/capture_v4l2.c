@@ -2,8 +2,8 @@
  * / uninit / close), DQBUF -> process bytesused -> QBUF, EINTR retried, EAGAIN = no frame yet.
  * GREY and the Y plane of YUV420, YVU420, NV12 and NV21 are handed out in place; the packed
  * formats (Y10, Y16, YUYV, UYVY, RGB24, BGR24, XRGB32, XBGR32) are converted to Y8, and MJPEG
- * decoded to its luma (when built with libjpeg-turbo), into one buffer allocated at open. Sensors in external-trigger mode simply deliver a buffer per pulse, so nothing here
- * assumes a frame rate. V4L2 uAPI types stay inside this file and v4l2_buffers.h (the buffer
+ * decoded to its luma (libjpeg-turbo), into one buffer allocated at open. Sensors in
+ * external-trigger mode simply deliver a buffer per pulse, so nothing here assumes a frame rate. V4L2 uAPI types stay inside this file and v4l2_buffers.h (the buffer
  * calls it shares with the vivid test's feeder). */
 #include <errno.h>
 #include <fcntl.h>
@@ -15,11 +15,10 @@
 
 #include "common/clock.h"
 #include "common/log.h"
+#include "common/ratelimit.h"
 #include "capture/capture.h"
 #include "capture/pixfmt.h"
-#ifdef MN_HAVE_TURBOJPEG
 #include "capture/mjpeg.h"
-#endif
 #include "capture/v4l2_buffers.h"
 
 #define MAX_BUFFERS 32
@@ -50,9 +49,7 @@ static const struct format formats[] = {
     {V4L2_PIX_FMT_XBGR32, CONVERT, MN_PIXFMT_XBGR32, 4},
     {V4L2_PIX_FMT_RGB24, CONVERT, MN_PIXFMT_RGB24, 3},
     {V4L2_PIX_FMT_BGR24, CONVERT, MN_PIXFMT_BGR24, 3},
-#ifdef MN_HAVE_TURBOJPEG
     {V4L2_PIX_FMT_MJPEG, DECODE, MN_PIXFMT_Y16, 0},
-#endif
 };
 #define N_FORMATS (sizeof(formats) / sizeof(formats[0]))
 
@@ -65,9 +62,9 @@ struct v4l2 {
     struct mn_v4l2_map maps[MAX_BUFFERS];
     uint32_t n_maps;
     uint8_t *y8; /* conversion target for formats not used in place */
-#ifdef MN_HAVE_TURBOJPEG
     struct mn_mjpeg *mjpeg;
-#endif
+    uint64_t undecodable;         /* MJPEG frames dropped */
+    struct mn_ratelimit drop_log; /* their warnings */
     bool streaming;
     bool warned_stamps; /* said once that the driver has no monotonic time stamps */
 };
@@ -95,6 +92,53 @@ static uint32_t fourcc_of(const char *name)
     return v4l2_fourcc(c[0], c[1], c[2], c[3]);
 }
 
+/* Appends the fourcc as v4l2-ctl --list-formats names it ("Y10", no trailing blank, "-BE" for
+ * a big-endian variant) to the comma-separated list in buf; false when it does not fit (the
+ * list then ends in ", ..."). */
+static bool append_fourcc(char *buf, size_t len, size_t *used, uint32_t fourcc)
+{
+    char name[5];
+    uint32_t plain = fourcc & ~(1u << 31); /* the big-endian variant flag */
+    memcpy(name, &plain, 4);
+    name[4] = '\0';
+    for (int i = 3; i > 0 && name[i] == ' '; i--)
+        name[i] = '\0';
+    int n = snprintf(buf + *used, len - *used, "%s%s%s", *used ? ", " : "", name,
+                     plain != fourcc ? "-BE" : "");
+    if (n < 0 || (size_t)n >= len - *used) {
+        /* Cut here, and say so when there is room. */
+        snprintf(buf + *used, len - *used, "%s", *used && len - *used > 5 ? ", ..." : "");
+        return false;
+    }
+    *used += (size_t)n;
+    return true;
+}
+
+/* The fourccs the device offers ("none" when it lists none) and those the node reads in its
+ * order of preference, for the messages that refuse a device. */
+static void list_formats(int fd, char *offered, size_t offered_len, char *readable,
+                         size_t readable_len)
+{
+    size_t used = 0;
+    offered[0] = '\0';
+    struct v4l2_fmtdesc d;
+    for (uint32_t i = 0; i < 64; i++) {
+        memset(&d, 0, sizeof(d));
+        d.index = i;
+        d.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+        if (mn_v4l2_ioctl(fd, VIDIOC_ENUM_FMT, &d) < 0 ||
+            !append_fourcc(offered, offered_len, &used, d.pixelformat))
+            break;
+    }
+    if (used == 0)
+        snprintf(offered, offered_len, "none");
+    used = 0;
+    readable[0] = '\0';
+    for (size_t i = 0; i < N_FORMATS; i++)
+        if (!append_fourcc(readable, readable_len, &used, formats[i].fourcc))
+            break;
+}
+
 /* The format to ask for: the configured one (refused when the node cannot use it or the device
  * does not offer it), else the first of the table the device offers. */
 static const struct format *choose_format(struct v4l2 *v, const char *wanted, char *err,
@@ -107,28 +151,28 @@ static const struct format *choose_format(struct v4l2 *v, const char *wanted, ch
                 continue;
             if (device_offers(v->fd, fourcc))
                 return &formats[i];
-            snprintf(err, errlen, "%s: pixel_format %s is not offered by the device", v->device,
-                     wanted);
+            char offered[160], readable[160];
+            list_formats(v->fd, offered, sizeof(offered), readable, sizeof(readable));
+            snprintf(err, errlen, "%s: pixel_format %s is not offered by the device (it offers %s)",
+                     v->device, wanted, offered);
             errno = ENOTSUP;
             return NULL;
         }
-        snprintf(err, errlen, "%s: pixel_format %s is not one this mocap-node reads", v->device,
-                 wanted);
+        char offered[160], readable[160];
+        list_formats(v->fd, offered, sizeof(offered), readable, sizeof(readable));
+        snprintf(err, errlen, "%s: pixel_format %s is not one this mocap-node reads (%s)",
+                 v->device, wanted, readable);
         errno = ENOTSUP;
         return NULL;
     }
     for (size_t i = 0; i < N_FORMATS; i++)
         if (device_offers(v->fd, formats[i].fourcc))
             return &formats[i];
-    snprintf(err, errlen, "%s: offers none of the formats this mocap-node reads (GREY, NV12, NV21, "
-                          "YU12, YV12, Y10, Y16, YUYV, UYVY, BX24, XR24, RGB3, BGR3%s)",
-             v->device,
-#ifdef MN_HAVE_TURBOJPEG
-             ", MJPG"
-#else
-             ""
-#endif
-    );
+    char offered[160], readable[160];
+    list_formats(v->fd, offered, sizeof(offered), readable, sizeof(readable));
+    snprintf(err, errlen, "%s: offers none of the formats this mocap-node reads (it offers %s; "
+                          "the node reads, best first, %s)",
+             v->device, offered, readable);
     errno = ENOTSUP;
     return NULL;
 }
@@ -242,13 +286,12 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
             goto fail_close;
         }
     }
-#ifdef MN_HAVE_TURBOJPEG
     if (v->format->how == DECODE && (v->mjpeg = mn_mjpeg_new()) == NULL) {
         e = ENOMEM;
         snprintf(err, errlen, "%s: cannot start the JPEG decoder", device);
         goto fail_y8;
     }
-#endif
+    mn_ratelimit_init(&v->drop_log, 5 * MN_NS_PER_SEC, 1);
     if (mn_v4l2_map_buffers(v->fd, v->device, V4L2_BUF_TYPE_VIDEO_CAPTURE, buffers, v->maps,
                             MAX_BUFFERS, &v->n_maps, err, errlen) < 0) {
         e = errno;
@@ -262,10 +305,8 @@ void *mn_capture_v4l2_new(const char *device, uint32_t width, uint32_t height, u
 
 fail_unmap:
     unmap_buffers(v);
-#ifdef MN_HAVE_TURBOJPEG
     mn_mjpeg_free(v->mjpeg);
 fail_y8:
-#endif
     free(v->y8);
 fail_close:
     close(v->fd);
@@ -317,17 +358,17 @@ static int convert(struct v4l2 *v, const uint8_t *src, size_t bytesused)
                         v->width);
         return 0;
     }
-#ifdef MN_HAVE_TURBOJPEG
     const char *why = NULL;
     if (mn_mjpeg_to_y8(v->mjpeg, src, bytesused, v->width, v->height, v->y8, v->width, &why) < 0) {
-        mn_log_debug("%s: dropping a frame that does not decode: %s", v->device, why);
+        /* Counted here and, as a sequence gap, in the node's dropped frames. */
+        v->undecodable++;
+        uint64_t before = 0;
+        if (mn_ratelimit_allow(&v->drop_log, mn_clock_mono_ns(), &before))
+            mn_log_warn("%s: dropping an MJPEG frame that does not decode (%llu so far): %s",
+                        v->device, (unsigned long long)v->undecodable, why);
         return -1;
     }
     return 0;
-#else
-    (void)bytesused;
-    return -1;
-#endif
 }
 
 static int v4l2_dequeue(void *impl, struct mn_frame *frame)
@@ -464,9 +505,7 @@ static void v4l2_close(void *impl)
     struct v4l2 *v = impl;
     v4l2_stop(v);
     unmap_buffers(v);
-#ifdef MN_HAVE_TURBOJPEG
     mn_mjpeg_free(v->mjpeg);
-#endif
     free(v->y8);
     close(v->fd);
     free(v);

@@ -147,6 +147,14 @@ static enum mn_control_result control(struct mn_control *ctl, const mocap_v1_Con
         out->u.exposure.exposure_us = c->command.set_exposure.exposure_us;
         out->u.exposure.gain_milli = c->command.set_exposure.gain_milli;
         return MN_CONTROL_ACCEPTED;
+    case mocap_v1_Control_set_picture_tag: {
+        /* Ranges and "changes nothing" are checked by the wire's validation. */
+        const mocap_v1_SetPicture *p = &c->command.set_picture;
+        out->kind = MN_CMD_PICTURE;
+        out->u.picture.brightness_pct = p->set_brightness ? (int32_t)p->brightness_pct : -1;
+        out->u.picture.contrast_pct = p->set_contrast ? (int32_t)p->contrast_pct : -1;
+        return MN_CONTROL_ACCEPTED;
+    }
     case mocap_v1_Control_set_mask_tag:
         return set_mask(ctl, &c->command.set_mask, c->sequence, out, reason);
     case mocap_v1_Control_preview_request_tag:

@@ -19,6 +19,7 @@ enum mn_command_kind {
     MN_CMD_STOP,
     MN_CMD_THRESHOLD,
     MN_CMD_EXPOSURE,
+    MN_CMD_PICTURE,
     MN_CMD_MASK_CLEAR,
     MN_CMD_MASK_RECTS,
     MN_CMD_MASK_BITS,
@@ -41,6 +42,7 @@ struct mn_command {
         struct { int64_t epoch_ns; uint32_t rate_millihz; } start;       /* also ANNOUNCE */
         struct { bool automatic; uint8_t value; } threshold;
         struct { uint32_t exposure_us, gain_milli; } exposure;          /* 0 = unchanged */
+        struct { int32_t brightness_pct, contrast_pct; } picture;      /* -1 = unchanged */
         struct { struct mn_mask_rect rects[MN_CONTROL_MAX_RECTS]; size_t n; } rects;
         struct { uint32_t cell_px, cells_x, cells_y; const uint8_t *bits; } bits; /* bits owned
                                                               by the handler until the next call */

@@ -107,17 +107,21 @@ static void node_grid_init(struct mn_node *n)
 }
 
 /* A picture control from the config (pct -1: left as the camera has it). */
-static void set_picture(struct mn_capture *c, enum mn_picture_control which, const char *name,
-                        int32_t pct)
+/* Sets a picture control (pct < 0: leave the camera's own); 0, or -1 with errno after a warning. */
+static int set_picture(struct mn_capture *c, enum mn_picture_control which, const char *name,
+                       int32_t pct)
 {
     if (pct < 0)
-        return;
+        return 0;
     double value = 0;
-    if (mn_capture_set_picture(c, which, (uint32_t)pct, &value) < 0)
-        mn_log_warn("%s: cannot set %s: %s", mn_capture_name(c), name, strerror(errno));
-    else
-        mn_log_info("%s: %s %d %% of the camera's range = %g", mn_capture_name(c), name, pct,
-                    value);
+    if (mn_capture_set_picture(c, which, (uint32_t)pct, &value) < 0) {
+        int e = errno;
+        mn_log_warn("%s: cannot set %s: %s", mn_capture_name(c), name, strerror(e));
+        errno = e;
+        return -1;
+    }
+    mn_log_info("%s: %s %d %% of the camera's range = %g", mn_capture_name(c), name, pct, value);
+    return 0;
 }
 
 static int open_capture(struct mn_node *n, char *err, size_t errlen)
@@ -139,8 +143,8 @@ static int open_capture(struct mn_node *n, char *err, size_t errlen)
     if (n->gain_milli != 0 && mn_capture_set_gain(c, n->gain_milli) < 0)
         mn_log_warn("%s: cannot set gain %u/1000: %s", mn_capture_name(c), n->gain_milli,
                     strerror(errno));
-    set_picture(c, MN_PICTURE_BRIGHTNESS, "brightness", n->cfg.brightness_pct);
-    set_picture(c, MN_PICTURE_CONTRAST, "contrast", n->cfg.contrast_pct);
+    (void)set_picture(c, MN_PICTURE_BRIGHTNESS, "brightness", n->cfg.brightness_pct);
+    (void)set_picture(c, MN_PICTURE_CONTRAST, "contrast", n->cfg.contrast_pct);
     n->capture = c;
     n->have_last_sequence = false;
     return 0;
@@ -477,6 +481,24 @@ static const char *apply_command(struct mn_node *n, const struct mn_command *cmd
             failed = apply_failed(n, "cannot set gain %u/1000: %s", n->gain_milli,
                                   strerror(errno));
         break;
+    case MN_CMD_PICTURE: {
+        /* Kept like exposure: set again at every reopen (the config's values are the start). */
+        const int32_t pct[2] = {cmd->u.picture.brightness_pct, cmd->u.picture.contrast_pct};
+        const char *const name[2] = {"brightness", "contrast"};
+        int32_t *kept[2] = {&n->cfg.brightness_pct, &n->cfg.contrast_pct};
+        for (int i = 0; i < 2; i++) {
+            if (pct[i] < 0)
+                continue;
+            *kept[i] = pct[i];
+            if (n->capture != NULL &&
+                set_picture(n->capture, i == 0 ? MN_PICTURE_BRIGHTNESS : MN_PICTURE_CONTRAST,
+                            name[i], pct[i]) < 0 && failed == NULL)
+                failed = apply_failed(n, "cannot set %s %d %%: %s", name[i], pct[i],
+                                      errno == ENOTSUP ? "the camera has no such control"
+                                                       : strerror(errno));
+        }
+        break;
+    }
     case MN_CMD_MASK_CLEAR:
         mn_detector_clear_mask(n->detector);
         mn_log_info("mask cleared");

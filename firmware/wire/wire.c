@@ -137,6 +137,15 @@ static const char *validate_control(const mocap_v1_Control *c)
 			return "control: unknown preview mode";
 		return NULL;
 	}
+	case mocap_v1_Control_set_picture_tag: {
+		const mocap_v1_SetPicture *p = &c->command.set_picture;
+		if (!p->set_brightness && !p->set_contrast)
+			return "control: picture command changes nothing";
+		if ((p->set_brightness && p->brightness_pct > 100) ||
+		    (p->set_contrast && p->contrast_pct > 100))
+			return "control: picture control outside 0..100 %";
+		return NULL;
+	}
 	case mocap_v1_Control_stop_tag:
 	case mocap_v1_Control_set_exposure_tag:
 	case mocap_v1_Control_identify_tag:

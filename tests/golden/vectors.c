@@ -10,7 +10,7 @@ static const char *const names[GOLDEN_VECTOR_COUNT] = {
 	"control_start",      "control_stop",        "control_threshold",      "control_exposure",
 	"control_mask_rects", "control_mask_bits",   "control_preview",        "control_identify",
 	"preview_chunk",      "hub_announce",        "control_ack_applied",    "control_ack_rejected",
-	"control_ack_ignored",
+	"control_ack_ignored", "control_picture",
 };
 
 const char *golden_vector_name(int i)
@@ -174,6 +174,12 @@ void golden_vector_build(int i, mocap_v1_Packet *p)
 	case 16:
 		mn_wire_control_ack(4294967295u, 0, mocap_v1_ControlResult_CONTROL_RESULT_IGNORED,
 				    "control: mask chunk already stored", p);
+		break;
+	case 17: /* brightness to the camera's minimum (0 % on the wire), contrast unchanged */
+		control(p, mocap_v1_Control_set_picture_tag);
+		p->body.control.command.set_picture.set_brightness = true;
+		p->body.control.command.set_picture.brightness_pct = 0;
+		p->body.control.command.set_picture.contrast_pct = 100;
 		break;
 	}
 }

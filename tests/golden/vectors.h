@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define GOLDEN_VECTOR_COUNT 17
+#define GOLDEN_VECTOR_COUNT 18
 
 /* Name of vector i (file stem), i < GOLDEN_VECTOR_COUNT. */
 const char *golden_vector_name(int i);

@@ -68,6 +68,9 @@ class ServeTest(unittest.TestCase):
         self.assertEqual(self.rig.nodes_json()[1]["threshold"], 32)
         self.rig.hub("node", "2", "set", "threshold=32")
         wait_for("threshold back", lambda: self.rig.nodes_json()[2]["threshold"] == 32)
+        # Picture controls travel the same way (SetPicture); a recording has none: the node says so.
+        out = self.rig.hub("node", "2", "set", "contrast=40").stdout
+        self.assertIn("rejected (cannot set contrast 40 %: the camera has no such control)", out)
 
     def test_03_preview_png_shows_the_camera_image(self):
         path = os.path.join(WORK, "preview.png")

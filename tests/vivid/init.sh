@@ -131,11 +131,13 @@ done
 untested=""
 for f in $offered; do case " $tested " in *" $f "*) ;; *) untested="$untested $f" ;; esac; done
 echo "VIVID: formats vivid offers that the node does not read:$untested"
-# A format the device does not offer: refused at start, named, "hardware missing" (3).
+# A format the device does not offer: refused at start, named with what the device offers
+# (the first format it lists, as v4l2-ctl names it), "hardware missing" (3).
+first=${offered%% *}
 mocap-node-static --source v4l2:$CAP --pixel-format MJPG --sync none --hub 127.0.0.1:$PORT \
     --id 7 --insecure-dev-wire >/tmp/node-mjpg.log 2>&1
 rc=$?
-if [ $rc -eq 3 ] && grep -q "pixel_format MJPG is not offered by the device" /tmp/node-mjpg.log; then
+if [ $rc -eq 3 ] && grep -q "pixel_format MJPG is not offered by the device (it offers $first, " /tmp/node-mjpg.log; then
     pass "format vivid lacks refused: $(grep -m1 'MJPG' /tmp/node-mjpg.log | sed 's/.*error: //')"
 else
     fail "format vivid lacks: exit $rc, $(cat /tmp/node-mjpg.log)"

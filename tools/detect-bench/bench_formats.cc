@@ -7,11 +7,9 @@
 
 extern "C" {
 #include "capture/pixfmt.h"
-#ifdef MN_HAVE_TURBOJPEG
 #include <turbojpeg.h>
 
 #include "capture/mjpeg.h"
-#endif
 }
 
 namespace mocap {
@@ -33,9 +31,7 @@ const Format kFormats[] = {
     {"UYVY", Kind::kPacked, MN_PIXFMT_UYVY, 2},  {"RGB3", Kind::kPacked, MN_PIXFMT_RGB24, 3},
     {"BGR3", Kind::kPacked, MN_PIXFMT_BGR24, 3}, {"BX24", Kind::kPacked, MN_PIXFMT_XRGB32, 4},
     {"XR24", Kind::kPacked, MN_PIXFMT_XBGR32, 4},
-#ifdef MN_HAVE_TURBOJPEG
     {"MJPG", Kind::kMjpeg, MN_PIXFMT_Y16, 0},
-#endif
 };
 
 // One frame as the camera would deliver it: the Y plane with neutral chroma after it, or each
@@ -63,7 +59,6 @@ std::vector<uint8_t> Pack(const Format& fmt, const BenchFrame& f) {
   return out;
 }
 
-#ifdef MN_HAVE_TURBOJPEG
 std::vector<uint8_t> PackMjpeg(const BenchFrame& f) {
   std::vector<uint8_t> rgb(static_cast<size_t>(f.width) * f.height * 3);
   for (size_t i = 0; i < f.pixels.size(); ++i) std::memset(&rgb[3 * i], f.pixels[i], 3);
@@ -78,7 +73,6 @@ std::vector<uint8_t> PackMjpeg(const BenchFrame& f) {
   tjFree(jpeg);
   return out;
 }
-#endif
 
 bool SameBlobs(const mn_blob* a, size_t na, const std::vector<mn_blob>& b) {
   if (na != b.size()) return false;
@@ -100,20 +94,16 @@ std::vector<FormatTiming> TimeFormats(const std::vector<BenchFrame>& frames, mn_
                     &n_blobs);
     original[i].assign(blobs.begin(), blobs.begin() + static_cast<long>(n_blobs));
   }
-#ifdef MN_HAVE_TURBOJPEG
   mn_mjpeg* decoder = mn_mjpeg_new();
   if (decoder == nullptr) throw std::runtime_error("cannot make a JPEG decoder");
-#endif
   std::vector<FormatTiming> out;
   for (const Format& fmt : kFormats) {
     std::vector<std::vector<uint8_t>> packed;
     for (const BenchFrame& f : frames) {
-#ifdef MN_HAVE_TURBOJPEG
       if (fmt.kind == Kind::kMjpeg) {
         packed.push_back(PackMjpeg(f));
         continue;
       }
-#endif
       packed.push_back(Pack(fmt, f));
     }
     std::vector<uint8_t> y8;
@@ -123,7 +113,6 @@ std::vector<FormatTiming> TimeFormats(const std::vector<BenchFrame>& frames, mn_
       const std::vector<uint8_t>& src = packed[index];
       if (fmt.kind == Kind::kInPlace) return src.data();
       y8.resize(static_cast<size_t>(f.width) * f.height);
-#ifdef MN_HAVE_TURBOJPEG
       if (fmt.kind == Kind::kMjpeg) {
         const char* why = nullptr;
         if (mn_mjpeg_to_y8(decoder, src.data(), src.size(), f.width, f.height, y8.data(),
@@ -131,7 +120,6 @@ std::vector<FormatTiming> TimeFormats(const std::vector<BenchFrame>& frames, mn_
           throw std::runtime_error(std::string("MJPEG frame does not decode: ") + why);
         return y8.data();
       }
-#endif
       mn_pixfmt_to_y8(fmt.pixfmt, src.data(),
                       static_cast<size_t>(f.width) * static_cast<size_t>(fmt.bytes_per_pixel),
                       f.width, f.height, y8.data(), f.width);
@@ -159,9 +147,7 @@ std::vector<FormatTiming> TimeFormats(const std::vector<BenchFrame>& frames, mn_
     });
     out.push_back(t);
   }
-#ifdef MN_HAVE_TURBOJPEG
   mn_mjpeg_free(decoder);
-#endif
   return out;
 }
 

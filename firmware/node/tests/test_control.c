@@ -88,6 +88,18 @@ static void commands(void **state)
     assert_int_equal(cmd.u.exposure.exposure_us, 800);
     assert_int_equal(cmd.u.exposure.gain_milli, 2500);
 
+    p = control_packet(5, mocap_v1_Control_set_picture_tag);
+    p.body.control.command.set_picture.set_brightness = true;
+    p.body.control.command.set_picture.brightness_pct = 0;
+    p.body.control.command.set_picture.contrast_pct = 90; /* not flagged: unchanged */
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_int_equal(cmd.kind, MN_CMD_PICTURE);
+    assert_int_equal(cmd.u.picture.brightness_pct, 0);
+    assert_int_equal(cmd.u.picture.contrast_pct, -1);
+    p.body.control.command.set_picture.set_contrast = true;
+    assert_int_equal(handle(ctl, &p, false, &cmd, &why), MN_CONTROL_ACCEPTED);
+    assert_int_equal(cmd.u.picture.contrast_pct, 90);
+
     p = control_packet(5, mocap_v1_Control_preview_request_tag);
     p.body.control.command.preview_request.mode = mocap_v1_PreviewMode_PREVIEW_MODE_THRESHOLDED;
     p.body.control.command.preview_request.downscale = 4;
@@ -327,6 +339,11 @@ static void rejections(void **state)
     expect_rejected(ctl, &p, false, "downscale");
     p = control_packet(5, mocap_v1_Control_set_exposure_tag);
     expect_rejected(ctl, &p, false, "changes nothing");
+    p = control_packet(5, mocap_v1_Control_set_picture_tag);
+    expect_rejected(ctl, &p, false, "picture command changes nothing");
+    p.body.control.command.set_picture.set_contrast = true;
+    p.body.control.command.set_picture.contrast_pct = 101;
+    expect_rejected(ctl, &p, false, "outside 0..100 %");
     p = control_packet(5, mocap_v1_Control_set_mask_tag);
     expect_rejected(ctl, &p, false, "empty mask");
     p = control_packet(5, mocap_v1_Control_set_mask_tag);

@@ -33,10 +33,26 @@ void test_spot_position(uint32_t frame, uint32_t i, double *x, double *y)
     *y = CELL * (double)(i / per_row) + 20.0 + 0.21 * (frame % 10) + 0.029 * i;
 }
 
+void test_render_frame(uint32_t k, uint32_t w, uint32_t h, uint32_t spots, uint8_t *px)
+{
+    assert_true(spots <= (w / CELL) * (h / CELL) && w / CELL >= 7);
+    memset(px, BACKGROUND, (size_t)w * h);
+    for (uint32_t i = 0; i < spots; i++) {
+        double cx, cy;
+        test_spot_position(k, i, &cx, &cy);
+        for (int y = (int)cy - 6; y <= (int)cy + 6; y++) {
+            for (int x = (int)cx - 6; x <= (int)cx + 6; x++) {
+                double d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+                double v = BACKGROUND + PEAK * exp(-d2 / (2 * SIGMA * SIGMA));
+                px[(size_t)y * w + x] = (uint8_t)lround(v > 255 ? 255 : v);
+            }
+        }
+    }
+}
+
 void test_write_recording(const char *dir, uint32_t w, uint32_t h, uint32_t frames,
                           uint32_t spots)
 {
-    assert_true(spots <= (w / CELL) * (h / CELL) && w / CELL >= 7);
     struct mn_ff_info info = {.width = w, .height = h, .rate_mhz = 100000,
                               .background = BACKGROUND, .noise_sigma_q8 = 0, .noise_seed = 1};
     struct mn_ff_write_options opts = {.zlib_level = 1, .dark_level = -1};
@@ -45,18 +61,7 @@ void test_write_recording(const char *dir, uint32_t w, uint32_t h, uint32_t fram
     uint8_t *px = malloc((size_t)w * h);
     assert_non_null(px);
     for (uint32_t k = 0; k < frames; k++) {
-        memset(px, BACKGROUND, (size_t)w * h);
-        for (uint32_t i = 0; i < spots; i++) {
-            double cx, cy;
-            test_spot_position(k, i, &cx, &cy);
-            for (int y = (int)cy - 6; y <= (int)cy + 6; y++) {
-                for (int x = (int)cx - 6; x <= (int)cx + 6; x++) {
-                    double d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
-                    double v = BACKGROUND + PEAK * exp(-d2 / (2 * SIGMA * SIGMA));
-                    px[(size_t)y * w + x] = (uint8_t)lround(v > 255 ? 255 : v);
-                }
-            }
-        }
+        test_render_frame(k, w, h, spots, px);
         assert_int_equal(mn_ff_writer_add(wr, k, (uint64_t)k * 10000000u, px, w), 0);
     }
     free(px);

@@ -12,6 +12,9 @@
 /* Spot i of frame k: on a grid of cells, drifting a fraction of a pixel per frame. */
 void test_spot_position(uint32_t frame, uint32_t i, double *x, double *y);
 
+/* Frame k (w x h, `spots` spots) into px (w bytes per row). */
+void test_render_frame(uint32_t k, uint32_t w, uint32_t h, uint32_t spots, uint8_t *px);
+
 /* Writes `frames` frames of w x h with `spots` spots each into dir/frames.mcf. */
 void test_write_recording(const char *dir, uint32_t w, uint32_t h, uint32_t frames,
                           uint32_t spots);

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <turbojpeg.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -107,6 +108,79 @@ static void replay_as_fast_as_possible(void **state)
     /* The last status on the way out says what was sent. */
     assert_true(rx.status_datagrams >= 1);
     assert_int_equal(rx.last_frames_sent, FRAMES);
+    test_remove_tree(dir);
+}
+
+/* Frames k of a webcam's MJPEG stream saved as DIR/%06u.jpg: colour JPEGs (R = G = B, 4:2:2 at
+ * quality 90 as UVC webcams send), frame `cut` cut to half its bytes. */
+static void write_jpeg_recording(const char *dir, uint32_t w, uint32_t h, uint32_t frames,
+                                 uint32_t spots, uint32_t cut)
+{
+    uint8_t *px = malloc((size_t)w * h), *rgb = malloc((size_t)w * h * 3);
+    assert_true(px != NULL && rgb != NULL);
+    tjhandle tj = tjInitCompress();
+    assert_non_null(tj);
+    for (uint32_t k = 0; k < frames; k++) {
+        test_render_frame(k, w, h, spots, px);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            memset(rgb + 3 * i, px[i], 3);
+        unsigned char *jpeg = NULL;
+        unsigned long size = 0;
+        assert_int_equal(tjCompress2(tj, rgb, (int)w, 0, (int)h, TJPF_RGB, &jpeg, &size,
+                                     TJSAMP_422, 90, 0), 0);
+        char path[128];
+        snprintf(path, sizeof(path), "%s/%06u.jpg", dir, k);
+        FILE *f = fopen(path, "wb");
+        assert_non_null(f);
+        size_t keep = k == cut ? size / 2 : size;
+        assert_int_equal(fwrite(jpeg, 1, keep, f), keep);
+        fclose(f);
+        tjFree(jpeg);
+    }
+    tjDestroy(tj);
+    free(rgb);
+    free(px);
+}
+
+/* The MJPEG path end to end without a webcam: the replay of recorded JPEG frames decoded to luma,
+ * detected and sent; the cut frame dropped and counted as a lost frame, the others' markers at
+ * the drawn spots. */
+static void replay_jpeg_frames(void **state)
+{
+    (void)state;
+    const char *dir = test_temp_dir();
+    enum { FRAMES = 12, SPOTS = 30, CUT = 5 };
+    write_jpeg_recording(dir, 320, 200, FRAMES, SPOTS, CUT);
+    uint16_t port;
+    int hub = test_hub_socket(&port);
+    struct mn_config cfg;
+    test_node_config(&cfg, dir, port);
+    cfg.as_fast_as_possible = true;
+    cfg.frames = FRAMES - 1;
+    char err[MN_CONFIG_ERR];
+    assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
+    struct mn_node *node = test_node_new(&cfg);
+    assert_int_equal(mn_node_run(node), 0);
+    struct mn_node_stats st;
+    mn_node_get_stats(node, &st);
+    mn_node_free(node);
+
+    memset(&rx, 0, sizeof(rx));
+    test_drain(hub, &rx);
+    close(hub);
+    assert_int_equal(st.frames_processed, FRAMES - 1);
+    assert_int_equal(st.frames_sent, FRAMES - 1);
+    assert_int_equal(st.frames_dropped, 1);
+    assert_int_equal(rx.bad_datagrams, 0);
+    for (uint32_t k = 0; k < FRAMES; k++) {
+        const struct test_frame *f = &rx.frames[k];
+        if (k == CUT) {
+            assert_false(f->seen);
+            continue;
+        }
+        assert_true(f->seen);
+        check_markers(f, k, SPOTS, 0.1);
+    }
     test_remove_tree(dir);
 }
 
@@ -295,13 +369,17 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[3].count, 1);
     assert_int_equal(rx.acks[3].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
 
-    /* Refused requests are answered with the node's reason: one out of the node's range, one
-     * the camera cannot apply (a recording's exposure is fixed). */
+    /* Refused requests are answered with the node's reason: one out of the node's range, two
+     * the camera cannot apply (a recording's exposure and picture are fixed). */
     c = control(7, 4, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 0;
     send_control(&t, &c);
     c = control(7, 5, mocap_v1_Control_set_exposure_tag);
     c.command.set_exposure.exposure_us = 800;
+    send_control(&t, &c);
+    c = control(7, 7, mocap_v1_Control_set_picture_tag);
+    c.command.set_picture.set_contrast = true;
+    c.command.set_picture.contrast_pct = 40;
     send_control(&t, &c);
     run_for(&t, 50);
     assert_int_equal(rx.acks[4].count, 1);
@@ -311,6 +389,9 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[5].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
     if (strstr(rx.acks[5].reason, "cannot set exposure 800 us") == NULL)
         fail_msg("exposure ack reason: '%s'", rx.acks[5].reason);
+    assert_int_equal(rx.acks[7].count, 1);
+    assert_int_equal(rx.acks[7].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
+    assert_string_equal(rx.acks[7].reason, "cannot set contrast 40 %: the camera has no such control");
 
     /* Stop: nothing more is sent. */
     c = control(7, 6, mocap_v1_Control_stop_tag);
@@ -321,11 +402,11 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.marker_datagrams, after_stop);
     mn_node_get_stats(t.node, &st);
     assert_false(st.running);
-    assert_int_equal(st.control_rejected, 2); /* threshold, exposure */
+    assert_int_equal(st.control_rejected, 3); /* threshold, exposure, contrast */
     assert_int_equal(st.auth_rejected, 2);    /* the two garbage datagrams */
     assert_int_equal(rx.acks[6].count, 1);
     assert_int_equal(rx.acks[6].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
-    assert_int_equal(rx.ack_datagrams, 5);
+    assert_int_equal(rx.ack_datagrams, 6);
     assert_int_equal(rx.bad_datagrams, 0);
     /* Everything the node sent was sealed under its key, counters strictly increasing. */
     assert_int_equal(rx.unauthentic_datagrams, 0);
@@ -632,6 +713,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(replay_as_fast_as_possible),
+        cmocka_unit_test(replay_jpeg_frames),
         cmocka_unit_test(paced_replay_with_control),
         cmocka_unit_test(control_reaches_detector),
         cmocka_unit_test(forged_and_replayed_control_steers_nothing),

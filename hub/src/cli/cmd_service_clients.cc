@@ -83,7 +83,8 @@ void PrintStatus(const json& s) {
                 disk.value("free_bytes", 0.0) / (1024.0 * 1024.0), Str(disk, "warn_free_mb").c_str());
 }
 
-// "threshold=40", "exposure-us=2000", "gain=2.5", "auto-threshold" -> the settings request body.
+// "threshold=40", "exposure-us=2000", "gain-milli=2500", "brightness=60", "auto-threshold" -> the settings
+// request body.
 json SettingsBody(const std::vector<std::string>& assignments) {
   json body = json::object();
   for (const std::string& a : assignments) {
@@ -105,7 +106,11 @@ json SettingsBody(const std::vector<std::string>& assignments) {
     else if (key == "auto-threshold" && value.empty()) body["auto_threshold"] = true;
     else if (key == "exposure-us") body["exposure_us"] = integer("exposure-us");
     else if (key == "gain-milli") body["gain_milli"] = integer("gain-milli");
-    else throw UsageError("unknown setting '" + a + "' (threshold=N|auto, exposure-us=N, gain-milli=N)");
+    else if (key == "brightness") body["brightness_pct"] = integer("brightness");
+    else if (key == "contrast") body["contrast_pct"] = integer("contrast");
+    else
+      throw UsageError("unknown setting '" + a +
+                       "' (threshold=N|auto, exposure-us=N, gain-milli=N, brightness=PCT, contrast=PCT)");
   }
   if (body.empty()) throw UsageError("give at least one setting, e.g. threshold=40");
   return body;
@@ -146,7 +151,8 @@ void AddServiceClientCommands(CLI::App& app) {
     auto path = [id](const std::string& tail) { return "/api/nodes/" + std::to_string(*id) + tail; };
 
     auto settings = std::make_shared<std::vector<std::string>>();
-    CLI::App* set = node->add_subcommand("set", "Change camera settings: threshold=N|auto exposure-us=N gain-milli=N");
+    CLI::App* set = node->add_subcommand(
+        "set", "Change camera settings: threshold=N|auto exposure-us=N gain-milli=N brightness=PCT contrast=PCT");
     set->add_option("settings", *settings, "KEY=VALUE ...")->required();
     set->callback([api, settings, path] {
       const json answer = CallApiJson(*api, "POST", path("/settings"), SettingsBody(*settings));

@@ -102,19 +102,25 @@ ApiResponse RouteNode(ServiceApi& api, const ApiRequest& r, const std::vector<st
   if (s.size() != 4) throw ApiError(404, "no such path: " + r.path);
   if (s[3] == "settings") {
     RequireMethod(r, "POST");
-    const json body = ParseBody(r.body, {"threshold", "auto_threshold", "exposure_us", "gain_milli"});
+    const json body = ParseBody(r.body, {"threshold", "auto_threshold", "exposure_us", "gain_milli",
+                                         "brightness_pct", "contrast_pct"});
     CameraSettings settings;
     if (auto v = IntegerField(body, "threshold", 1, 255)) settings.threshold = static_cast<uint32_t>(*v);
     if (auto v = IntegerField(body, "exposure_us", 1, 1'000'000)) settings.exposure_us = static_cast<uint32_t>(*v);
     if (auto v = IntegerField(body, "gain_milli", 1000, 64000)) settings.gain_milli = static_cast<uint32_t>(*v);
+    if (auto v = IntegerField(body, "brightness_pct", 0, 100)) settings.brightness_pct = static_cast<uint32_t>(*v);
+    if (auto v = IntegerField(body, "contrast_pct", 0, 100)) settings.contrast_pct = static_cast<uint32_t>(*v);
     if (body.contains("auto_threshold")) {
       if (!body["auto_threshold"].is_boolean()) throw ApiError(400, "'auto_threshold' must be true or false");
       settings.auto_threshold = body["auto_threshold"].get<bool>();
     }
     if (settings.threshold && settings.auto_threshold)
       throw ApiError(400, "give 'threshold' or 'auto_threshold', not both");
-    if (!settings.threshold && !settings.auto_threshold && !settings.exposure_us && !settings.gain_milli)
-      throw ApiError(400, "nothing to set: give threshold, auto_threshold, exposure_us or gain_milli");
+    if (!settings.threshold && !settings.auto_threshold && !settings.exposure_us && !settings.gain_milli &&
+        !settings.brightness_pct && !settings.contrast_pct)
+      throw ApiError(400,
+                     "nothing to set: give threshold, auto_threshold, exposure_us, gain_milli, brightness_pct or "
+                     "contrast_pct");
     return Json(api.Configure(id, settings));
   }
   if (s[3] == "identify") {

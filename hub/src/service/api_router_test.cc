@@ -46,6 +46,10 @@ TEST(ApiRouter, SettingsCarryExactlyWhatWasGiven) {
   EXPECT_EQ(api.last_settings.gain_milli.value_or(0), 2000u);
   EXPECT_FALSE(api.last_settings.exposure_us.has_value());
   EXPECT_FALSE(api.last_settings.auto_threshold);
+  ASSERT_EQ(Send(api, "POST", "/api/nodes/1/settings", R"({"brightness_pct": 0, "contrast_pct": 65})").response.status,
+            200);
+  EXPECT_EQ(api.last_settings.brightness_pct.value_or(99), 0u);
+  EXPECT_EQ(api.last_settings.contrast_pct.value_or(0), 65u);
   ASSERT_EQ(Send(api, "POST", "/api/nodes/1/settings", R"({"auto_threshold": true})").response.status, 200);
   EXPECT_TRUE(api.last_settings.auto_threshold);
   EXPECT_FALSE(api.last_settings.threshold.has_value());
@@ -90,6 +94,8 @@ TEST(ApiRouter, BadRequestsAreRefusedWithTheirStatusAndAReason) {
       {"POST", "/api/nodes/1/settings", R"({"threshold": 40, "auto_threshold": true})", "", 400},
       {"POST", "/api/nodes/1/settings", R"({"auto_threshold": 1})", "", 400},
       {"POST", "/api/nodes/1/settings", R"({"exposure_us": 2000000})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"brightness_pct": 101})", "", 400},
+      {"POST", "/api/nodes/1/settings", R"({"contrast_pct": -1})", "", 400},
       {"POST", "/api/nodes/1/settings", R"({"colour": "red"})", "", 400},
       {"POST", "/api/nodes/1/identify", R"({"duration_ms": 5})", "", 400},
       {"GET", "/api/nodes/1/preview", "", "mode=colour", 400},

@@ -430,7 +430,10 @@ nlohmann::json HubService::Configure(uint32_t node_id, const CameraSettings& s) 
     throw ApiError(400, "exposure must be 1..1000000 us");
   if (s.gain_milli && (*s.gain_milli < 1000 || *s.gain_milli > 64000))
     throw ApiError(400, "gain must be 1000..64000 (thousandths: 1x..64x)");
-  if (!s.threshold && !s.auto_threshold && !s.exposure_us && !s.gain_milli) throw ApiError(400, "nothing to set");
+  if ((s.brightness_pct && *s.brightness_pct > 100) || (s.contrast_pct && *s.contrast_pct > 100))
+    throw ApiError(400, "brightness_pct and contrast_pct must be 0..100");
+  if (!s.threshold && !s.auto_threshold && !s.exposure_us && !s.gain_milli && !s.brightness_pct && !s.contrast_pct)
+    throw ApiError(400, "nothing to set");
   std::future<RequestResult> answer = OnLoop([this, node_id, s] {
     const NodeEntry& node = KnownNode(node_id);
     std::vector<v1::Control> commands;
@@ -445,6 +448,15 @@ nlohmann::json HubService::Configure(uint32_t node_id, const CameraSettings& s) 
       v1::Control c;
       c.mutable_set_exposure()->set_exposure_us(s.exposure_us.value_or(node.exposure_us));
       c.mutable_set_exposure()->set_gain_milli(s.gain_milli.value_or(node.gain_milli));
+      commands.push_back(c);
+    }
+    if (s.brightness_pct || s.contrast_pct) {
+      v1::Control c;
+      v1::SetPicture* p = c.mutable_set_picture();
+      p->set_set_brightness(s.brightness_pct.has_value());
+      p->set_brightness_pct(s.brightness_pct.value_or(0));
+      p->set_set_contrast(s.contrast_pct.has_value());
+      p->set_contrast_pct(s.contrast_pct.value_or(0));
       commands.push_back(c);
     }
     return Submit(node_id, commands);

@@ -20,6 +20,8 @@ struct CameraSettings {
   bool auto_threshold = false;
   std::optional<uint32_t> exposure_us;    // 1..1 000 000
   std::optional<uint32_t> gain_milli;     // 1000..64 000
+  std::optional<uint32_t> brightness_pct; // 0..100 % of the camera's range (webcams)
+  std::optional<uint32_t> contrast_pct;   // 0..100 % of the camera's range
 };
 
 class ServiceApi {

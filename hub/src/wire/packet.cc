@@ -79,6 +79,13 @@ std::string ValidateControl(const v1::Control& c) {
       if (!v1::PreviewMode_IsValid(c.preview_request().mode())) return "control: unknown preview mode";
       return {};
     }
+    case v1::Control::kSetPicture: {
+      const v1::SetPicture& p = c.set_picture();
+      if (!p.set_brightness() && !p.set_contrast()) return "control: picture command changes nothing";
+      if ((p.set_brightness() && p.brightness_pct() > 100) || (p.set_contrast() && p.contrast_pct() > 100))
+        return "control: picture control outside 0..100 %";
+      return {};
+    }
     case v1::Control::kStop:
     case v1::Control::kSetExposure:
     case v1::Control::kIdentify:

@@ -103,6 +103,21 @@ TEST(Packet, EncodeRefusesInvalidPackets) {
   EXPECT_NO_THROW(Encode(p));
 }
 
+TEST(Packet, PictureControlRules) {
+  v1::Packet p;
+  p.set_version(1);
+  auto* picture = p.mutable_control()->mutable_set_picture();
+  EXPECT_EQ(Validate(p), "control: picture command changes nothing");
+  picture->set_contrast_pct(101);  // not flagged: ignored, still nothing to change
+  picture->set_set_brightness(true);
+  picture->set_brightness_pct(0);
+  EXPECT_EQ(Validate(p), "");
+  picture->set_set_contrast(true);
+  EXPECT_EQ(Validate(p), "control: picture control outside 0..100 %");
+  picture->set_contrast_pct(100);
+  EXPECT_EQ(Validate(p), "");
+}
+
 TEST(Packet, ControlAndPreviewRules) {
   v1::Packet p;
   p.set_version(1);
