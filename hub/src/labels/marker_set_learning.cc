@@ -75,55 +75,65 @@ std::vector<std::vector<int>> Segments(const MarkerSet& set, const MarkerSetLear
 
 }  // namespace
 
-MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const std::vector<std::string>& sources,
-                         const MarkerSetLearnOptions& options) {
-  options.Check();
-  if (trials.empty()) throw std::invalid_argument("no trials to learn from");
-  MarkerSet set;
-  std::unordered_map<std::string, int> index;
-  // Per trial: the set's marker of each column (-1: anonymous), and the frames turned z-up.
-  std::vector<std::vector<int>> column_marker(trials.size());
-  std::vector<Eigen::Matrix3d> to_z(trials.size());
-  for (size_t t = 0; t < trials.size(); ++t) {
-    const MarkerTrajectories& trial = trials[t];
-    const std::string& source = t < sources.size() ? sources[t] : "trial " + std::to_string(t + 1);
-    int up = options.up_axis;
-    if (up < 0) up = DetectUpAxis(trial);
-    if (up < 0) throw std::invalid_argument(source + ": no frame with three markers (cannot tell up)");
-    to_z[t] = UpToZ(up);
-    for (const std::string& name : trial.names) {
-      if (IsAnonymousMarkerName(name)) {
-        column_marker[t].push_back(-1);
-        continue;
-      }
-      auto [it, added] = index.emplace(name, static_cast<int>(set.names.size()));
-      if (added) set.names.push_back(name);
-      column_marker[t].push_back(it->second);
-    }
-  }
-  const size_t n = set.names.size();
-  if (n < 3) throw std::invalid_argument("the trials name fewer than 3 markers (anonymous M001... columns do not count)");
-  if (n > kMaxMarkerSetMarkers) throw std::invalid_argument("more than " + std::to_string(kMaxMarkerSetMarkers) + " markers");
+namespace {
 
-  // Distances of every pair over every frame where both are present.
-  std::vector<PairAccumulator> acc(n * n);
-  std::vector<Eigen::Vector3d> frame(n);
-  std::vector<char> present(n);
-  auto load = [&](size_t t, size_t f) {
+// The trials in the set's marker order, turned z-up: Load(t, f) fills frame and present.
+class LearningTrials {
+ public:
+  LearningTrials(const std::vector<MarkerTrajectories>& trials, const std::vector<std::string>& sources,
+                 const MarkerSetLearnOptions& options, MarkerSet* set)
+      : trials_(trials), column_marker_(trials.size()), to_z_(trials.size()) {
+    std::unordered_map<std::string, int> index;
+    for (size_t t = 0; t < trials.size(); ++t) {
+      const MarkerTrajectories& trial = trials[t];
+      const std::string& source = t < sources.size() ? sources[t] : "trial " + std::to_string(t + 1);
+      int up = options.up_axis;
+      if (up < 0) up = DetectUpAxis(trial);
+      if (up < 0) throw std::invalid_argument(source + ": no frame with three markers (cannot tell up)");
+      to_z_[t] = UpToZ(up);
+      for (const std::string& name : trial.names) {
+        if (IsAnonymousMarkerName(name)) {
+          column_marker_[t].push_back(-1);
+          continue;
+        }
+        auto [it, added] = index.emplace(name, static_cast<int>(set->names.size()));
+        if (added) set->names.push_back(name);
+        column_marker_[t].push_back(it->second);
+      }
+    }
+    frame.resize(set->names.size());
+    present.resize(set->names.size());
+  }
+  size_t NumTrials() const { return trials_.size(); }
+  size_t NumFrames(size_t t) const { return trials_[t].NumFrames(); }
+  void Load(size_t t, size_t f) {
     std::fill(present.begin(), present.end(), 0);
-    for (size_t c = 0; c < trials[t].NumMarkers(); ++c) {
-      const int m = column_marker[t][c];
-      if (m < 0 || !trials[t].Has(f, c)) continue;
-      frame[static_cast<size_t>(m)] = to_z[t] * trials[t].At(f, c);
+    for (size_t c = 0; c < trials_[t].NumMarkers(); ++c) {
+      const int m = column_marker_[t][c];
+      if (m < 0 || !trials_[t].Has(f, c)) continue;
+      frame[static_cast<size_t>(m)] = to_z_[t] * trials_[t].At(f, c);
       present[static_cast<size_t>(m)] = 1;
     }
-  };
-  for (size_t t = 0; t < trials.size(); ++t)
-    for (size_t f = 0; f < trials[t].NumFrames(); ++f) {
-      load(t, f);
+  }
+  std::vector<Eigen::Vector3d> frame;  // by set marker, valid where present
+  std::vector<char> present;
+
+ private:
+  const std::vector<MarkerTrajectories>& trials_;
+  std::vector<std::vector<int>> column_marker_;  // per trial: the set's marker of each column (-1: anonymous)
+  std::vector<Eigen::Matrix3d> to_z_;
+};
+
+// Distances of every pair over every frame where both are present.
+void LearnDistances(LearningTrials* trials, const MarkerSetLearnOptions& options, MarkerSet* set) {
+  const size_t n = set->names.size();
+  std::vector<PairAccumulator> acc(n * n);
+  for (size_t t = 0; t < trials->NumTrials(); ++t)
+    for (size_t f = 0; f < trials->NumFrames(t); ++f) {
+      trials->Load(t, f);
       for (size_t a = 0; a < n; ++a)
-        for (size_t b = a + 1; b < n && present[a]; ++b)
-          if (present[b]) acc[a * n + b].Add((frame[a] - frame[b]).norm());
+        for (size_t b = a + 1; b < n && trials->present[a]; ++b)
+          if (trials->present[b]) acc[a * n + b].Add((trials->frame[a] - trials->frame[b]).norm());
     }
   for (size_t a = 0; a < n; ++a)
     for (size_t b = a + 1; b < n; ++b) {
@@ -135,33 +145,39 @@ MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const st
       d.sd = std::sqrt(std::max(0.0, p.sum_squares / static_cast<double>(p.n) - d.mean * d.mean));
       d.min = p.min, d.max = p.max, d.frames = p.n;
       d.mean = std::clamp(d.mean, d.min, d.max);  // rounding of a constant distance
-      set.distances.push_back(d);
+      set->distances.push_back(d);
     }
-  set.mean_shape.assign(n, Eigen::Vector3d::Constant(std::nan("")));
-  set.Index();
-  set.segments = Segments(set, options);
+}
 
-  // The trunk: markers whose distances to the others vary least (median sd), the steadiest 40 %.
+// The trunk: markers whose distances to the others vary least (median sd), the steadiest 40 %.
+std::vector<char> SteadiestCore(const MarkerSet& set) {
+  const size_t n = set.names.size();
   std::vector<char> core(n, 0);
-  {
-    std::vector<std::pair<double, size_t>> steadiness;
-    for (size_t a = 0; a < n; ++a) {
-      std::vector<double> sds;
-      for (size_t b = 0; b < n; ++b)
-        if (const MarkerDistance* d = set.Distance(static_cast<int>(a), static_cast<int>(b))) sds.push_back(d->sd);
-      if (sds.empty()) continue;
-      std::nth_element(sds.begin(), sds.begin() + sds.size() / 2, sds.end());
-      steadiness.push_back({sds[sds.size() / 2], a});
-    }
-    std::sort(steadiness.begin(), steadiness.end());
-    const size_t take = std::max<size_t>(3, (steadiness.size() * 4) / 10);
-    for (size_t i = 0; i < steadiness.size() && i < take; ++i) core[steadiness[i].second] = 1;
+  std::vector<std::pair<double, size_t>> steadiness;
+  for (size_t a = 0; a < n; ++a) {
+    std::vector<double> sds;
+    for (size_t b = 0; b < n; ++b)
+      if (const MarkerDistance* d = set.Distance(static_cast<int>(a), static_cast<int>(b))) sds.push_back(d->sd);
+    if (sds.empty()) continue;
+    std::nth_element(sds.begin(), sds.begin() + sds.size() / 2, sds.end());
+    steadiness.push_back({sds[sds.size() / 2], a});
   }
-  // Mean shape: frames turned about z onto a reference, averaged, three rounds.
+  std::sort(steadiness.begin(), steadiness.end());
+  const size_t take = std::max<size_t>(3, (steadiness.size() * 4) / 10);
+  for (size_t i = 0; i < steadiness.size() && i < take; ++i) core[steadiness[i].second] = 1;
+  return core;
+}
+
+// Mean shape: frames turned about z onto a reference (the first trial's fullest frame),
+// averaged, three rounds.
+std::vector<Eigen::Vector3d> MeanShape(LearningTrials* trials, const std::vector<char>& core) {
+  const size_t n = core.size();
+  const std::vector<char>& present = trials->present;
+  const std::vector<Eigen::Vector3d>& frame = trials->frame;
   std::vector<Eigen::Vector3d> reference(n, Eigen::Vector3d::Constant(std::nan("")));
   size_t best = 0;
-  for (size_t f = 0; f < trials[0].NumFrames(); ++f) {
-    load(0, f);
+  for (size_t f = 0; f < trials->NumFrames(0); ++f) {
+    trials->Load(0, f);
     const size_t count = static_cast<size_t>(std::count(present.begin(), present.end(), 1));
     if (count > best) {
       best = count;
@@ -172,9 +188,9 @@ MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const st
     std::vector<Eigen::Vector3d> sum(n, Eigen::Vector3d::Zero());
     std::vector<size_t> count(n, 0);
     std::vector<Eigen::Vector3d> source, target;
-    for (size_t t = 0; t < trials.size(); ++t)
-      for (size_t f = 0; f < trials[t].NumFrames(); ++f) {
-        load(t, f);
+    for (size_t t = 0; t < trials->NumTrials(); ++t)
+      for (size_t f = 0; f < trials->NumFrames(t); ++f) {
+        trials->Load(t, f);
         source.clear(), target.clear();
         for (size_t m = 0; m < n; ++m)
           if (present[m] && reference[m].allFinite()) source.push_back(frame[m]), target.push_back(reference[m]);
@@ -199,7 +215,25 @@ MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const st
     for (size_t m = 0; m < n; ++m)
       if (count[m] > 0) reference[m] -= centroid;
   }
-  set.mean_shape = reference;
+  return reference;
+}
+
+}  // namespace
+
+MarkerSet LearnMarkerSet(const std::vector<MarkerTrajectories>& trials, const std::vector<std::string>& sources,
+                         const MarkerSetLearnOptions& options) {
+  options.Check();
+  if (trials.empty()) throw std::invalid_argument("no trials to learn from");
+  MarkerSet set;
+  LearningTrials learning(trials, sources, options, &set);
+  const size_t n = set.names.size();
+  if (n < 3) throw std::invalid_argument("the trials name fewer than 3 markers (anonymous M001... columns do not count)");
+  if (n > kMaxMarkerSetMarkers) throw std::invalid_argument("more than " + std::to_string(kMaxMarkerSetMarkers) + " markers");
+  LearnDistances(&learning, options, &set);
+  set.mean_shape.assign(n, Eigen::Vector3d::Constant(std::nan("")));
+  set.Index();
+  set.segments = Segments(set, options);
+  set.mean_shape = MeanShape(&learning, SteadiestCore(set));
   return set;
 }
 
