@@ -97,14 +97,13 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     std::lock_guard<std::mutex> lock(tasks_mutex_);
     running_ = true;
   }
-  Datagram d;
   while (!stop.load()) {
     RunTasks();
     // Wait briefly for the first datagram (not at all while a frame set is arriving and the busy
     // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
     // flood too).
     const int wait_ms = busy_poll_until_ns_ != 0 && RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
-    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? wait_ms : 0); ++n) HandleDatagram(d);
+    socket_.Drain(wait_ms, UdpSocket::kDrainMax, [this](const Datagram& d) { HandleDatagram(d); });
     const uint64_t now = RealtimeNowNs();
     for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
     Tick(now);
