@@ -1,6 +1,6 @@
 // `serve`: the live hub as a long-running service (service/hub_service.h) with its HTTP +
-// WebSocket API (api/http_server.h) and its streams (stream/): the hub's one subscription
-// shares each frame once and hands it to every adapter's queue. Options come from flags and/or a config file
+// WebSocket API (api/http_server.h) and its streams, which the service wires
+// (service/stream_fan_out.h; the WebSockets get each frame from there). Options come from flags and/or a config file
 // (--config FILE, `key = value`, one line per long option name; cli/config_file.h); flags win. Under systemd
 // (Type=notify) it reports READY=1 once both sockets are bound, pings the watchdog from the
 // loop itself, so a stuck loop gets the service restarted, and STOPPING=1 on the way out.
@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <vector>
 #include <string>
 
@@ -20,16 +19,7 @@
 #include "api/http_server.h"
 #include "api/static_files.h"
 #include "service/hub_service.h"
-#include "io/calibration_json.h"
-#include "labels/marker_set.h"
-#include "stream/natnet/natnet_server.h"
-#include "stream/osc_sender.h"
-#include "stream/qtm/qtm_rt_server.h"
-#include "stream/qtm/rt_parameters.h"
-#include "stream/shared_frame.h"
-#include "stream/udp_stream_server.h"
-#include "stream/vmc_sender.h"
-#include "stream/vrpn/vrpn_server.h"
+#include "service/stream_fan_out.h"
 #include "util/log.h"
 
 #ifdef MOCAP_HAVE_SYSTEMD
@@ -51,15 +41,7 @@ struct ServeArgs {
   int api_threads = 384;
   int api_request_timeout_ms = 3000;
   size_t api_max_websockets = 64;
-  stream::UdpStreamOptions stream;
-  std::string stream_multicast_parts = "points,bodies";
-  std::string osc_targets;             // comma-separated HOST:PORT
-  std::string osc_parts = "points,bodies";
-  std::string qtm_rt;                  // HOST:PORT of the Qualisys RT server; empty: off
-  stream::natnet::NatNetOptions natnet;  // listen empty: off
-  bool natnet_unicast = false;
-  stream::vrpn::VrpnOptions vrpn;        // listen empty: off
-  std::string vmc;                     // HOST:PORT of a VMC receiver; empty: off
+  service::StreamsOptions streams;     // the streams' own options; serve's rate and files from `options`
   std::string web_root = MOCAP_WEB_ROOT;  // the console's files; "off": none
   std::string three_root = "/usr/share/javascript/three";  // Debian's libjs-three
 };
@@ -80,87 +62,6 @@ std::vector<api::StaticMount> ConsoleOf(const ServeArgs& args, bool web_root_giv
     log::Warn("web console without its 3D views: {} missing (Debian package libjs-three)", args.three_root);
   return mounts;
 }
-
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
-
-uint32_t PartsOption(const std::string& text) {
-  try {
-    return stream::ParseParts(text);
-  } catch (const std::invalid_argument& error) {
-    throw UsageError(error.what());
-  }
-}
-
-// The streams serve asked for; every option is checked (a usage error) before anything starts.
-struct Streams {
-  std::unique_ptr<stream::UdpStreamServer> udp;
-  std::unique_ptr<stream::OscSender> osc;
-
-  explicit Streams(ServeArgs& args) {
-    stream::OscOptions osc_options;
-    if (args.stream.listen != "off") {
-      args.stream.multicast_parts = PartsOption(args.stream_multicast_parts);
-      CheckOptions(args.stream);
-    }
-    if (!args.osc_targets.empty()) {
-      osc_options.targets = SplitList(args.osc_targets);
-      osc_options.parts = PartsOption(args.osc_parts);
-      CheckOptions(osc_options);
-    }
-    if (args.stream.listen != "off") udp = std::make_unique<stream::UdpStreamServer>(args.stream);
-    if (!args.osc_targets.empty()) osc = std::make_unique<stream::OscSender>(osc_options);
-  }
-};
-
-// The NatNet, VRPN and VMC adapters serve asked for (each off unless asked), checked before any
-// starts. Their rigid bodies and names come from serve's bodies and marker-set files.
-struct TrackerStreams {
-  std::unique_ptr<stream::natnet::NatNetServer> natnet;
-  std::unique_ptr<stream::vrpn::VrpnServer> vrpn;
-  std::unique_ptr<stream::VmcSender> vmc;
-
-  explicit TrackerStreams(ServeArgs& args) {
-    const service::ServeOptions& o = args.options;
-    if (args.natnet_unicast) args.natnet.multicast.clear();
-    stream::VmcOptions vmc_options;
-    vmc_options.target = args.vmc;
-    vmc_options.rate_hz = o.rate_hz;
-    if (!args.natnet.listen.empty()) CheckOptions(args.natnet);
-    if (!args.vrpn.listen.empty()) CheckOptions(args.vrpn);
-    if (!args.vmc.empty()) {
-      vmc_options.up_axis = stream::qtm::AxisUpwards(LoadRigJson(o.calibration));
-      CheckOptions(vmc_options);
-    }
-    const std::vector<RigidBodyDefinition> bodies = o.bodies_file.empty() ? std::vector<RigidBodyDefinition>{}
-                                                                          : ReadBodiesFile(o.bodies_file);
-    if (!args.natnet.listen.empty()) {
-      stream::natnet::Model model;
-      model.rate_hz = o.rate_hz;
-      model.bodies = bodies;
-      if (!o.labels_file.empty()) model.label_names = ReadMarkerSetFile(o.labels_file).names;
-      natnet = std::make_unique<stream::natnet::NatNetServer>(args.natnet, std::move(model));
-    }
-    if (!args.vrpn.listen.empty()) {
-      std::vector<std::string> names;
-      for (const RigidBodyDefinition& b : bodies) names.push_back(b.name);
-      if (names.empty()) log::Warn("vrpn: no rigid bodies (--bodies): no trackers to serve");
-      vrpn = std::make_unique<stream::vrpn::VrpnServer>(args.vrpn, std::move(names));
-    }
-    if (!args.vmc.empty()) vmc = std::make_unique<stream::VmcSender>(vmc_options);
-  }
-
-  void Publish(const stream::SharedFrame& frame) {
-    if (natnet) natnet->Publish(frame);
-    if (vrpn) vrpn->Publish(frame);
-    if (vmc) vmc->Publish(frame);
-  }
-};
 
 // Watchdog pings at half the interval systemd asks for; nothing without systemd.
 class Watchdog {
@@ -240,38 +141,19 @@ api::HttpServerOptions HttpOptionsOf(const ServeArgs& args, std::vector<api::Sta
 
 void RunServe(ServeArgs& args, bool web_root_given) {
   CheckOptions(args.options);
+  try {
+    args.streams.Check(args.options);
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
+  }
   std::vector<api::StaticMount> console = ConsoleOf(args, web_root_given);
   api::HttpServerOptions http_options = HttpOptionsOf(args, std::move(console));
   service::HubService hub(args.options);
   hub.Bind();
-  Streams streams(args);
   api::HttpServer http(hub, http_options);
-  // Qualisys RT (--qtm-rt): clients of that protocol, on its own thread like the streams.
-  std::unique_ptr<stream::qtm::QtmRtServer> qtm_rt;
-  if (!args.qtm_rt.empty()) {
-    stream::qtm::QtmRtOptions rt;
-    rt.listen = args.qtm_rt;
-    rt.capturing = [&hub] { return !hub.Status()["capture"].is_null(); };  // capture events
-    CheckOptions(rt);
-    qtm_rt = std::make_unique<stream::qtm::QtmRtServer>(
-        rt, stream::qtm::LoadRtSystem(args.options.calibration, args.options.rate_hz, args.options.bodies_file,
-                                      args.options.labels_file));
-  }
-  TrackerStreams trackers(args);
-  hub.Subscribe([&](const pipeline::LiveFrame& frame) {
-    const stream::SharedFrame shared = stream::ShareFrame(frame);
-    if (streams.udp) streams.udp->Publish(shared);  // first: it may send at once (the others queue)
-    http.Publish(shared);
-    if (streams.osc) streams.osc->Publish(shared);
-    if (qtm_rt) qtm_rt->Publish(shared);
-    trackers.Publish(shared);
-  });
-  if (streams.udp) hub.AddStatusSection("stream", [&] { return streams.udp->StatsJson(); });
-  if (streams.osc) hub.AddStatusSection("osc", [&] { return streams.osc->StatsJson(); });
-  if (qtm_rt) hub.AddStatusSection("qtm_rt", [&] { return qtm_rt->StatsJson(); });
-  if (trackers.natnet) hub.AddStatusSection("natnet", [&] { return trackers.natnet->StatsJson(); });
-  if (trackers.vrpn) hub.AddStatusSection("vrpn", [&] { return trackers.vrpn->StatsJson(); });
-  if (trackers.vmc) hub.AddStatusSection("vmc", [&] { return trackers.vmc->StatsJson(); });
+  // The streams on the hub's frames and captures; the WebSockets get each frame from them too.
+  service::StreamFanOut streams(args.options, args.streams, hub,
+                                [&http](stream::SharedFrame frame) { http.Publish(std::move(frame)); });
   std::signal(SIGINT, OnSignal);
   std::signal(SIGTERM, OnSignal);
   std::signal(SIGPIPE, SIG_IGN);
@@ -281,20 +163,7 @@ void RunServe(ServeArgs& args, bool web_root_given) {
             args.options.sessions_dir);
   if (!http_options.console.empty())
     log::Info("web console at http://{}:{}/ from {}", api_host, http.port(), http_options.console[0].dir);
-  if (streams.udp)
-    log::Info("stream: UDP port {}{}", streams.udp->port(),
-              args.stream.multicast.empty() ? "" : ", multicast to " + args.stream.multicast);
-  if (streams.osc) log::Info("OSC: bundles to {}", args.osc_targets);
-  if (qtm_rt) {
-    const HostPort rt = ParseHostPort(args.qtm_rt);
-    log::Info("Qualisys RT on {}:{}", rt.host.empty() || rt.host == "*" ? "0.0.0.0" : rt.host, qtm_rt->port());
-  }
-  if (trackers.natnet)
-    log::Info("NatNet on {}:{}, frames {}", ParseHostPort(args.natnet.listen).host, trackers.natnet->port(),
-              args.natnet.multicast.empty() ? std::string("unicast to connected clients")
-                                            : "to " + args.natnet.multicast + ":" + std::to_string(args.natnet.data_port));
-  if (trackers.vrpn) log::Info("VRPN on {}:{}", ParseHostPort(args.vrpn.listen).host, trackers.vrpn->port());
-  if (trackers.vmc) log::Info("VMC: bundles to {}", args.vmc);
+  for (const std::string& where : streams.Where()) log::Info("{}", where);
   Watchdog watchdog;
   watchdog.Notify("READY=1\nSTATUS=serving on UDP " + std::to_string(hub.port()));
   hub.Run(g_stop, [&watchdog](uint64_t now_ns) { watchdog.Ping(now_ns); });
@@ -302,36 +171,33 @@ void RunServe(ServeArgs& args, bool web_root_given) {
   log::Info("stopped");
 }
 
-}  // namespace
-
-void AddServeCommand(CLI::App& app) {
-  CLI::App* command = app.add_subcommand(
-      "serve", "Run the live hub: node registry and control, captures, live 3D, HTTP/WebSocket API");
-  auto args = std::make_shared<ServeArgs>();
-  service::ServeOptions& o = args->options;
-  auto config = std::make_shared<std::string>();
-  command->add_option("--config", *config, "Config file: `key = value` per long option name; flags win")
-      ->check(CLI::ExistingFile);
-  command->add_option("--listen", o.listen, "HOST:PORT receiving the nodes' UDP")->capture_default_str();
-  command->add_option("--api", args->api,
+// The API's address, its access and its bounds.
+void AddApiOptions(CLI::App* command, ServeArgs& args) {
+  command->add_option("--api", args.api,
                       "HOST:PORT of the HTTP/WebSocket API (tokens required; beyond localhost put a TLS reverse "
                       "proxy in front, docs/security.md)")
       ->capture_default_str();
-  command->add_option("--api-auth", args->api_auth,
+  command->add_option("--api-auth", args.api_auth,
                       "Directory of the API's tokens (`mocap-hub tokens`; default api-auth beside the sessions "
                       "directory, its operator.token issued at the first start), or off (loopback only)");
-  command->add_flag("--insecure-dev-api", args->insecure_dev_api,
+  command->add_flag("--insecure-dev-api", args.insecure_dev_api,
                     "DEVELOPMENT ONLY: no API tokens, on any address (anyone who reaches it steers the hub)");
-  command->add_option("--api-host-name", args->api_host_names,
+  command->add_option("--api-host-name", args.api_host_names,
                       "A name of this hub browsers may use (Host header), besides IP addresses and localhost");
-  command->add_option("--api-threads", args->api_threads, "HTTP worker threads (each connection holds one)")
+  command->add_option("--api-threads", args.api_threads, "HTTP worker threads (each connection holds one)")
       ->capture_default_str();
-  command->add_option("--api-request-timeout-ms", args->api_request_timeout_ms,
+  command->add_option("--api-request-timeout-ms", args.api_request_timeout_ms,
                       "A request (head, then body) must arrive within this; idle connections are closed then")
       ->capture_default_str();
-  command->add_option("--api-max-websockets", args->api_max_websockets,
+  command->add_option("--api-max-websockets", args.api_max_websockets,
                       "WebSocket clients at once (each holds a worker; more are refused with 503)")
       ->capture_default_str();
+}
+
+// The nodes' side: where they send, the calibration naming them, the captures, the session's
+// rate and what each frame is told (bodies, labels).
+void AddSessionOptions(CLI::App* command, service::ServeOptions& o) {
+  command->add_option("--listen", o.listen, "HOST:PORT receiving the nodes' UDP")->capture_default_str();
   // Required, but checked in ServeOptions::Check: it may come from the config file.
   command->add_option("--calibration", o.calibration, "Calibration JSON (names the cameras); required")
       ->check(CLI::ExistingFile);
@@ -364,6 +230,10 @@ void AddServeCommand(CLI::App& app) {
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
   command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
   command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
+}
+
+// The wire's keys and how the loop waits for and groups the nodes' datagrams.
+void AddWireOptions(CLI::App* command, service::ServeOptions& o) {
   command->add_option("--keys", o.auth.keys_dir,
                       "Directory of the nodes' wire keys (node-N.key, `mocap-hub keys new`); required unless "
                       "--insecure-dev-wire")
@@ -386,6 +256,10 @@ void AddServeCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--request-timeout", o.request_timeout_s, "Seconds a node has to answer a request")
       ->capture_default_str();
+}
+
+// The live reconstruction and tracking (as `reconstruct` takes them) and the calibration monitor.
+void AddReconOptions(CLI::App* command, service::ServeOptions& o) {
   command->add_option("--contested-gate-factor", o.recon.prediction.contested_gate_factor,
                       "Predictions nearer each other than this times the sum of their gates (each counted up to "
                       "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
@@ -402,39 +276,58 @@ void AddServeCommand(CLI::App& app) {
   command->add_flag("!--no-calibration-monitor", o.calibration_monitor,
                     "Do not watch the cameras' residuals for bumps (on by default: a moved camera is reported and "
                     "re-solved, /api/status calibration_monitor)");
+}
+
+// The streams (service/stream_fan_out.h); returns --stream, whose default follows --api.
+CLI::Option* AddStreamOptions(CLI::App* command, service::StreamsOptions& s) {
   CLI::Option* stream = command->add_option(
-      "--stream", args->stream.listen,
+      "--stream", s.stream.listen,
       "HOST:PORT of the live stream (subscriptions in, frames out); off: none; default port 7802 on the API's "
       "address");
-  command->add_option("--stream-multicast", args->stream.multicast,
+  command->add_option("--stream-multicast", s.stream.multicast,
                       "Also send every frame to this multicast GROUP:PORT (e.g. 239.255.42.1:7803)");
-  command->add_option("--stream-multicast-parts", args->stream_multicast_parts,
+  command->add_option("--stream-multicast-parts", s.stream_multicast_parts,
                       "Parts of the multicast frames: points,bodies,labels")
       ->capture_default_str();
-  command->add_option("--osc", args->osc_targets, "Send OSC bundles per frame to HOST:PORT[,HOST:PORT...]");
-  command->add_option("--osc-parts", args->osc_parts, "Parts of the OSC bundles: points,bodies")
+  command->add_option("--osc", s.osc_targets, "Send OSC bundles per frame to HOST:PORT[,HOST:PORT...]");
+  command->add_option("--osc-parts", s.osc_parts, "Parts of the OSC bundles: points,bodies")
       ->capture_default_str();
-  command->add_option("--qtm-rt", args->qtm_rt,
+  command->add_option("--qtm-rt", s.qtm_rt,
                       "HOST:PORT of a Qualisys-RT-compatible server (little-endian port; 0: any free); default off");
-  args->natnet.listen.clear();
-  command->add_option("--natnet", args->natnet.listen,
+  command->add_option("--natnet", s.natnet.listen,
                       "HOST:PORT of an OptiTrack-NatNet-compatible command port (Motive's is 1510; 0: any free); "
                       "default off");
-  command->add_option("--natnet-multicast", args->natnet.multicast, "NatNet frames' multicast group")
+  command->add_option("--natnet-multicast", s.natnet.multicast, "NatNet frames' multicast group")
       ->capture_default_str();
-  command->add_option("--natnet-data-port", args->natnet.data_port, "NatNet frames' port (the group's)")
+  command->add_option("--natnet-data-port", s.natnet.data_port, "NatNet frames' port (the group's)")
       ->capture_default_str();
-  command->add_flag("--natnet-unicast", args->natnet_unicast,
+  command->add_flag("--natnet-unicast", s.natnet_unicast,
                     "NatNet frames by unicast to each connected client instead of multicast");
-  command->add_option("--natnet-version", args->natnet.version,
+  command->add_option("--natnet-version", s.natnet.version,
                       "NatNet bitstream version until a client asks another: 3.0, 3.1, 4.0, 4.1")
       ->capture_default_str();
-  args->vrpn.listen.clear();
-  command->add_option("--vrpn", args->vrpn.listen,
+  command->add_option("--vrpn", s.vrpn.listen,
                       "HOST:PORT of a VRPN tracker server, one tracker per rigid body (VRPN's port is 3883; TCP and "
                       "the UDP lookup); default off");
-  command->add_flag("--vrpn-velocity", args->vrpn.velocity, "VRPN: also vrpn_Tracker Velocity reports");
-  command->add_option("--vmc", args->vmc, "Send rigid bodies as VMC trackers (OSC) to HOST:PORT (receivers: 39539)");
+  command->add_flag("--vrpn-velocity", s.vrpn.velocity, "VRPN: also vrpn_Tracker Velocity reports");
+  command->add_option("--vmc", s.vmc, "Send rigid bodies as VMC trackers (OSC) to HOST:PORT (receivers: 39539)");
+  return stream;
+}
+
+}  // namespace
+
+void AddServeCommand(CLI::App& app) {
+  CLI::App* command = app.add_subcommand(
+      "serve", "Run the live hub: node registry and control, captures, live 3D, HTTP/WebSocket API");
+  auto args = std::make_shared<ServeArgs>();
+  auto config = std::make_shared<std::string>();
+  command->add_option("--config", *config, "Config file: `key = value` per long option name; flags win")
+      ->check(CLI::ExistingFile);
+  AddSessionOptions(command, args->options);
+  AddApiOptions(command, *args);
+  AddWireOptions(command, args->options);
+  AddReconOptions(command, args->options);
+  CLI::Option* stream = AddStreamOptions(command, args->streams);
   CLI::Option* web_root = command->add_option("--web-root", args->web_root,
                                               "Directory of the web console's files (hub/web); off: API only")
                               ->capture_default_str();
@@ -446,7 +339,7 @@ void AddServeCommand(CLI::App& app) {
     // its stream there too.
     if (stream->count() == 0) {
       const HostPort api = ParseHostPort(args->api);
-      args->stream.listen = (api.host.empty() ? std::string("0.0.0.0") : api.host) + ":7802";
+      args->streams.stream.listen = (api.host.empty() ? std::string("0.0.0.0") : api.host) + ":7802";
     }
     RunServe(*args, web_root->count() > 0);
   });

@@ -116,135 +116,153 @@ json SettingsBody(const std::vector<std::string>& assignments) {
   return body;
 }
 
+// `status`: the service's figures.
+void AddStatusCommand(CLI::App& app) {
+  auto api = std::make_shared<std::string>();
+  auto as_json = std::make_shared<bool>(false);
+  CLI::App* c = app.add_subcommand("status", "Ask a running serve how it is doing");
+  AddApiOption(*c, api.get());
+  c->add_flag("--json", *as_json, "Print the JSON answer");
+  c->callback([api, as_json] {
+    const json s = CallApiJson(*api, "GET", "/api/status");
+    *as_json ? Print(s) : PrintStatus(s);
+  });
+}
+
+// `nodes`: the node table.
+void AddNodesCommand(CLI::App& app) {
+  auto api = std::make_shared<std::string>();
+  auto as_json = std::make_shared<bool>(false);
+  CLI::App* c = app.add_subcommand("nodes", "The node table of a running serve");
+  AddApiOption(*c, api.get());
+  c->add_flag("--json", *as_json, "Print the JSON answer");
+  c->callback([api, as_json] {
+    const json nodes = CallApiJson(*api, "GET", "/api/nodes");
+    *as_json ? Print(nodes) : PrintNodes(nodes);
+  });
+}
+
+// `node ID set|preview|identify`: one node steered through serve.
+void AddNodeCommand(CLI::App& app) {
+  CLI::App* node = app.add_subcommand("node", "Steer one node through serve: set, preview, identify");
+  node->require_subcommand(1);
+  auto api = std::make_shared<std::string>();
+  auto id = std::make_shared<uint32_t>(0);
+  AddApiOption(*node, api.get());
+  node->add_option("id", *id, "Node id")->required()->check(CLI::Range(1u, 4294967295u));
+  auto path = [id](const std::string& tail) { return "/api/nodes/" + std::to_string(*id) + tail; };
+
+  auto settings = std::make_shared<std::vector<std::string>>();
+  CLI::App* set = node->add_subcommand(
+      "set", "Change camera settings: threshold=N|auto exposure-us=N gain-milli=N brightness=PCT contrast=PCT");
+  set->add_option("settings", *settings, "KEY=VALUE ...")->required();
+  set->callback([api, settings, path] {
+    const json answer = CallApiJson(*api, "POST", path("/settings"), SettingsBody(*settings));
+    std::printf("node %s: %s%s\n", Str(answer, "node").c_str(), Str(answer, "outcome").c_str(),
+                answer.value("reason", "").empty() ? "" : (" (" + answer["reason"].get<std::string>() + ")").c_str());
+  });
+
+  auto output = std::make_shared<std::string>();
+  auto mode = std::make_shared<std::string>("raw");
+  auto downscale = std::make_shared<int>(2);
+  CLI::App* preview = node->add_subcommand("preview", "Fetch the camera's image as PNG");
+  preview->add_option("-o,--output", *output, "PNG file to write")->required();
+  preview->add_option("--mode", *mode, "raw or thresholded")->check(CLI::IsMember({"raw", "thresholded"}))->capture_default_str();
+  preview->add_option("--downscale", *downscale, "1, 2, 4 or 8")->check(CLI::IsMember({1, 2, 4, 8}))->capture_default_str();
+  preview->callback([api, output, mode, downscale, path] {
+    const ApiAnswer answer = CallApi(*api, "GET", path("/preview?mode=" + *mode + "&downscale=" + std::to_string(*downscale)));
+    if (answer.status != 200) {
+      const json error = json::parse(answer.body, nullptr, false);
+      throw std::runtime_error((error.is_object() && error.contains("error") ? error["error"].dump() : answer.body) +
+                               " (HTTP " + std::to_string(answer.status) + ")");
+    }
+    std::ofstream out(*output, std::ios::binary);
+    out.write(answer.body.data(), static_cast<std::streamsize>(answer.body.size()));
+    out.close();
+    if (!out) throw std::runtime_error(*output + ": cannot write");
+    std::printf("%s: %zu bytes\n", output->c_str(), answer.body.size());
+  });
+
+  auto duration = std::make_shared<int>(3000);
+  CLI::App* identify = node->add_subcommand("identify", "Blink the node's LED (or log a notice on it)");
+  identify->add_option("--duration-ms", *duration, "How long")->check(CLI::Range(100, 60000))->capture_default_str();
+  identify->callback([api, duration, path] {
+    const json answer = CallApiJson(*api, "POST", path("/identify"), json{{"duration_ms", *duration}});
+    std::printf("node %s: %s\n", Str(answer, "node").c_str(), Str(answer, "outcome").c_str());
+  });
+}
+
+// `mask auto|clear`.
+void AddMaskCommand(CLI::App& app) {
+  CLI::App* mask = app.add_subcommand("mask", "Camera masks for static reflections, through serve");
+  mask->require_subcommand(1);
+  auto api = std::make_shared<std::string>();
+  AddApiOption(*mask, api.get());
+  auto frames = std::make_shared<int>(100);
+  CLI::App* automatic = mask->add_subcommand("auto", "Mask what every camera keeps seeing (empty the volume first)");
+  automatic->add_option("--frames", *frames, "Frame sets to look at")->check(CLI::Range(10, 100000))->capture_default_str();
+  automatic->callback([api, frames] {
+    const json answer = CallApiJson(*api, "POST", "/api/masks/auto", json{{"frames", *frames}});
+    for (const json& camera : answer["cameras"])
+      std::printf("camera %s: %s static blobs found, %s masked regions\n", Str(camera, "camera_id").c_str(),
+                  Str(camera, "static_blobs_found").c_str(), Str(camera, "regions").c_str());
+    for (const json& node : answer["nodes"])
+      std::printf("node %s: %s\n", Str(node, "node").c_str(), Str(node, "outcome").c_str());
+  });
+  CLI::App* clear = mask->add_subcommand("clear", "Remove every camera's mask");
+  clear->callback([api] {
+    const json answer = CallApiJson(*api, "DELETE", "/api/masks");
+    for (const json& node : answer["nodes"])
+      std::printf("node %s: %s\n", Str(node, "node").c_str(), Str(node, "outcome").c_str());
+  });
+}
+
+// `capture start|stop`.
+void AddCaptureCommand(CLI::App& app) {
+  CLI::App* capture = app.add_subcommand("capture", "Start or stop a capture in serve");
+  capture->require_subcommand(1);
+  auto api = std::make_shared<std::string>();
+  AddApiOption(*capture, api.get());
+  auto name = std::make_shared<std::string>();
+  CLI::App* start = capture->add_subcommand("start", "Capture a named session");
+  start->add_option("name", *name, "Session name (letters, digits, . - _)")->required();
+  start->callback([api, name] {
+    const json answer = CallApiJson(*api, "POST", "/api/capture/start", json{{"name", *name}});
+    std::printf("capturing %s -> %s\n", Str(answer, "name").c_str(), Str(answer, "path").c_str());
+  });
+  CLI::App* stop = capture->add_subcommand("stop", "Stop the running capture");
+  stop->callback([api] {
+    const json answer = CallApiJson(*api, "POST", "/api/capture/stop");
+    std::printf("%s: %s frame sets in %.1f s -> %s\n", Str(answer, "name").c_str(), Str(answer, "frame_sets").c_str(),
+                answer["seconds"].get<double>(), Str(answer, "path").c_str());
+  });
+}
+
+// `sessions`: what serve has captured.
+void AddSessionsCommand(CLI::App& app) {
+  auto api = std::make_shared<std::string>();
+  auto as_json = std::make_shared<bool>(false);
+  CLI::App* c = app.add_subcommand("sessions", "The sessions serve has captured");
+  AddApiOption(*c, api.get());
+  c->add_flag("--json", *as_json, "Print the JSON answer");
+  c->callback([api, as_json] {
+    const json list = CallApiJson(*api, "GET", "/api/sessions");
+    if (*as_json) return Print(list);
+    for (const json& s : list)
+      std::printf("%-24s %-12s %8s frame sets  %s\n", Str(s, "name").c_str(), Str(s, "state").c_str(),
+                  Str(s, "frame_sets").c_str(), Str(s, "path").c_str());
+  });
+}
+
 }  // namespace
 
 void AddServiceClientCommands(CLI::App& app) {
-  {
-    auto api = std::make_shared<std::string>();
-    auto as_json = std::make_shared<bool>(false);
-    CLI::App* c = app.add_subcommand("status", "Ask a running serve how it is doing");
-    AddApiOption(*c, api.get());
-    c->add_flag("--json", *as_json, "Print the JSON answer");
-    c->callback([api, as_json] {
-      const json s = CallApiJson(*api, "GET", "/api/status");
-      *as_json ? Print(s) : PrintStatus(s);
-    });
-  }
-  {
-    auto api = std::make_shared<std::string>();
-    auto as_json = std::make_shared<bool>(false);
-    CLI::App* c = app.add_subcommand("nodes", "The node table of a running serve");
-    AddApiOption(*c, api.get());
-    c->add_flag("--json", *as_json, "Print the JSON answer");
-    c->callback([api, as_json] {
-      const json nodes = CallApiJson(*api, "GET", "/api/nodes");
-      *as_json ? Print(nodes) : PrintNodes(nodes);
-    });
-  }
-  {
-    CLI::App* node = app.add_subcommand("node", "Steer one node through serve: set, preview, identify");
-    node->require_subcommand(1);
-    auto api = std::make_shared<std::string>();
-    auto id = std::make_shared<uint32_t>(0);
-    AddApiOption(*node, api.get());
-    node->add_option("id", *id, "Node id")->required()->check(CLI::Range(1u, 4294967295u));
-    auto path = [id](const std::string& tail) { return "/api/nodes/" + std::to_string(*id) + tail; };
-
-    auto settings = std::make_shared<std::vector<std::string>>();
-    CLI::App* set = node->add_subcommand(
-        "set", "Change camera settings: threshold=N|auto exposure-us=N gain-milli=N brightness=PCT contrast=PCT");
-    set->add_option("settings", *settings, "KEY=VALUE ...")->required();
-    set->callback([api, settings, path] {
-      const json answer = CallApiJson(*api, "POST", path("/settings"), SettingsBody(*settings));
-      std::printf("node %s: %s%s\n", Str(answer, "node").c_str(), Str(answer, "outcome").c_str(),
-                  answer.value("reason", "").empty() ? "" : (" (" + answer["reason"].get<std::string>() + ")").c_str());
-    });
-
-    auto output = std::make_shared<std::string>();
-    auto mode = std::make_shared<std::string>("raw");
-    auto downscale = std::make_shared<int>(2);
-    CLI::App* preview = node->add_subcommand("preview", "Fetch the camera's image as PNG");
-    preview->add_option("-o,--output", *output, "PNG file to write")->required();
-    preview->add_option("--mode", *mode, "raw or thresholded")->check(CLI::IsMember({"raw", "thresholded"}))->capture_default_str();
-    preview->add_option("--downscale", *downscale, "1, 2, 4 or 8")->check(CLI::IsMember({1, 2, 4, 8}))->capture_default_str();
-    preview->callback([api, output, mode, downscale, path] {
-      const ApiAnswer answer = CallApi(*api, "GET", path("/preview?mode=" + *mode + "&downscale=" + std::to_string(*downscale)));
-      if (answer.status != 200) {
-        const json error = json::parse(answer.body, nullptr, false);
-        throw std::runtime_error((error.is_object() && error.contains("error") ? error["error"].dump() : answer.body) +
-                                 " (HTTP " + std::to_string(answer.status) + ")");
-      }
-      std::ofstream out(*output, std::ios::binary);
-      out.write(answer.body.data(), static_cast<std::streamsize>(answer.body.size()));
-      out.close();
-      if (!out) throw std::runtime_error(*output + ": cannot write");
-      std::printf("%s: %zu bytes\n", output->c_str(), answer.body.size());
-    });
-
-    auto duration = std::make_shared<int>(3000);
-    CLI::App* identify = node->add_subcommand("identify", "Blink the node's LED (or log a notice on it)");
-    identify->add_option("--duration-ms", *duration, "How long")->check(CLI::Range(100, 60000))->capture_default_str();
-    identify->callback([api, duration, path] {
-      const json answer = CallApiJson(*api, "POST", path("/identify"), json{{"duration_ms", *duration}});
-      std::printf("node %s: %s\n", Str(answer, "node").c_str(), Str(answer, "outcome").c_str());
-    });
-  }
-  {
-    CLI::App* mask = app.add_subcommand("mask", "Camera masks for static reflections, through serve");
-    mask->require_subcommand(1);
-    auto api = std::make_shared<std::string>();
-    AddApiOption(*mask, api.get());
-    auto frames = std::make_shared<int>(100);
-    CLI::App* automatic = mask->add_subcommand("auto", "Mask what every camera keeps seeing (empty the volume first)");
-    automatic->add_option("--frames", *frames, "Frame sets to look at")->check(CLI::Range(10, 100000))->capture_default_str();
-    automatic->callback([api, frames] {
-      const json answer = CallApiJson(*api, "POST", "/api/masks/auto", json{{"frames", *frames}});
-      for (const json& camera : answer["cameras"])
-        std::printf("camera %s: %s static blobs found, %s masked regions\n", Str(camera, "camera_id").c_str(),
-                    Str(camera, "static_blobs_found").c_str(), Str(camera, "regions").c_str());
-      for (const json& node : answer["nodes"])
-        std::printf("node %s: %s\n", Str(node, "node").c_str(), Str(node, "outcome").c_str());
-    });
-    CLI::App* clear = mask->add_subcommand("clear", "Remove every camera's mask");
-    clear->callback([api] {
-      const json answer = CallApiJson(*api, "DELETE", "/api/masks");
-      for (const json& node : answer["nodes"])
-        std::printf("node %s: %s\n", Str(node, "node").c_str(), Str(node, "outcome").c_str());
-    });
-  }
-  {
-    CLI::App* capture = app.add_subcommand("capture", "Start or stop a capture in serve");
-    capture->require_subcommand(1);
-    auto api = std::make_shared<std::string>();
-    AddApiOption(*capture, api.get());
-    auto name = std::make_shared<std::string>();
-    CLI::App* start = capture->add_subcommand("start", "Capture a named session");
-    start->add_option("name", *name, "Session name (letters, digits, . - _)")->required();
-    start->callback([api, name] {
-      const json answer = CallApiJson(*api, "POST", "/api/capture/start", json{{"name", *name}});
-      std::printf("capturing %s -> %s\n", Str(answer, "name").c_str(), Str(answer, "path").c_str());
-    });
-    CLI::App* stop = capture->add_subcommand("stop", "Stop the running capture");
-    stop->callback([api] {
-      const json answer = CallApiJson(*api, "POST", "/api/capture/stop");
-      std::printf("%s: %s frame sets in %.1f s -> %s\n", Str(answer, "name").c_str(), Str(answer, "frame_sets").c_str(),
-                  answer["seconds"].get<double>(), Str(answer, "path").c_str());
-    });
-  }
-  {
-    auto api = std::make_shared<std::string>();
-    auto as_json = std::make_shared<bool>(false);
-    CLI::App* c = app.add_subcommand("sessions", "The sessions serve has captured");
-    AddApiOption(*c, api.get());
-    c->add_flag("--json", *as_json, "Print the JSON answer");
-    c->callback([api, as_json] {
-      const json list = CallApiJson(*api, "GET", "/api/sessions");
-      if (*as_json) return Print(list);
-      for (const json& s : list)
-        std::printf("%-24s %-12s %8s frame sets  %s\n", Str(s, "name").c_str(), Str(s, "state").c_str(),
-                    Str(s, "frame_sets").c_str(), Str(s, "path").c_str());
-    });
-  }
+  AddStatusCommand(app);
+  AddNodesCommand(app);
+  AddNodeCommand(app);
+  AddMaskCommand(app);
+  AddCaptureCommand(app);
+  AddSessionsCommand(app);
 }
 
 }  // namespace mocap

@@ -50,7 +50,6 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
   const uint64_t start = RealtimeNowNs();
   const uint64_t end = options_.duration_s > 0 ? start + uint64_t(options_.duration_s * 1e9) : 0;
   uint64_t last_datagram = 0, last_flush = start;
-  Datagram d;
   while (!(stop && stop->load())) {
     const uint64_t now = RealtimeNowNs();
     if (end && now >= end) break;
@@ -60,11 +59,12 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
       break;
     Announce(now);
     ingest_.auth().ReloadIfChanged(now);
-    // Drain everything queued, then hand out what is complete or overdue.
-    while (socket_.Receive(&d, 2)) {
+    // serve's receive step (UdpSocket::Drain): a first datagram waited for briefly, then what is
+    // queued, bounded; then what is complete or overdue is handed out.
+    socket_.Drain(1, UdpSocket::kDrainMax, [&](const Datagram& d) {
       last_datagram = RealtimeNowNs();
       ingest_.Add(d, session);
-    }
+    });
     const uint64_t after = RealtimeNowNs();
     Emit(ingest_.Collect(after), on_set);
     // Raw log: flushed at least every 50 ms so a crash loses little.

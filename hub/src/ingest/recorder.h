@@ -1,4 +1,5 @@
-// A live recording for scripts (`record`): receives datagrams on its socket, hands each to the
+// A live recording for scripts (`record`): receives datagrams on its socket with serve's receive
+// step (UdpSocket::Drain), hands each to the
 // shared FrameIngest (validated, logged into the session as received, assembled into frame sets
 // with a deadline) and each set to the caller (reconstruction, TRC streaming); announces the hub
 // and stops on its limits. Bad input is counted per node, never fatal.

@@ -104,6 +104,17 @@ uint16_t UdpSocket::port() const {
   return ntohs(addr.sin_port);
 }
 
+size_t UdpSocket::Drain(int first_wait_ms, size_t max_datagrams,
+                        const std::function<void(const Datagram&)>& handle) {
+  Datagram d;
+  size_t n = 0;
+  while (n < max_datagrams && Receive(&d, n == 0 ? first_wait_ms : 0)) {
+    ++n;
+    handle(d);
+  }
+  return n;
+}
+
 bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
   pollfd pfd{fd_, POLLIN, 0};
   const int ready = poll(&pfd, 1, timeout_ms);

@@ -4,7 +4,9 @@
 
 #include <netinet/in.h>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,11 @@ class UdpSocket {
   static constexpr size_t kMaxDatagram = 65507;
   // Waits up to timeout_ms for one datagram; false on timeout or EINTR.
   bool Receive(Datagram* datagram, int timeout_ms);
+  // The receive step of the hub's loops (serve's and record's): waits up to first_wait_ms for a
+  // first datagram, then takes what is queued without waiting, at most max_datagrams, so that a
+  // flood still leaves the loop its other work; each goes to `handle`. Returns how many came.
+  size_t Drain(int first_wait_ms, size_t max_datagrams, const std::function<void(const Datagram&)>& handle);
+  static constexpr size_t kDrainMax = 4096;  // the loops' bound
   // Best effort: a full send buffer or an unreachable peer is reported by the return value.
   bool SendTo(const HostPort& to, const std::vector<uint8_t>& bytes);
   bool SendTo(const sockaddr_in& to, const uint8_t* bytes, size_t size);

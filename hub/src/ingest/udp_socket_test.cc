@@ -12,6 +12,19 @@ namespace {
 
 HostPort Loopback(uint16_t port) { return HostPort{"127.0.0.1", port}; }
 
+TEST(UdpSocket, DrainTakesWhatIsQueuedUpToItsBound) {
+  UdpSocket receiver, sender;
+  receiver.Bind(Loopback(0));
+  sender.Bind(Loopback(0));
+  for (uint8_t i = 0; i < 5; ++i) ASSERT_TRUE(sender.SendTo(Loopback(receiver.port()), {i}));
+  std::vector<uint8_t> got;
+  const auto keep = [&got](const Datagram& d) { got.push_back(d.bytes.at(0)); };
+  EXPECT_EQ(receiver.Drain(1000, 3, keep), 3u);  // the bound: the rest waits for the next turn
+  EXPECT_EQ(receiver.Drain(1000, 10, keep), 2u);
+  EXPECT_EQ(got, (std::vector<uint8_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(receiver.Drain(0, 10, keep), 0u);  // nothing queued, no wait
+}
+
 TEST(UdpSocket, ReceivesEachDatagramAtItsLengthWithSender) {
   UdpSocket receiver, sender;
   receiver.Bind(Loopback(0));

@@ -97,17 +97,17 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     std::lock_guard<std::mutex> lock(tasks_mutex_);
     running_ = true;
   }
-  Datagram d;
   while (!stop.load()) {
     RunTasks();
     // Wait briefly for the first datagram (not at all while a frame set is arriving and the busy
     // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
     // flood too).
     const int wait_ms = busy_poll_until_ns_ != 0 && RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
-    for (int n = 0; n < 4096 && socket_.Receive(&d, n == 0 ? wait_ms : 0); ++n) HandleDatagram(d);
+    socket_.Drain(wait_ms, UdpSocket::kDrainMax, [this](const Datagram& d) { HandleDatagram(d); });
     const uint64_t now = RealtimeNowNs();
     for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
     Tick(now);
+    subscribers_.NoticeCapture(captures_.running(), captures_.name());
     if (on_turn) on_turn(now);
   }
   for (const FrameSet& set : ingest_.Flush()) Publish(set);
@@ -126,6 +126,7 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
       log::Error("capture at shutdown: {}", e.what());
     }
   }
+  subscribers_.NoticeCapture(captures_.running(), captures_.name());
 }
 
 void HubService::RunTasks() {
@@ -202,11 +203,8 @@ void HubService::Publish(const FrameSet& set) {
   const uint64_t start_ns = RealtimeNowNs();
   if (wanding_.collecting()) wanding_.Add(set);
   const pipeline::LiveFrame& frame = live_->Process(set, RealtimeNowNs);
-  {
-    // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
-    std::lock_guard<std::mutex> lock(subscribers_mutex_);
-    for (auto& [id, subscriber] : subscribers_) subscriber(frame);
-  }
+  // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
+  subscribers_.Publish(frame);
   published_.Add(set, frame, rig_.cameras.size(), start_ns);
   if (captures_.running()) captures_.AddPublished(frame);
   if (calibration_monitor_) calibration_monitor_->Add(set, live_->reconstructor());
@@ -410,6 +408,11 @@ nlohmann::json HubService::Status() {
 void HubService::AddStatusSection(const std::string& name, std::function<nlohmann::json()> section) {
   std::lock_guard<std::mutex> lock(status_sections_mutex_);
   status_sections_[name] = std::move(section);
+}
+
+void HubService::RemoveStatusSection(const std::string& name) {
+  std::lock_guard<std::mutex> lock(status_sections_mutex_);
+  status_sections_.erase(name);
 }
 
 nlohmann::json HubService::Nodes() {
@@ -685,18 +688,6 @@ void HubService::UseRig(const Rig& rig, const std::string& source) {
   if (monitoring)
     calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
   captures_.SetCalibrationFile(source);
-}
-
-int HubService::Subscribe(Subscriber subscriber) {
-  std::lock_guard<std::mutex> lock(subscribers_mutex_);
-  const int id = next_subscriber_++;
-  subscribers_[id] = std::move(subscriber);
-  return id;
-}
-
-void HubService::Unsubscribe(int id) {
-  std::lock_guard<std::mutex> lock(subscribers_mutex_);
-  subscribers_.erase(id);
 }
 
 }  // namespace mocap::service

@@ -39,6 +39,7 @@
 #include "service/capture.h"
 #include "service/control_requests.h"
 #include "service/calibration_monitor.h"
+#include "service/live_subscribers.h"
 #include "service/live_wanding.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
@@ -52,7 +53,8 @@ namespace mocap::service {
 
 class HubService : public ServiceApi {
  public:
-  using Subscriber = std::function<void(const pipeline::LiveFrame&)>;
+  using Subscriber = LiveSubscribers::FrameSubscriber;
+  using CaptureListener = LiveSubscribers::CaptureListener;
 
   // Loads the calibration and the mask file; throws std::invalid_argument / std::runtime_error.
   explicit HubService(ServeOptions options);
@@ -100,11 +102,15 @@ class HubService : public ServiceApi {
   // The monitor's accepted solve of one camera into the live reconstruction (409 without one).
   nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override;
 
-  int Subscribe(Subscriber subscriber);
-  void Unsubscribe(int id);
+  // Every published frame, and every capture's start and stop (live_subscribers.h), called on the
+  // loop; Unsubscribe takes either's id.
+  int Subscribe(Subscriber subscriber) { return subscribers_.AddFrames(std::move(subscriber)); }
+  int SubscribeCaptures(CaptureListener listener) { return subscribers_.AddCaptures(std::move(listener)); }
+  void Unsubscribe(int id) { subscribers_.Remove(id); }
   // Status() carries section() under `name` (the streams' figures); any thread, any time;
   // section() runs on the loop, so it must be quick and thread-safe.
   void AddStatusSection(const std::string& name, std::function<nlohmann::json()> section);
+  void RemoveStatusSection(const std::string& name);
 
  private:
   // Runs f on the loop thread and returns its result (or rethrows its exception).
@@ -179,9 +185,7 @@ class HubService : public ServiceApi {
   std::mutex status_sections_mutex_;
   std::map<std::string, std::function<nlohmann::json()>> status_sections_;
 
-  std::mutex subscribers_mutex_;
-  std::map<int, Subscriber> subscribers_;
-  int next_subscriber_ = 1;
+  LiveSubscribers subscribers_;
 };
 
 }  // namespace mocap::service

@@ -25,6 +25,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "stream/frame_queue.h"
+#include "stream/stream_sink.h"
 #include "stream/stream_encoding.h"
 
 namespace mocap::stream {
@@ -55,16 +56,16 @@ struct OscMessageShape {
 };
 std::vector<OscMessageShape> OscBundleShape(const pipeline::LiveFrame& frame, uint32_t parts);
 
-class OscSender {
+class OscSender : public StreamSink {
  public:
   explicit OscSender(OscOptions options);
-  ~OscSender();
+  ~OscSender() override;
   OscSender(const OscSender&) = delete;
   OscSender& operator=(const OscSender&) = delete;
 
-  void Publish(SharedFrame frame) { queue_.Push(std::move(frame)); }
+  void Publish(SharedFrame frame) override { queue_.Push(std::move(frame)); }
   OscStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   struct Targets;

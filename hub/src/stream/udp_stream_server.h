@@ -22,6 +22,7 @@
 
 #include "ingest/udp_socket.h"
 #include "stream/frame_queue.h"
+#include "stream/stream_sink.h"
 #include "stream/stream_encoding.h"
 #include "stream/subscriber_table.h"
 #include "stream/subscription_guard.h"
@@ -57,17 +58,17 @@ struct UdpStreamStats {
   uint64_t points_dropped = 0;       // points left out to fit a datagram
 };
 
-class UdpStreamServer {
+class UdpStreamServer : public StreamSink {
  public:
   explicit UdpStreamServer(UdpStreamOptions options);
-  ~UdpStreamServer();
+  ~UdpStreamServer() override;
   UdpStreamServer(const UdpStreamServer&) = delete;
   UdpStreamServer& operator=(const UdpStreamServer&) = delete;
 
   uint16_t port() const { return socket_.port(); }
-  void Publish(SharedFrame frame);
+  void Publish(SharedFrame frame) override;
   UdpStreamStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   void Run();

@@ -26,6 +26,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "stream/frame_queue.h"
+#include "stream/stream_sink.h"
 #include "util/latency_sample.h"
 
 namespace mocap::stream {
@@ -58,16 +59,16 @@ struct VmcStats {
   uint64_t frames_dropped = 0;
 };
 
-class VmcSender {
+class VmcSender : public StreamSink {
  public:
   explicit VmcSender(VmcOptions options);
-  ~VmcSender();
+  ~VmcSender() override;
   VmcSender(const VmcSender&) = delete;
   VmcSender& operator=(const VmcSender&) = delete;
 
-  void Publish(SharedFrame frame) { queue_.Push(std::move(frame)); }
+  void Publish(SharedFrame frame) override { queue_.Push(std::move(frame)); }
   VmcStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   struct Target;

@@ -26,6 +26,7 @@
 
 #include "ingest/udp_socket.h"
 #include "stream/polled_frame_queue.h"
+#include "stream/stream_sink.h"
 #include "stream/natnet/natnet_commands.h"
 #include "util/latency_sample.h"
 
@@ -55,17 +56,17 @@ struct NatNetStats {
   uint64_t points_dropped = 0;   // left out to fit a datagram
 };
 
-class NatNetServer {
+class NatNetServer : public StreamSink {
  public:
   NatNetServer(NatNetOptions options, Model model);
-  ~NatNetServer();
+  ~NatNetServer() override;
   NatNetServer(const NatNetServer&) = delete;
   NatNetServer& operator=(const NatNetServer&) = delete;
 
   uint16_t port() const { return socket_.port(); }
-  void Publish(SharedFrame frame);
+  void Publish(SharedFrame frame) override;
   NatNetStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   struct Client {

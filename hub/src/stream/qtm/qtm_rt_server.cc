@@ -77,7 +77,6 @@ void QtmRtOptions::Check() const {
   if (client_socket_bytes < 4096) throw std::invalid_argument("qtm-rt: client socket buffer must be >= 4096 bytes");
   if (queue_frames == 0) throw std::invalid_argument("qtm-rt: queue must hold at least one frame");
   if (!(silence_s > 0.0)) throw std::invalid_argument("qtm-rt: silence must be > 0 s");
-  if (!(capture_poll_s > 0.0)) throw std::invalid_argument("qtm-rt: capture poll interval must be > 0 s");
 }
 
 QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
@@ -112,16 +111,10 @@ QtmRtServer::QtmRtServer(QtmRtOptions options, RtSystem system)
     throw error;
   }
   thread_ = std::thread([this] { Run(); });
-  if (options_.capturing) watcher_ = std::thread([this] { WatchCapture(); });
 }
 
 QtmRtServer::~QtmRtServer() {
-  {
-    std::lock_guard<std::mutex> lock(watch_mutex_);
-    stop_ = true;
-  }
-  watch_wake_.notify_all();
-  if (watcher_.joinable()) watcher_.join();
+  stop_ = true;
   queue_.Wake();
   if (thread_.joinable()) thread_.join();
   close(listen_fd_);
@@ -340,20 +333,9 @@ void QtmRtServer::TakeFrames() {
   }
 }
 
-void QtmRtServer::WatchCapture() {
-  std::unique_lock<std::mutex> lock(watch_mutex_);
-  while (!stop_) {
-    lock.unlock();
-    int state = 0;
-    try {
-      state = options_.capturing() ? 2 : 1;
-    } catch (const std::exception& e) {
-      log::Debug("Qualisys RT: capture state unknown: {}", e.what());
-    }
-    if (state && capture_state_.exchange(state) != state) queue_.Wake();
-    lock.lock();
-    watch_wake_.wait_for(lock, std::chrono::duration<double>(options_.capture_poll_s), [this] { return stop_.load(); });
-  }
+void QtmRtServer::OnCapture(const pipeline::CaptureEvent& event) {
+  const int state = event.kind == pipeline::CaptureEvent::Kind::kStarted ? 2 : 1;
+  if (capture_state_.exchange(state) != state) queue_.Wake();
 }
 
 void QtmRtServer::TakeCaptureState() {

@@ -7,7 +7,7 @@
 // a wake-up eventfd; Publish() (the hub's loop) only queues the shared frame and wakes it.
 // Events: Connected when frames start to flow, Connection Closed when none came for
 // `silence_s` (both: the hub's camera system as QTM reports its own), Capture Started / Stopped
-// when the hub's capture (mocap-hub capture start/stop) does, QTM Shutting Down when the server
+// when the hub's capture (mocap-hub capture start/stop) does (OnCapture, the hub's event), QTM Shutting Down when the server
 // stops.
 // Slow consumers: a client's queued bytes are bounded; a streamed frame that does not fit is
 // dropped for that client only (whole frames), a client that does not even read its answers is
@@ -16,9 +16,7 @@
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -28,6 +26,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "stream/polled_frame_queue.h"
+#include "stream/stream_sink.h"
 #include "stream/qtm/rt_session.h"
 
 namespace mocap::stream::qtm {
@@ -45,11 +44,6 @@ struct QtmRtOptions {
   int client_socket_bytes = 64 * 1024;
   size_t queue_frames = 64;                 // frames between the hub's loop and this thread
   double silence_s = 1.0;                   // no frame this long: Connection Closed
-  // Whether the hub records a capture, asked every capture_poll_s on a thread of its own (it
-  // may wait for the hub's loop; it may throw, which counts as no answer). Unset: no capture
-  // events.
-  std::function<bool()> capturing;
-  double capture_poll_s = 0.5;
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
@@ -72,17 +66,20 @@ struct QtmRtStats {
 RtSystem LoadRtSystem(const std::string& calibration_path, double rate_hz, const std::string& bodies_file = "",
                       const std::string& labels_file = "");
 
-class QtmRtServer {
+class QtmRtServer : public StreamSink {
  public:
   QtmRtServer(QtmRtOptions options, RtSystem system);
-  ~QtmRtServer();
+  ~QtmRtServer() override;
   QtmRtServer(const QtmRtServer&) = delete;
   QtmRtServer& operator=(const QtmRtServer&) = delete;
 
   uint16_t port() const { return port_; }
-  void Publish(SharedFrame frame);
+  void Publish(SharedFrame frame) override;
+  // The hub's capture started or stopped: clients hear Capture Started / Stopped (the server's
+  // thread sends it; this only records the state and wakes it).
+  void OnCapture(const pipeline::CaptureEvent& event) override;
   QtmRtStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   struct Client;
@@ -95,7 +92,6 @@ class QtmRtServer {
   void TakeFrames();
   void Broadcast(RtEvent event);
   void CloseDead();
-  void WatchCapture();
   void TakeCaptureState();
 
   const QtmRtOptions options_;
@@ -109,10 +105,7 @@ class QtmRtServer {
   mutable std::mutex stats_mutex_;
   QtmRtStats stats_;
   std::atomic<bool> stop_{false};
-  std::atomic<int> capture_state_{0};  // from the watcher: 0 unknown, 1 idle, 2 capturing
-  std::mutex watch_mutex_;
-  std::condition_variable watch_wake_;
-  std::thread watcher_;
+  std::atomic<int> capture_state_{0};  // from OnCapture: 0 none heard yet, 1 idle, 2 capturing
   std::thread thread_;
 };
 

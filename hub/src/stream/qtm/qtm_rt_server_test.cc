@@ -8,7 +8,6 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -215,19 +214,16 @@ TEST(QtmRtServer, ClientsVanishingMidStreamAndTheShutdownEvent) {
   EXPECT_TRUE(last.eof());
 }
 
-TEST(QtmRtServer, CaptureEventsFollowTheProbe) {
-  std::atomic<bool> capturing{false};
-  QtmRtOptions o = Loopback();
-  o.capturing = [&] { return capturing.load(); };
-  o.capture_poll_s = 0.02;
-  QtmRtServer server(o, TwoCameras());
+TEST(QtmRtServer, CaptureEventsFollowTheHubsEvents) {
+  QtmRtServer server(Loopback(), TwoCameras());
   TestClient c(server.port());
   EXPECT_EQ(c.Next().type, 1u);
-  capturing = true;
+  server.OnCapture({pipeline::CaptureEvent::Kind::kStopped, "before"});  // idle already: nothing to tell
+  server.OnCapture({pipeline::CaptureEvent::Kind::kStarted, "walk"});
   EXPECT_EQ(c.Next().body, std::string(1, 3));  // Capture Started
   c.Send("GetState");
   EXPECT_EQ(c.Next().body, std::string(1, 3));
-  capturing = false;
+  server.OnCapture({pipeline::CaptureEvent::Kind::kStopped, "walk"});
   EXPECT_EQ(c.Next().body, std::string(1, 4));  // Capture Stopped
   c.Send("GetState");
   EXPECT_EQ(c.Next().body, std::string(1, 2));  // and no frames: Connection Closed

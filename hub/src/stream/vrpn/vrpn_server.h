@@ -34,6 +34,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "stream/polled_frame_queue.h"
+#include "stream/stream_sink.h"
 #include "stream/vrpn/vrpn_protocol.h"
 #include "util/latency_sample.h"
 
@@ -60,18 +61,18 @@ struct VrpnStats {
   uint64_t frames_dropped = 0;  // a slow client's, and this thread falling behind the hub
 };
 
-class VrpnServer {
+class VrpnServer : public StreamSink {
  public:
   // trackers: the rigid bodies' names in the bodies file's order (LiveBody id - 1).
   VrpnServer(VrpnOptions options, std::vector<std::string> trackers);
-  ~VrpnServer();
+  ~VrpnServer() override;
   VrpnServer(const VrpnServer&) = delete;
   VrpnServer& operator=(const VrpnServer&) = delete;
 
   uint16_t port() const { return port_; }
-  void Publish(SharedFrame frame);
+  void Publish(SharedFrame frame) override;
   VrpnStats stats() const;
-  nlohmann::json StatsJson() const;
+  nlohmann::json StatsJson() const override;
 
  private:
   struct Client;
