@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from live_rig import SIM_FAULTS, run  # noqa: E402
 
 BIN, WORK, MOTION = sys.argv[1:4]
+SKIPPED = 77  # ctest's SKIP_RETURN_CODE for this test
 
 
 def hub(*args):
@@ -76,4 +77,7 @@ class DenseMarkers(unittest.TestCase):
 
 
 if __name__ == "__main__":
+    if not os.path.isfile(MOTION):
+        print(f"skipped: ../shared/data missing (no {MOTION})")
+        sys.exit(SKIPPED)
     unittest.main(argv=sys.argv[:1], verbosity=2)
