@@ -2,14 +2,16 @@
 // from hdm_bd.trc's names, hdm_mm.trc (another person) calibrated from its own first 2 s and
 // solved over its 20 s. The legs stand still in those 2 s: calibration refuses unless told to
 // keep the template's centres. The issue's targets (RMS <= 10 mm, max <= 30 mm) are NOT reached
-// yet (12.3 mm, max 138 mm: the legs' template centres, docs/skeletons.md); asserted: every frame solved
-// and the RMS reached today with a little room, so that a regression shows.
+// yet (12.3 mm, max 138 mm: the legs' template centres, docs/skeletons.md): an expected failure;
+// asserted too: every frame solved and the RMS reached today with a little room, so that a
+// regression shows.
 #include <cstdio>
 #include <filesystem>
 
 #include <gtest/gtest.h>
 
 #include "io/trc.h"
+#include "simcore/expected_failure.h"
 #include "skeleton/skeleton_space.h"
 #include "skeleton/skeleton_template.h"
 #include "skeleton/subject_calibration.h"
@@ -37,6 +39,10 @@ TEST(RealSubjects, HdmTemplateCalibratedOnAnotherPerson) {
               solve.max_mm, 1000.0 * solve.seconds / markers.NumFrames());
   EXPECT_EQ(solve.solved_frames, markers.NumFrames());
   EXPECT_LE(solve.rms_mm, 14.0);
+  testing::ExpectFailure("issue 36: marker residual RMS <= 10 mm, max <= 30 mm", [&] {
+    EXPECT_LE(solve.rms_mm, 10.0);
+    EXPECT_LE(solve.max_mm, 30.0);
+  });
 }
 
 }  // namespace

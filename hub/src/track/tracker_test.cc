@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "recon/reconstructor.h"
+#include "simcore/expected_failure.h"
 #include "simcore/test_scenes.h"
 #include "track/gap_filler.h"
 #include "track/track_eval_testing.h"
@@ -131,7 +132,8 @@ TEST(Tracker, IdSurvivesFullOcclusionThroughRigidModel) {
 // Every camera loses every marker for 250 ms (the frame sets arrive empty, or none arrive): the
 // tracks are held and found again on their predictions, each marker under the id it had before,
 // live and in the output columns. (Not yet met: 4 cameras with 0.2 px of noise, where three
-// markers of one spinning body trade ids: hub/src/recon/README.md, tracking.)
+// markers of one spinning body trade ids: hub/src/recon/README.md, tracking; an expected failure
+// below.)
 void ExpectIdsKeptThroughDropOut(bool frame_sets_arrive, int cameras, double noise_px) {
   const double rate_hz = 60.0;
   const int first = 150, last = first + static_cast<int>(0.25 * rate_hz);  // [first, last) lost
@@ -165,6 +167,13 @@ TEST(Tracker, IdsKeptThroughADropOutOfEveryCamera) {
     ExpectIdsKeptThroughDropOut(true, cameras, noise_px);
     ExpectIdsKeptThroughDropOut(false, cameras, noise_px);
   }
+}
+
+TEST(Tracker, IdsKeptThroughADropOutOfFourNoisyCamerasIsNotMetYet) {
+  testing::ExpectFailure("ids kept through a drop-out of every camera, 4 cameras with 0.2 px of noise", [] {
+    ExpectIdsKeptThroughDropOut(true, 4, 0.2);
+    ExpectIdsKeptThroughDropOut(false, 4, 0.2);
+  });
 }
 
 TEST(Tracker, GreedyAssignmentAlsoTracks) {
