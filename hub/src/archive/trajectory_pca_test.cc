@@ -133,7 +133,7 @@ TEST(TrajectoryPca, OptionsRefuseOutOfRangeValues) {
 
 TEST(TrajectoryPca, SharedRecordingsStayWithinTheBound) {
   const std::string dir = std::string(MOCAP_SHARED_DIR) + "/data/motions";
-  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "no shared data at " << dir;
+  if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << "../shared/data missing: no " << dir;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.path().extension() != ".trc") continue;
     const MarkerTrajectories motion = ReadTrc(entry.path().string());

@@ -299,7 +299,7 @@ TEST(TrcTest, AFileCutInsideItsLastRowIsRefusedNamingTheRow) {
 TEST(TrcTest, SharedRealMotions) {
   const std::string dir = std::string(MOCAP_SHARED_DIR) + "/data/motions";
   if (!std::filesystem::exists(dir)) {
-    GTEST_SKIP() << "no shared data at " << dir;
+    GTEST_SKIP() << "../shared/data missing: no " << dir;
   }
   const testing::TemporaryDirectory temp("trc_test");
   struct Expected {

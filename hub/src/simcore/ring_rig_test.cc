@@ -107,7 +107,7 @@ TEST(RingRigTest, SeededAndOptionsChecked) {
 // OptiTrack serve and a Z-up walk with gaps; an 8-camera ring must see every marker everywhere.
 TEST(RingRigTest, SharedRealMotions) {
   const std::string dir = std::string(MOCAP_SHARED_DIR) + "/data/motions";
-  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "no shared data at " << dir;
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "../shared/data missing: no " << dir;
   for (const auto& [file, up] : {std::pair<const char*, int>{"walk.trc", 1}, {"running.trc", 1},
                                  {"tennis_serve.trc", 2}, {"gaps_blank_cells.trc", 2}}) {
     SCOPED_TRACE(file);

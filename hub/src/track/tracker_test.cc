@@ -8,8 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "recon/reconstructor.h"
+#include "simcore/expected_failure.h"
 #include "simcore/test_scenes.h"
 #include "track/gap_filler.h"
+#include "track/track_eval_testing.h"
 
 namespace mocap {
 namespace {
@@ -21,6 +23,7 @@ struct RunResult {
   std::vector<std::vector<uint64_t>> live_ids;
   int live_ghosts = 0;  // points published farther than 5 mm from every truth marker
   int markers_output = 0;
+  double rate_hz = 0.0;
 };
 
 // hide(frame, marker) removes a marker's blobs from every camera; frames where skip(frame) holds
@@ -35,6 +38,7 @@ RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFault
   tracker_options.rate_hz = rate_hz;
   Tracker tracker(tracker_options);
   RunResult result;
+  result.rate_hz = rate_hz;
   GapFiller filler(GapFillOptions(), [&](uint64_t frame, const std::vector<TrackSample>& row) {
     result.rows[frame] = row;
   });
@@ -76,48 +80,9 @@ RunResult RunPipeline(int frames, double rate_hz, const testing::ProjectionFault
   return result;
 }
 
-struct Metrics {
-  double rmse = 0.0;
-  int ghosts = 0;
-  int missing = 0;
-  int swaps = 0;
-};
-
-// Each output sample to its nearest truth marker within 20 mm (markers are > 40 mm apart).
-Metrics Evaluate(const RunResult& run, int first_frame) {
-  Metrics metrics;
-  double sum_squares = 0.0;
-  int matched = 0;
-  std::map<int, int> truth_of_marker;
-  for (const auto& [frame, row] : run.rows) {
-    if (static_cast<int>(frame) < first_frame) continue;
-    const auto& truth = run.truth[frame];
-    std::vector<bool> found(truth.size(), false);
-    for (const TrackSample& sample : row) {
-      int best = -1;
-      double best_distance = 20.0;
-      for (size_t t = 0; t < truth.size(); ++t) {
-        const double d = (sample.position - truth[t]).norm();
-        if (d < best_distance) {
-          best_distance = d;
-          best = static_cast<int>(t);
-        }
-      }
-      if (best < 0 || found[best]) {
-        ++metrics.ghosts;
-        continue;
-      }
-      found[best] = true;
-      sum_squares += best_distance * best_distance;
-      ++matched;
-      auto it = truth_of_marker.find(sample.marker);
-      if (it != truth_of_marker.end() && it->second != best) ++metrics.swaps;
-      truth_of_marker[sample.marker] = best;
-    }
-    for (bool f : found) metrics.missing += f ? 0 : 1;
-  }
-  metrics.rmse = std::sqrt(sum_squares / std::max(1, matched));
-  return metrics;
+// Scored by eval's matching (one-to-one, minimum total distance, gated at 20 mm), from first_frame.
+MarkerEvalReport Evaluate(const RunResult& run, int first_frame) {
+  return testing::EvaluateTrackRows(run.rows, run.truth, run.rate_hz, first_frame);
 }
 
 TEST(Tracker, NoisyMotionWithFaultsGivesCleanTrajectories) {
@@ -128,11 +93,11 @@ TEST(Tracker, NoisyMotionWithFaultsGivesCleanTrajectories) {
   faults.spurious = 2;
   faults.drop_frames = 0.002;
   const RunResult run = RunPipeline(400, 120.0, faults, [](int, int) { return false; });
-  const Metrics metrics = Evaluate(run, 5);
-  EXPECT_LT(metrics.rmse, 1.0);
-  EXPECT_LE(metrics.ghosts, 4);      // 0.01 per frame
-  EXPECT_LE(metrics.missing, 2);     // 0.005 per frame
-  EXPECT_EQ(metrics.swaps, 0);
+  const MarkerEvalReport metrics = Evaluate(run, 5);
+  EXPECT_LT(metrics.rmse_mm, 1.0);
+  EXPECT_LE(metrics.ghosts, 4u);      // 0.01 per frame
+  EXPECT_LE(metrics.missing, 2u);     // 0.005 per frame
+  EXPECT_EQ(metrics.swaps, 0u);
   EXPECT_LE(run.markers_output, 28);  // 1.2 x 24 markers
   EXPECT_GE(run.markers_output, 24);
 }
@@ -167,7 +132,8 @@ TEST(Tracker, IdSurvivesFullOcclusionThroughRigidModel) {
 // Every camera loses every marker for 250 ms (the frame sets arrive empty, or none arrive): the
 // tracks are held and found again on their predictions, each marker under the id it had before,
 // live and in the output columns. (Not yet met: 4 cameras with 0.2 px of noise, where three
-// markers of one spinning body trade ids: hub/src/recon/README.md, tracking.)
+// markers of one spinning body trade ids: hub/src/recon/README.md, tracking; an expected failure
+// below.)
 void ExpectIdsKeptThroughDropOut(bool frame_sets_arrive, int cameras, double noise_px) {
   const double rate_hz = 60.0;
   const int first = 150, last = first + static_cast<int>(0.25 * rate_hz);  // [first, last) lost
@@ -189,9 +155,9 @@ void ExpectIdsKeptThroughDropOut(bool frame_sets_arrive, int cameras, double noi
       }
     }
   }
-  const Metrics metrics = Evaluate(run, 5);
-  EXPECT_EQ(metrics.swaps, 0);
-  EXPECT_EQ(metrics.ghosts, 0);
+  const MarkerEvalReport metrics = Evaluate(run, 5);
+  EXPECT_EQ(metrics.swaps, 0u);
+  EXPECT_EQ(metrics.ghosts, 0u);
   EXPECT_EQ(run.live_ghosts, 0);
 }
 
@@ -203,16 +169,23 @@ TEST(Tracker, IdsKeptThroughADropOutOfEveryCamera) {
   }
 }
 
+TEST(Tracker, IdsKeptThroughADropOutOfFourNoisyCamerasIsNotMetYet) {
+  testing::ExpectFailure("ids kept through a drop-out of every camera, 4 cameras with 0.2 px of noise", [] {
+    ExpectIdsKeptThroughDropOut(true, 4, 0.2);
+    ExpectIdsKeptThroughDropOut(false, 4, 0.2);
+  });
+}
+
 TEST(Tracker, GreedyAssignmentAlsoTracks) {
   TrackerOptions options;
   options.assignment = AssignmentMethod::kGreedy;
   testing::ProjectionFaults faults;
   faults.noise_px = 0.2;
   const RunResult run = RunPipeline(200, 120.0, faults, [](int, int) { return false; }, options);
-  const Metrics metrics = Evaluate(run, 5);
+  const MarkerEvalReport metrics = Evaluate(run, 5);
   EXPECT_EQ(run.markers_output, 24);
-  EXPECT_EQ(metrics.ghosts, 0);
-  EXPECT_EQ(metrics.swaps, 0);
+  EXPECT_EQ(metrics.ghosts, 0u);
+  EXPECT_EQ(metrics.swaps, 0u);
 }
 
 // A hand of four markers 60 mm apart along its swing swings at 20 mm per frame (50 Hz), then
