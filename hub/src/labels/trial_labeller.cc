@@ -211,85 +211,83 @@ bool SplitBrokenRuns(const MarkerTrajectories& in, const MarkerSet& set, double 
 
 }  // namespace
 
-TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& set, const LabellerOptions& options) {
-  MarkerLabeller labeller(set, options);
+namespace {
+
+using TakenFrames = std::vector<std::vector<std::pair<size_t, size_t>>>;  // per name: (first, last) of its runs
+
+// The frame-by-frame pass: each column's unbroken runs (a run ends where the column has no point
+// or the live labeller revoked its name) and the names the labeller gave or proposed, as votes.
+void VoteFrameByFrame(const MarkerTrajectories& in, MarkerLabeller* labeller, std::vector<Run>* runs,
+                      std::vector<int64_t>* run_at) {
   const size_t columns = in.NumMarkers();
-  std::vector<Run> runs;
   std::vector<int64_t> run_of_column(columns, -1);
-  std::vector<int64_t> run_at(in.points.size(), -1);  // per (frame, column)
   std::vector<Eigen::Vector3d> points;
   std::vector<int64_t> tracks;
-  std::vector<size_t> column_of_point;
   std::vector<char> broken(columns, 0);
   for (size_t f = 0; f < in.NumFrames(); ++f) {
-    points.clear(), tracks.clear(), column_of_point.clear();
+    points.clear(), tracks.clear();
     for (size_t c = 0; c < columns; ++c) {
       if (!in.Has(f, c)) {
         run_of_column[c] = -1;
         continue;
       }
       if (run_of_column[c] < 0 || broken[c]) {
-        run_of_column[c] = static_cast<int64_t>(runs.size());
-        runs.push_back(Run{c, f, f, {}, 0.0, -1, -1});
+        run_of_column[c] = static_cast<int64_t>(runs->size());
+        runs->push_back(Run{c, f, f, {}, 0.0, -1, -1});
         broken[c] = 0;
       }
-      Run& run = runs[static_cast<size_t>(run_of_column[c])];
-      run.last = f;
-      run_at[f * columns + c] = run_of_column[c];
+      (*runs)[static_cast<size_t>(run_of_column[c])].last = f;
+      (*run_at)[f * columns + c] = run_of_column[c];
       points.push_back(in.At(f, c));
       tracks.push_back(run_of_column[c]);
-      column_of_point.push_back(c);
     }
-    const std::vector<int>& labels = labeller.Update(points, tracks);
-    const std::vector<int>& proposals = labeller.proposals();
+    const std::vector<int>& labels = labeller->Update(points, tracks);
+    const std::vector<int>& proposals = labeller->proposals();
     for (size_t p = 0; p < points.size(); ++p) {
-      Run& run = runs[static_cast<size_t>(tracks[p])];
+      Run& run = (*runs)[static_cast<size_t>(tracks[p])];
       // A frame holding a name counts twice a vote: it passed the swap guard.
       if (labels[p] >= 0) run.support[labels[p]] += 2.0, run.total += 2.0;
       if (proposals[p] >= 0) run.support[proposals[p]] += 1.0, run.total += 1.0;
       if (labels[p] < 0 && proposals[p] < 0) run.total += 1.0;
     }
-    for (int64_t track : labeller.revoked()) broken[runs[static_cast<size_t>(track)].column] = 1;
+    for (int64_t track : labeller->revoked()) broken[(*runs)[static_cast<size_t>(track)].column] = 1;
   }
+}
 
-  // One name per run: the best supported first, never two overlapping runs with one name.
+// One name per run: the best supported first, never two overlapping runs with one name.
+void NameRunsBySupport(std::vector<Run>* runs, TakenFrames* taken) {
   std::vector<std::tuple<double, size_t, int>> candidates;  // (support, run, label)
-  for (size_t r = 0; r < runs.size(); ++r)
-    for (const auto& [label, support] : runs[r].support)
-      if (2.0 * support >= runs[r].total) candidates.emplace_back(support, r, label);
+  for (size_t r = 0; r < runs->size(); ++r)
+    for (const auto& [label, support] : (*runs)[r].support)
+      if (2.0 * support >= (*runs)[r].total) candidates.emplace_back(support, r, label);
   std::sort(candidates.begin(), candidates.end(), [](const auto& x, const auto& y) { return std::get<0>(x) > std::get<0>(y); });
-  std::vector<std::vector<std::pair<size_t, size_t>>> taken(set.NumMarkers());
-  TrialLabelling out;
   for (const auto& [support, r, label] : candidates) {
-    Run& run = runs[r];
+    Run& run = (*runs)[r];
     if (run.label >= 0) continue;
     bool overlaps = false;
-    for (const auto& [first, last] : taken[static_cast<size_t>(label)])
+    for (const auto& [first, last] : (*taken)[static_cast<size_t>(label)])
       overlaps = overlaps || (run.first <= last && first <= run.last);
     if (overlaps) continue;
     run.label = run.candidate = label;
-    taken[static_cast<size_t>(label)].push_back({run.first, run.last});
-    ++out.named_runs;
+    (*taken)[static_cast<size_t>(label)].push_back({run.first, run.last});
   }
+}
 
-  const std::vector<SegmentAnchors> anchors = ChooseSegmentAnchors(set);
-  double relative = DistanceRefinement(in, set, anchors, run_at, &runs).Refine(&taken);
-  // Runs the tracker swapped mid-way: split where they break their distances, then named again.
-  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at))
-    relative = DistanceRefinement(in, set, anchors, run_at, &runs).Refine(&taken);
-  out.runs = runs.size();
-  out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
-
-  // Columns: the names placed, in the set's order, then the input columns left with data.
+// The named recording: the names placed, in the set's order, then the input columns left with
+// data; each frame's names checked against the distances (names that break them, or that two
+// runs hold at their ends, are dropped in that frame).
+void WriteNamed(const MarkerTrajectories& in, const MarkerSet& set, const std::vector<Run>& runs,
+                const std::vector<int64_t>& run_at, const TakenFrames& taken, double relative, TrialLabelling* out) {
+  const size_t columns = in.NumMarkers();
   std::vector<int> column_of_label(set.NumMarkers(), -1);
-  MarkerTrajectories& named = out.named;
+  MarkerTrajectories& named = out->named;
   named.rate_hz = in.rate_hz;
   for (size_t a = 0; a < set.NumMarkers(); ++a)
     if (!taken[a].empty()) {
       column_of_label[a] = static_cast<int>(named.names.size());
       named.names.push_back(set.names[a]);
     }
-  out.names_placed = named.names.size();
+  out->names_placed = named.names.size();
   const std::vector<double> own = OwnDistances(in, set, runs, run_at);
   // Per frame and input column the name its point carries (-1: none), after the frame check.
   std::vector<int> label_at(in.points.size(), -1);
@@ -307,13 +305,11 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       frame_labels.push_back(runs[static_cast<size_t>(r)].label);
       frame_columns.push_back(c);
     }
-    out.frame_names_dropped += DropBrokenNames(set, relative, own, frame_points, &frame_labels);
-    // Two runs sharing a name for a few frames at their ends (free_for_exchange): neither is
-    // named in those frames.
+    out->frame_names_dropped += DropBrokenNames(set, relative, own, frame_points, &frame_labels);
     for (int label : frame_labels)
       if (label >= 0) ++holders[static_cast<size_t>(label)];
     for (int& label : frame_labels)
-      if (label >= 0 && holders[static_cast<size_t>(label)] > 1) ++out.frame_names_dropped, label = -1;
+      if (label >= 0 && holders[static_cast<size_t>(label)] > 1) ++out->frame_names_dropped, label = -1;
     std::fill(holders.begin(), holders.end(), 0);
     for (size_t i = 0; i < frame_columns.size(); ++i) {
       label_at[f * columns + frame_columns[i]] = frame_labels[i];
@@ -332,10 +328,30 @@ TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& 
       const int label = label_at[f * columns + c];
       const int column = label >= 0 ? column_of_label[static_cast<size_t>(label)] : leftover_column[c];
       named.At(row, static_cast<size_t>(column)) = in.At(f, c);
-      ++out.points;
-      out.named_points += label >= 0;
+      ++out->points;
+      out->named_points += label >= 0;
     }
   }
+}
+
+}  // namespace
+
+TrialLabelling LabelTrajectories(const MarkerTrajectories& in, const MarkerSet& set, const LabellerOptions& options) {
+  MarkerLabeller labeller(set, options);
+  std::vector<Run> runs;
+  std::vector<int64_t> run_at(in.points.size(), -1);  // per (frame, column)
+  VoteFrameByFrame(in, &labeller, &runs, &run_at);
+  TakenFrames taken(set.NumMarkers());
+  NameRunsBySupport(&runs, &taken);
+  const std::vector<SegmentAnchors> anchors = ChooseSegmentAnchors(set);
+  double relative = DistanceRefinement(in, set, anchors, run_at, &runs).Refine(&taken);
+  // Runs the tracker swapped mid-way: split where they break their distances, then named again.
+  if (SplitBrokenRuns(in, set, relative, 5, &runs, &run_at))
+    relative = DistanceRefinement(in, set, anchors, run_at, &runs).Refine(&taken);
+  TrialLabelling out;
+  out.runs = runs.size();
+  out.named_runs = static_cast<size_t>(std::count_if(runs.begin(), runs.end(), [](const Run& r) { return r.label >= 0; }));
+  WriteNamed(in, set, runs, run_at, taken, relative, &out);
   out.stats = labeller.stats();
   return out;
 }
