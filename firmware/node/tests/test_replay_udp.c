@@ -280,43 +280,40 @@ static void run_for(const struct looped_node *t, int ms)
     }
 }
 
-static void paced_replay_with_control(void **state)
-{
-    (void)state;
-    enum { RECORDED = 20, SPOTS = 5 };
-    struct looped_node t;
-    looped_node_prepare(&t, RECORDED, SPOTS);
-    t.cfg.sync_kind = MN_SYNC_SIM;
-    t.cfg.rate_hz = 200.0;
-    t.cfg.wait_for_start = true;
-    looped_node_start(&t);
+enum { PACED_RECORDED = 20, PACED_SPOTS = 5 };
 
+static void paced_idle_and_garbage(struct looped_node *t)
+{
     /* Idle: frames are captured but nothing is sent; status says IDLE. */
-    run_for(&t, 250);
+    run_for(t, 250);
     assert_int_equal(rx.marker_datagrams, 0);
     assert_true(rx.status_datagrams >= 1);
     assert_int_equal(rx.last_state, mocap_v1_NodeState_NODE_STATE_IDLE);
 
     /* Malformed datagrams are rejected by the envelope and counted, and reported in status. */
     const uint8_t garbage[] = {0x08, 0x01, 0x62, 0xff, 0xff};
-    send_to_node(t.hub, t.node_port, garbage, sizeof(garbage));
-    send_to_node(t.hub, t.node_port, (const uint8_t *)"hello", 5);
-    run_for(&t, 150);
+    send_to_node(t->hub, t->node_port, garbage, sizeof(garbage));
+    send_to_node(t->hub, t->node_port, (const uint8_t *)"hello", 5);
+    run_for(t, 150);
     struct mn_node_stats st;
-    mn_node_get_stats(t.node, &st);
+    mn_node_get_stats(t->node, &st);
     assert_int_equal(st.auth_rejected, 2);
     assert_int_equal(rx.last_auth_rejected, 2);
     assert_int_equal(st.control_rejected, 0);
 
     /* Garbage is not answered. */
     assert_int_equal(rx.ack_datagrams, 0);
+}
 
+static void paced_preview(struct looped_node *t)
+{
+    enum { SPOTS = PACED_SPOTS };
     /* A raw preview at half size shows the spots where they are. */
     mocap_v1_Control c = control(7, 1, mocap_v1_Control_preview_request_tag);
     c.command.preview_request.mode = mocap_v1_PreviewMode_PREVIEW_MODE_RAW;
     c.command.preview_request.downscale = 2;
-    send_control(&t, &c);
-    run_for(&t, 200);
+    send_control(t, &c);
+    run_for(t, 200);
     assert_int_equal(rx.preview_w, 160);
     assert_int_equal(rx.preview_h, 100);
     assert_int_equal(rx.preview_datagrams, rx.preview_chunks);
@@ -337,19 +334,25 @@ static void paced_replay_with_control(void **state)
     assert_true(peak > 60);
     assert_int_equal(rx.acks[1].count, 1);
     assert_int_equal(rx.acks[1].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
+}
 
+/* Start on the grid: every frame sent, paced at 200 Hz; another node's command ignored. */
+static void paced_start(struct looped_node *t)
+{
+    enum { RECORDED = PACED_RECORDED, SPOTS = PACED_SPOTS };
+    struct mn_node_stats st;
     /* Another node's command is ignored, not rejected, and not answered. */
-    c = control(8, 2, mocap_v1_Control_stop_tag);
-    send_control(&t, &c);
+    mocap_v1_Control c = control(8, 2, mocap_v1_Control_stop_tag);
+    send_control(t, &c);
     /* Start a session 200 ms from now at 200 Hz: frames 0, 1, 2 ... with none missing. (The
      * margin covers a slow qemu run; a node that hears Start after the epoch skips to the
      * current slot, as a late camera would.) */
     c = control(0, 3, mocap_v1_Control_start_tag);
     c.command.start.epoch_ns = (uint64_t)mn_clock_real_ns() + 200000000;
     c.command.start.rate_millihz = 200000;
-    send_control(&t, &c);
-    run_for(&t, 600);
-    mn_node_get_stats(t.node, &st);
+    send_control(t, &c);
+    run_for(t, 600);
+    mn_node_get_stats(t->node, &st);
     assert_int_equal(st.control_ignored, 1);
     assert_true(st.running);
     assert_true(st.frames_sent >= 20);
@@ -368,20 +371,24 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[2].count, 0);
     assert_int_equal(rx.acks[3].count, 1);
     assert_int_equal(rx.acks[3].result, mocap_v1_ControlResult_CONTROL_RESULT_APPLIED);
+}
 
+static void paced_refusals(struct looped_node *t)
+{
+    mocap_v1_Control c;
     /* Refused requests are answered with the node's reason: one out of the node's range, two
      * the camera cannot apply (a recording's exposure and picture are fixed). */
     c = control(7, 4, mocap_v1_Control_set_threshold_tag);
     c.command.set_threshold.value = 0;
-    send_control(&t, &c);
+    send_control(t, &c);
     c = control(7, 5, mocap_v1_Control_set_exposure_tag);
     c.command.set_exposure.exposure_us = 800;
-    send_control(&t, &c);
+    send_control(t, &c);
     c = control(7, 7, mocap_v1_Control_set_picture_tag);
     c.command.set_picture.set_contrast = true;
     c.command.set_picture.contrast_pct = 40;
-    send_control(&t, &c);
-    run_for(&t, 50);
+    send_control(t, &c);
+    run_for(t, 50);
     assert_int_equal(rx.acks[4].count, 1);
     assert_int_equal(rx.acks[4].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
     assert_string_equal(rx.acks[4].reason, "control: threshold outside 1..255");
@@ -392,15 +399,20 @@ static void paced_replay_with_control(void **state)
     assert_int_equal(rx.acks[7].count, 1);
     assert_int_equal(rx.acks[7].result, mocap_v1_ControlResult_CONTROL_RESULT_REJECTED);
     assert_string_equal(rx.acks[7].reason, "cannot set contrast 40 %: the camera has no such control");
+}
 
+static void paced_stop(struct looped_node *t)
+{
+    struct mn_node_stats st;
+    mocap_v1_Control c;
     /* Stop: nothing more is sent. */
     c = control(7, 6, mocap_v1_Control_stop_tag);
-    send_control(&t, &c);
-    run_for(&t, 50);
+    send_control(t, &c);
+    run_for(t, 50);
     uint32_t after_stop = rx.marker_datagrams;
-    run_for(&t, 100);
+    run_for(t, 100);
     assert_int_equal(rx.marker_datagrams, after_stop);
-    mn_node_get_stats(t.node, &st);
+    mn_node_get_stats(t->node, &st);
     assert_false(st.running);
     assert_int_equal(st.control_rejected, 3); /* threshold, exposure, contrast */
     assert_int_equal(st.auth_rejected, 2);    /* the two garbage datagrams */
@@ -411,7 +423,22 @@ static void paced_replay_with_control(void **state)
     /* Everything the node sent was sealed under its key, counters strictly increasing. */
     assert_int_equal(rx.unauthentic_datagrams, 0);
     assert_int_equal(rx.counter_regressions, 0);
+}
 
+static void paced_replay_with_control(void **state)
+{
+    (void)state;
+    struct looped_node t;
+    looped_node_prepare(&t, PACED_RECORDED, PACED_SPOTS);
+    t.cfg.sync_kind = MN_SYNC_SIM;
+    t.cfg.rate_hz = 200.0;
+    t.cfg.wait_for_start = true;
+    looped_node_start(&t);
+    paced_idle_and_garbage(&t);
+    paced_preview(&t);
+    paced_start(&t);
+    paced_refusals(&t);
+    paced_stop(&t);
     looped_node_finish(&t);
 }
 
