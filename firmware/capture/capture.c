@@ -23,45 +23,35 @@ struct mn_capture {
     uint32_t width, height;
 };
 
-struct mn_capture *mn_capture_open(const struct mn_config *cfg, const struct mn_grid *grid,
-                                   char *err, size_t errlen)
+struct mn_capture *mn_capture_open(const struct mn_capture_params *params, char *err, size_t errlen)
 {
     struct mn_capture *c = calloc(1, sizeof(*c));
     if (c == NULL) {
         snprintf(err, errlen, "out of memory");
         return NULL;
     }
-    switch (cfg->source_kind) {
+    switch (params->kind) {
     case MN_SOURCE_V4L2:
         c->ops = &mn_capture_v4l2_ops;
-        c->impl = mn_capture_v4l2_new(cfg->source_arg, cfg->width, cfg->height, cfg->buffers,
-                                      cfg->pixel_format,
-                                      &c->width, &c->height, err, errlen);
+        c->impl = mn_capture_v4l2_new(params->arg, params->width, params->height, params->buffers,
+                                      params->pixel_format, &c->width, &c->height, err, errlen);
         break;
     case MN_SOURCE_LIBCAMERA:
         if (libcamera_new == NULL) {
             snprintf(err, errlen, "libcamera:%s: this program was built without libcamera "
                                   "(install libcamera-dev and rebuild mocap-node)",
-                     cfg->source_arg);
+                     params->arg);
             errno = ENOTSUP;
             break;
         }
         c->ops = libcamera_ops;
-        c->impl = libcamera_new((unsigned)atoi(cfg->source_arg), cfg->width, cfg->height,
-                                cfg->buffers, &c->width, &c->height, err, errlen);
+        c->impl = libcamera_new((unsigned)atoi(params->arg), params->width, params->height,
+                                params->buffers, &c->width, &c->height, err, errlen);
         break;
-    case MN_SOURCE_REPLAY: {
-        struct mn_replay_params rp = {
-            .dir = cfg->source_arg,
-            .grid = *grid,
-            .trigger_delay_ns = (int64_t)cfg->trigger_delay_us * 1000,
-            .as_fast_as_possible = cfg->as_fast_as_possible,
-            .loop = cfg->replay_loop,
-        };
+    case MN_SOURCE_REPLAY:
         c->ops = &mn_capture_replay_ops;
-        c->impl = mn_capture_replay_new(&rp, &c->width, &c->height, err, errlen);
+        c->impl = mn_capture_replay_new(&params->replay, &c->width, &c->height, err, errlen);
         break;
-    }
     }
     if (c->impl == NULL) {
         int e = errno;

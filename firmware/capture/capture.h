@@ -10,8 +10,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "node/config.h"
 #include "sync/grid.h"
+
+/* Longest source argument (device path, directory) a source keeps, terminator included. */
+#define MN_CAPTURE_ARG_MAX 256
+
+enum mn_source_kind {
+    MN_SOURCE_V4L2,      /* v4l2:/dev/videoN */
+    MN_SOURCE_LIBCAMERA, /* libcamera:N (camera index) */
+    MN_SOURCE_REPLAY,    /* replay:DIR (recorded frames) */
+};
 
 struct mn_frame {
     const uint8_t *pixels;   /* Y8, owned by the source until released */
@@ -54,12 +62,22 @@ struct mn_replay_params {
     bool loop;
 };
 
+/* What mn_capture_open needs: the kind and its argument, the camera's size and buffers (v4l2,
+ * libcamera), the pixel format asked for (v4l2) and the replay's parameters (replay). */
+struct mn_capture_params {
+    enum mn_source_kind kind;
+    const char *arg;          /* device path, camera index or directory */
+    uint32_t width, height;   /* 0 = the camera's default */
+    uint32_t buffers;
+    const char *pixel_format; /* V4L2 fourcc name; "" = the best the camera offers */
+    struct mn_replay_params replay;
+};
+
 struct mn_capture;
 
-/* Opens the source cfg names; grid paces a replay. NULL with errno set and the reason in err;
- * close with mn_capture_close. */
-struct mn_capture *mn_capture_open(const struct mn_config *cfg, const struct mn_grid *grid,
-                                   char *err, size_t errlen);
+/* Opens the source params name. NULL with errno set and the reason in err; close with
+ * mn_capture_close. */
+struct mn_capture *mn_capture_open(const struct mn_capture_params *params, char *err, size_t errlen);
 void mn_capture_close(struct mn_capture *c);
 
 const char *mn_capture_name(const struct mn_capture *c);

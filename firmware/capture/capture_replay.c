@@ -24,8 +24,8 @@
 
 struct replay {
     struct mn_replay_params p;
-    char dir[MN_CONFIG_STR];
-    char file[MN_CONFIG_STR + 16];
+    char dir[MN_CAPTURE_ARG_MAX];
+    char file[MN_CAPTURE_ARG_MAX + 16];
     struct mn_ff_reader *reader;     /* frames.mcf, or */
     struct mn_jpeg_frames *jpegs;    /* recorded JPEG frames */
     size_t jpeg_next;                /* index of the next JPEG file */

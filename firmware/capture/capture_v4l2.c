@@ -55,7 +55,7 @@ static const struct format formats[] = {
 
 struct v4l2 {
     int fd;
-    char device[MN_CONFIG_STR];
+    char device[MN_CAPTURE_ARG_MAX];
     const struct format *format;
     uint32_t fourcc;
     uint32_t width, height, bytesperline, sizeimage;

@@ -11,20 +11,16 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "capture/capture.h"
 #include "common/log.h"
 #include "node/keyfile.h"
 #include "sync/sync.h"
 
 #define MN_CONFIG_STR 256
+_Static_assert(MN_CONFIG_STR <= MN_CAPTURE_ARG_MAX, "a source argument must fit the capture sources");
 #define MN_CONFIG_ERR 512
 #define MN_CONFIG_MAX_BYTES 65536 /* a config file larger than this is refused unread */
 #define MN_CONFIG_MAX_LINE 4096
-
-enum mn_source_kind {
-    MN_SOURCE_V4L2,      /* v4l2:/dev/videoN */
-    MN_SOURCE_LIBCAMERA, /* libcamera:N (camera index) */
-    MN_SOURCE_REPLAY,    /* replay:DIR (recorded frames) */
-};
 
 /* A plain struct rather than an opaque type: it is only typed, already-checked values, read by
  * every other module, and tests build it directly. */

@@ -126,7 +126,21 @@ static int set_picture(struct mn_capture *c, enum mn_picture_control which, cons
 
 static int open_capture(struct mn_node *n, char *err, size_t errlen)
 {
-    struct mn_capture *c = mn_capture_open(&n->cfg, &n->grid, err, errlen);
+    const struct mn_config *cfg = &n->cfg;
+    const struct mn_capture_params params = {
+        .kind = cfg->source_kind,
+        .arg = cfg->source_arg,
+        .width = cfg->width,
+        .height = cfg->height,
+        .buffers = cfg->buffers,
+        .pixel_format = cfg->pixel_format,
+        .replay = {.dir = cfg->source_arg,
+                   .grid = n->grid,
+                   .trigger_delay_ns = (int64_t)cfg->trigger_delay_us * 1000,
+                   .as_fast_as_possible = cfg->as_fast_as_possible,
+                   .loop = cfg->replay_loop},
+    };
+    struct mn_capture *c = mn_capture_open(&params, err, errlen);
     if (c == NULL)
         return -1;
     if (mn_capture_start(c) < 0) {

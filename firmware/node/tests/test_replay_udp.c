@@ -54,6 +54,22 @@ static void check_markers(const struct test_frame *f, uint32_t recorded_frame, u
     }
 }
 
+
+/* Checks cfg, runs a node on it to the end of its frames, then collects what the hub socket
+ * received (and closes it). */
+static void run_node_to_end(const struct mn_config *cfg, int hub, struct mn_node_stats *st)
+{
+    char err[MN_CONFIG_ERR];
+    assert_int_equal(mn_config_check(cfg, err, sizeof(err)), 0);
+    struct mn_node *node = test_node_new(cfg);
+    assert_int_equal(mn_node_run(node), 0);
+    mn_node_get_stats(node, st);
+    mn_node_free(node);
+    memset(&rx, 0, sizeof(rx));
+    test_drain(hub, &rx);
+    close(hub);
+}
+
 static void replay_as_fast_as_possible(void **state)
 {
     (void)state;
@@ -69,17 +85,8 @@ static void replay_as_fast_as_possible(void **state)
     cfg.sim_missed = 0.2;
     cfg.sim_seed = 3;
     cfg.frames = FRAMES;
-    char err[MN_CONFIG_ERR];
-    assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
-    struct mn_node *node = test_node_new(&cfg);
-    assert_int_equal(mn_node_run(node), 0);
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
-    mn_node_free(node);
-
-    memset(&rx, 0, sizeof(rx));
-    test_drain(hub, &rx);
-    close(hub);
+    run_node_to_end(&cfg, hub, &st);
     assert_int_equal(st.frames_processed, FRAMES);
     assert_int_equal(st.frames_sent, FRAMES);
     assert_int_equal(st.frames_dropped, 0);
@@ -157,17 +164,8 @@ static void replay_jpeg_frames(void **state)
     test_node_config(&cfg, dir, port);
     cfg.as_fast_as_possible = true;
     cfg.frames = FRAMES - 1;
-    char err[MN_CONFIG_ERR];
-    assert_int_equal(mn_config_check(&cfg, err, sizeof(err)), 0);
-    struct mn_node *node = test_node_new(&cfg);
-    assert_int_equal(mn_node_run(node), 0);
     struct mn_node_stats st;
-    mn_node_get_stats(node, &st);
-    mn_node_free(node);
-
-    memset(&rx, 0, sizeof(rx));
-    test_drain(hub, &rx);
-    close(hub);
+    run_node_to_end(&cfg, hub, &st);
     assert_int_equal(st.frames_processed, FRAMES - 1);
     assert_int_equal(st.frames_sent, FRAMES - 1);
     assert_int_equal(st.frames_dropped, 1);
