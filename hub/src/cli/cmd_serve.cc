@@ -228,7 +228,8 @@ void AddSessionOptions(CLI::App* command, service::ServeOptions& o) {
       ->check(CLI::Range(1, 3))
       ->capture_default_str();
   command->add_option("--rate", o.rate_hz, "Trigger rate, Hz")->capture_default_str();
-  command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time");
+  command->add_option("--epoch-ns", o.epoch_ns, "Session epoch (time of frame 0), ns; default: start time")
+      ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 62));  // "-1" would wrap to 2^64-1
   command->add_option("--announce", o.announce, "Broadcast HubAnnounce to BROADCAST:PORT every second");
 }
 

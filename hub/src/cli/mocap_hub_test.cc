@@ -146,6 +146,8 @@ TEST_F(MocapHubTest, ServeAndReconstructRefuseOutOfRangeNumbers) {
   const std::string serve = "serve --insecure-dev-wire --listen 127.0.0.1:0 --api 127.0.0.1:0 --web-root off "
                             "--sessions-dir " + dir + "/opt_sessions --calibration " + dir + "/opt_rig.json";
   for (const char* bad : {"--busy-poll-us -1", "--busy-poll-us nan", "--busy-poll-us 1e9", "--deadline-ms 0",
+                          "--deadline-ms nan", "--deadline-ms -1", "--rate 0", "--rate inf", "--epoch-ns -1",
+                          "--announce nonsense",
                           "--contested-gate-factor -1", "--contested-gate-factor nan"})
     EXPECT_EQ(Hub(serve + " " + bad).status, 2) << bad;
   // reconstruct: a real session, so that only the option is wrong.
