@@ -76,8 +76,7 @@ class DenseMarkers(unittest.TestCase):
     def test_matching_every_frame_meets_the_limits(self):
         self.meets_the_limits(self.figures("from_scratch", "--no-predictions"))
 
-    # Issue 15's limit, not met yet (the swaps are printed with the figures above).
-    @unittest.expectedFailure
+    # Issue 15's limit (the swaps are printed with the figures above).
     def test_swaps_at_most_10_with_the_defaults(self):
         result = os.path.join(WORK, "predictions.trc")  # written by the test of the defaults, which runs first
         figures = evaluate(self.session, result) if os.path.isfile(result) else self.figures("predictions")

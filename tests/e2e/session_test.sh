@@ -13,8 +13,13 @@ rm -rf "$work"
 mkdir -p "$work"
 
 "$bin/mocap-hub" sim motion -o "$work/motion.trc" --markers 16 --frames 90 --rate 60 --up y --seed 3
+# The nodes share this machine with the rest of the test suite: a node starved of CPU can send a
+# frame later than serve's default 20 ms assembly deadline, which would make the live result's
+# figures depend on the machine's load. This test is about accuracy, so frame sets wait 150 ms
+# (latency is measured by the benchmarks, not here).
+serve_args="--max-ray-distance-mm 3 --deadline-ms 150"
 "$here/../../deploy/sim-session.sh" --motion "$work/motion.trc" --cameras 4 --out "$work" --bin "$bin" \
-    --json > "$work/result.json"
+    --serve-args "$serve_args" --json > "$work/result.json"
 cat "$work/result.json"
 
 # The final TRC (gap-filled) and the live result itself must meet the project's targets.
@@ -55,7 +60,7 @@ for i in range(6, len(lines)):
 open(sys.argv[2], "w").write("\n".join(lines))
 PY
 "$here/../../deploy/sim-session.sh" --motion "$work/dropout.trc" --cameras 4 --out "$work/dropout" --bin "$bin" \
-    --json > "$work/dropout.json"
+    --serve-args "$serve_args" --json > "$work/dropout.json"
 python3 - "$work/dropout.json" <<'PY'
 import json, sys
 live = json.load(open(sys.argv[1]))["live"]
