@@ -26,10 +26,10 @@ void LiveSubscribers::Publish(const pipeline::LiveFrame& frame) {
 }
 
 void LiveSubscribers::NoticeCapture(bool running, const std::string& session) {
-  const std::string now = running ? session : std::string();
-  if (now == capturing_) return;
+  // Called every loop turn: no copy of the name unless the capture changed.
+  if (running ? session == capturing_ : capturing_.empty()) return;
   if (!capturing_.empty()) Tell(pipeline::CaptureEvent::Kind::kStopped, capturing_);
-  capturing_ = now;
+  capturing_ = running ? session : std::string();
   if (!capturing_.empty()) Tell(pipeline::CaptureEvent::Kind::kStarted, capturing_);
 }
 

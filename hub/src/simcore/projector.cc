@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 namespace mocap {
 namespace {
@@ -165,7 +166,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
   Draws draws;  // one set per camera frame: the normal distribution keeps its second value
   const std::vector<MarkerImage> spots = ImageMarkers(index, points);
   const bool dropped = options_.drop_frames > 0.0 && draws.unit(state.rng) < options_.drop_frames;
-  const std::vector<int> parent = MergeOverlapping(spots);
+  std::vector<int> parent = MergeOverlapping(spots);
   if (dropped) return false;
   // Markers seen only count for frames that reach the hub.
   for (const MarkerImage& spot : spots) ++(*cameras_seeing)[spot.marker];
@@ -173,7 +174,7 @@ bool FaultyProjector::ProjectCamera(size_t index, uint64_t frame_number, const E
   out->frame_number = frame_number;
   out->width = static_cast<uint32_t>(camera.intrinsics.width);
   out->height = static_cast<uint32_t>(camera.intrinsics.height);
-  AddMarkerBlobs(index, spots, parent, &draws, out, blob_markers);
+  AddMarkerBlobs(index, spots, std::move(parent), &draws, out, blob_markers);
   AddSpuriousBlobs(index, &draws, out, blob_markers);
   SortInScanlineOrder(out, blob_markers);
   return true;
@@ -213,14 +214,13 @@ Eigen::Vector2d FaultyProjector::MeasuredPixel(size_t index, Eigen::Vector2d pix
 }
 
 void FaultyProjector::AddMarkerBlobs(size_t index, const std::vector<MarkerImage>& spots,
-                                     const std::vector<int>& parent, Draws* draws, CameraFrame* frame,
+                                     std::vector<int> parent, Draws* draws, CameraFrame* frame,
                                      std::vector<int>* blob_markers) {
   const Camera& camera = rig_.cameras[index];
   // Spots grouped by blob (root), in spot order within a group, so the output does not depend on
   // the sweep order.
-  std::vector<int> roots = parent;
   std::vector<std::pair<int, int>> grouped(spots.size());
-  for (size_t s = 0; s < spots.size(); ++s) grouped[s] = {FindRoot(roots, static_cast<int>(s)), static_cast<int>(s)};
+  for (size_t s = 0; s < spots.size(); ++s) grouped[s] = {FindRoot(parent, static_cast<int>(s)), static_cast<int>(s)};
   std::sort(grouped.begin(), grouped.end());
   for (size_t begin = 0; begin < grouped.size();) {
     size_t end = begin;

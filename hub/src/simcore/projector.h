@@ -90,7 +90,8 @@ class FaultyProjector {
   std::vector<int> MergeOverlapping(const std::vector<MarkerImage>& spots) const;
   // A blob's centroid as the node measures it: with centroid noise, kept on the sensor.
   Eigen::Vector2d MeasuredPixel(size_t index, Eigen::Vector2d pixel, Draws* draws);
-  void AddMarkerBlobs(size_t index, const std::vector<MarkerImage>& spots, const std::vector<int>& parent,
+  // parent: MergeOverlapping's (its paths are compressed while grouping).
+  void AddMarkerBlobs(size_t index, const std::vector<MarkerImage>& spots, std::vector<int> parent,
                       Draws* draws, CameraFrame* frame, std::vector<int>* blob_markers);
   // Static reflections and one-frame flicker.
   void AddSpuriousBlobs(size_t index, Draws* draws, CameraFrame* frame, std::vector<int>* blob_markers);
