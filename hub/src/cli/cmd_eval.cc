@@ -11,7 +11,7 @@
 
 #include "cli/commands.h"
 #include "eval/body_accuracy.h"
-#include "eval/marker_accuracy.h"
+#include "scoring/marker_accuracy.h"
 #include "io/live_points.h"
 #include "io/trajectory_file.h"
 #include "io/visibility.h"

@@ -51,7 +51,7 @@ void RunLabelsApply(const LabelsApplyArgs& args) {
     throw UsageError(error.what());
   }
   MarkerTrajectories markers = ReadTrajectories(args.input);
-  const std::string report = ApplyMarkerSet(args.labels, args.up_axis, &markers);
+  const std::string report = NameTakeFromFile(args.labels, args.up_axis, &markers);
   WriteTrajectories(markers, args.output);
   std::printf("%s: %s\n", args.output.c_str(), report.c_str());
 }

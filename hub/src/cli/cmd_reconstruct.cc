@@ -16,6 +16,7 @@
 #include "ingest/session.h"
 #include "io/calibration_json.h"
 #include "pipeline/offline_reconstruction.h"
+#include "pipeline/take_outputs.h"
 #include "recon/known_correspondences.h"
 #include "bodies/body_live_filter.h"
 #include "bodies/body_trajectories.h"
@@ -42,35 +43,31 @@ struct ReconstructArgs {
   std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
 };
 
-// Names from a marker set over the finished marker file (labels attach to whole track runs,
-// labels/trial_labeller.h), written back in place.
-void AddLabels(const ReconstructArgs& args) {
+// The whole-take steps over the finished marker file (pipeline/take_outputs.h), written back in
+// place: names from a marker set; rigid bodies' poses beside it (OUT.bodies.tsv) and one virtual
+// marker per body (its pivot). `live_bodies`: the bodies come from the live path instead.
+void FinishTake(const ReconstructArgs& args, bool live_bodies) {
+  const bool fit_bodies = !args.bodies.empty() && !live_bodies;
+  if (args.labels.empty() && !fit_bodies) return;
   MarkerTrajectories markers = ReadTrajectories(args.output);
-  const std::string report = ApplyMarkerSet(args.labels, -1, &markers);
-  WriteTrajectories(markers, args.output);
-  std::printf("%s: %s\n", args.output.c_str(), report.c_str());
-}
-
-// Rigid bodies over the finished marker file: their poses beside it (OUT.bodies.tsv) and one
-// virtual marker per body (its pivot) added to it.
-void AddRigidBodies(const ReconstructArgs& args) {
-  const std::vector<RigidBodyDefinition> bodies = ReadBodiesFile(args.bodies);
-  MarkerTrajectories markers = ReadTrajectories(args.output);
-  std::vector<BodySmoothingStats> smoothing;
-  const std::vector<BodyPoseRow> rows = TrackBodies(markers, bodies, {}, args.body_smoothing, &smoothing);
-  const std::string poses = args.output.substr(0, args.output.find_last_of('.')) + ".bodies.tsv";
-  WriteBodyPoses(poses, bodies, rows, markers.rate_hz);
-  AddVirtualMarkers(&markers, bodies, rows);
-  WriteTrajectories(markers, args.output);
-  for (size_t b = 0; b < bodies.size(); ++b) {
-    size_t tracked = 0;
-    for (const BodyPoseRow& row : rows) tracked += row.poses[b].tracked;
-    const BodySmoothingStats& s = smoothing[b];
-    std::printf("%s: body %s fitted in %zu of %zu frames; orientation over +-%d frames in %zu, fewer in %zu, "
-                "alone in %zu (point noise %.3f mm per axis)\n",
-                poses.c_str(), bodies[b].name.c_str(), tracked, rows.size(), args.body_smoothing.half_window,
-                s.refined, s.shrunk, s.unchanged, s.noise_mm);
+  if (!args.labels.empty()) {
+    const std::string report = NameTakeFromFile(args.labels, -1, &markers);
+    std::printf("%s: %s\n", args.output.c_str(), report.c_str());
   }
+  if (fit_bodies) {
+    const std::vector<RigidBodyDefinition> bodies = ReadBodiesFile(args.bodies);
+    const pipeline::TakeBodies take = pipeline::FitTakeBodies(bodies, args.body_smoothing, &markers);
+    const std::string poses = args.output.substr(0, args.output.find_last_of('.')) + ".bodies.tsv";
+    WriteBodyPoses(poses, bodies, take.rows, markers.rate_hz);
+    for (size_t b = 0; b < bodies.size(); ++b) {
+      const BodySmoothingStats& s = take.smoothing[b];
+      std::printf("%s: body %s fitted in %zu of %zu frames; orientation over +-%d frames in %zu, fewer in %zu, "
+                  "alone in %zu (point noise %.3f mm per axis)\n",
+                  poses.c_str(), bodies[b].name.c_str(), take.FramesFitted(b), take.rows.size(),
+                  args.body_smoothing.half_window, s.refined, s.shrunk, s.unchanged, s.noise_mm);
+    }
+  }
+  WriteTrajectories(markers, args.output);
 }
 
 // The live body path over the session (--bodies-live): what `serve --bodies` publishes, fed the
@@ -199,12 +196,8 @@ void RunReconstruct(ReconstructArgs args) {
   if (done == 0) throw std::runtime_error(args.session + ": no frames to reconstruct");
   const int columns = chain.Finish();
   spill.Finish(columns);
-  if (!args.labels.empty()) AddLabels(args);
-  if (live_bodies) {
-    live_bodies->Finish(args, info.rate_hz);
-  } else if (!args.bodies.empty()) {
-    AddRigidBodies(args);
-  }
+  FinishTake(args, live_bodies != nullptr);
+  if (live_bodies) live_bodies->Finish(args, info.rate_hz);
 
   for (const std::string& warning : reader.warnings()) log::Warn("{}", warning);
   const ReconstructionStats& rs = chain.reconstructor().stats();

@@ -1,5 +1,6 @@
-// The labelling step shared by `reconstruct --labels` and `labels apply`: reads the marker set,
-// names the trajectories in place and returns a one-line report. Errors: std::runtime_error.
+// The naming step shared by `reconstruct --labels` and `labels apply`: reads the marker set and
+// names the take in place (pipeline/take_outputs.h); returns the one-line report. Errors
+// (an unreadable set, a set that cannot label): std::runtime_error naming the file.
 #pragma once
 
 #include <string>
@@ -9,6 +10,6 @@
 namespace mocap {
 
 // up_axis: 0-2, or -1 to detect it from the data.
-std::string ApplyMarkerSet(const std::string& marker_set_path, int up_axis, MarkerTrajectories* markers);
+std::string NameTakeFromFile(const std::string& marker_set_path, int up_axis, MarkerTrajectories* markers);
 
 }  // namespace mocap

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "eval/marker_accuracy.h"
+#include "scoring/marker_accuracy.h"
 #include "io/marker_trajectories.h"
 #include "io/visibility.h"
 #include "track/tracker.h"

@@ -1,5 +1,5 @@
 // Exchanges judged pair by pair at every boundary of consecutive truth frames.
-#include "eval/truth_exchanges.h"
+#include "scoring/truth_exchanges.h"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 // Metric computation for `eval`. Frames align by time (frame number / rate), so files written at
 // different rates or with different Frame# numbering still compare the right instants.
-#include "eval/marker_accuracy.h"
+#include "scoring/marker_accuracy.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "eval/truth_exchanges.h"
+#include "scoring/truth_exchanges.h"
 #include "util/assignment.h"
 
 namespace mocap {

@@ -1,5 +1,5 @@
 // Tests of the eval metrics on small hand-made cases whose answers are known.
-#include "eval/marker_accuracy.h"
+#include "scoring/marker_accuracy.h"
 
 #include <cmath>
 #include <sstream>

@@ -47,7 +47,7 @@ struct MarkerEvalReport {
   size_t trajectories = 0;
   double fragmentation = 0.0;        // trajectories per truth marker
   size_t swaps = 0;
-  // Two truth markers that exchange places (eval/truth_exchanges.h), and the swaps counted where
+  // Two truth markers that exchange places (scoring/truth_exchanges.h), and the swaps counted where
   // the output column's old or new marker is one of an exchanging pair (included in swaps).
   size_t truth_exchanges = 0;
   size_t swaps_at_truth_exchanges = 0;
