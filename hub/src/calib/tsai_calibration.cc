@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <limits>
 #include <memory>
@@ -166,17 +167,17 @@ class TsaiRefinement {
       camera.sx = sx;
       result->views.push_back(camera);
     }
-    const size_t free = static_cast<size_t>(problem.NumParameters()) - (coplanar ? 1 : 0) -
+    const size_t unknowns = static_cast<size_t>(problem.NumParameters()) - (coplanar ? 1 : 0) -
                         (options_.refine_centre ? 0 : 2);
-    result->kappa1_sigma = Kappa1Sigma(&problem, &kappa1, summary.final_cost, residuals, free);
+    result->kappa1_sigma = Kappa1Sigma(&problem, &kappa1, summary.final_cost, residuals, unknowns);
   }
 
  private:
   // kappa1's standard deviation: its covariance block at unit pixel noise, scaled by the
   // residuals' variance; infinite when the fit leaves it unconstrained.
   static double Kappa1Sigma(ceres::Problem* problem, const double* kappa1, double cost, size_t residuals,
-                            size_t free) {
-    if (residuals <= free) return std::numeric_limits<double>::infinity();
+                            size_t unknowns) {
+    if (residuals <= unknowns) return std::numeric_limits<double>::infinity();
     ceres::Covariance::Options covariance_options;
     covariance_options.algorithm_type = ceres::SPARSE_QR;
     ceres::Covariance covariance(covariance_options);
@@ -184,7 +185,7 @@ class TsaiRefinement {
     double variance = 0.0;
     if (!covariance.Compute(blocks, problem) || !covariance.GetCovarianceBlock(kappa1, kappa1, &variance))
       return std::numeric_limits<double>::infinity();
-    const double noise = 2.0 * cost / static_cast<double>(residuals - free);
+    const double noise = 2.0 * cost / static_cast<double>(residuals - unknowns);
     return std::sqrt(std::max(0.0, variance * noise));
   }
 
