@@ -331,6 +331,7 @@ class WebConsoleTest(unittest.TestCase):
                   file=sys.stderr)
         finally:
             http(self.rig.api_port, "POST", "/api/calibration/wand/stop", b'{"solve": false}')
+            Select(self.page.find_element(By.ID, "wand-mode")).select_by_value("wand")
             self.swap_node_frames(walk_frames)
 
     def test_6_wanding_coverage_then_the_report(self):
@@ -344,6 +345,7 @@ class WebConsoleTest(unittest.TestCase):
         self.swap_node_frames(os.path.join(WORK, "wand_frames"))
         try:
             self.go("calibration")
+            Select(self.page.find_element(By.ID, "wand-mode")).select_by_value("wand")
             for field, value in (("wand-name", "web_wand"), ("wand-min-samples", "250"), ("wand-coverage", "35"),
                                  ("wand-timeout", "120")):
                 box = self.page.find_element(By.ID, field)
