@@ -30,6 +30,7 @@ from live_rig import STUCK_S, Rig, auth_header, http, render_scene, wait_for, ra
 from selenium import webdriver  # noqa: E402
 from selenium.webdriver.chrome.service import Service  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.webdriver.support.ui import Select  # noqa: E402
 from selenium.common.exceptions import NoSuchElementException, StaleElementReferenceException  # noqa: E402
 
 BIN = WORK = None
@@ -285,6 +286,54 @@ class WebConsoleTest(unittest.TestCase):
         wait_for("every node running again", lambda: len([n for n in self.rig.nodes_json().values()
                                                           if n["state"] == "running"]) == CAMERAS, timeout=15)
 
+    def test_6_wanding_a_single_marker_in_the_page(self):
+        # The nodes replay one marker waved through the same rig, then a bar of two markers 500 mm
+        # apart for the scale.
+        wave = os.path.join(WORK, "wave.trc")
+        self.rig.hub("sim", "wand", "--rig", os.path.join(WORK, "rig.json"), "-o", os.path.join(WORK, "wave_projected"),
+                     "--motion", wave, "--frames", "3000", "--single-marker-frames", "2400", "--rate", str(RATE),
+                     "--wand-length", "500", "--seed", "7")
+        self.rig.hub("sim", "render", "--motion", wave, "--rig", os.path.join(WORK, "rig.json"), "-o",
+                     os.path.join(WORK, "wave_frames"))
+        walk_frames = self.rig.frames
+        self.swap_node_frames(os.path.join(WORK, "wave_frames"))
+        try:
+            self.go("calibration")
+            Select(self.page.find_element(By.ID, "wand-mode")).select_by_value("single-marker")
+            self.assertEqual(self.page.find_element(By.ID, "wand-length").find_element(
+                By.XPATH, "preceding-sibling::label[1]").text, "scale bar mm")
+            for field, value in (("wand-name", "web_marker"), ("wand-min-samples", "250"), ("wand-coverage", "30"),
+                                 ("wand-timeout", "120")):
+                box = self.page.find_element(By.ID, field)
+                box.clear()
+                box.send_keys(value)
+            self.page.find_element(By.ID, "wand-start").click()
+            state = lambda: self.js("return document.getElementById('wanding-state').dataset.state")  # noqa: E731
+            text = lambda: self.js("return document.getElementById('wanding-state').textContent")  # noqa: E731
+            wait_for("the wanding to start", lambda: state() == "collecting")
+            wait_for("the scale bar's count on the page", lambda: "scale bar in" in text())
+            self.assertIn("single marker", text())
+            wait_for("the solve", lambda: state() in ("solved", "failed"), timeout=150)
+            self.assertEqual(state(), "solved", text())
+            self.assertIn("scale from", text())
+            rows = self.page.find_elements(By.CSS_SELECTOR, "#wand-report table.single-marker-report tr[data-camera-id]")
+            self.assertEqual(len(rows), CAMERAS)
+            self.shot("calibration_single_marker")
+            # The solved calibration against the truth (rigid alignment; the scale from the bar).
+            solved = os.path.join(WORK, "sessions", "web_marker", "wand_calibration.json")
+            evaluation = json.loads(self.rig.hub("eval-calibration", "--truth", os.path.join(WORK, "rig.json"),
+                                                 "--result", solved, "--json").stdout)
+            self.assertLess(evaluation["centre_max_mm"], 1.0, evaluation)
+            self.assertLess(evaluation["rotation_max_deg"], 0.05, evaluation)
+            self.assertLess(abs(evaluation["scale_error"]), 0.001, evaluation)
+            print(f"single-marker wanding in the page: centres max {evaluation['centre_max_mm']:.3f} mm, rotations max "
+                  f"{evaluation['rotation_max_deg']:.4f} deg, scale error {100 * evaluation['scale_error']:+.4f} %",
+                  file=sys.stderr)
+        finally:
+            http(self.rig.api_port, "POST", "/api/calibration/wand/stop", b'{"solve": false}')
+            Select(self.page.find_element(By.ID, "wand-mode")).select_by_value("wand")
+            self.swap_node_frames(walk_frames)
+
     def test_6_wanding_coverage_then_the_report(self):
         # The nodes replay a wand waved through the same rig.
         wand = os.path.join(WORK, "wand.trc")
@@ -296,6 +345,7 @@ class WebConsoleTest(unittest.TestCase):
         self.swap_node_frames(os.path.join(WORK, "wand_frames"))
         try:
             self.go("calibration")
+            Select(self.page.find_element(By.ID, "wand-mode")).select_by_value("wand")
             for field, value in (("wand-name", "web_wand"), ("wand-min-samples", "250"), ("wand-coverage", "35"),
                                  ("wand-timeout", "120")):
                 box = self.page.find_element(By.ID, field)

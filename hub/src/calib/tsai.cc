@@ -39,6 +39,13 @@ Eigen::Matrix3d TsaiCamera::Rotation() const {
       .toRotationMatrix();
 }
 
+void TsaiCamera::SetRotation(const Eigen::Matrix3d& rotation) {
+  const Eigen::Vector3d angles = rotation.eulerAngles(2, 1, 0);  // R = Rz Ry Rx
+  rz = angles(0);
+  ry = angles(1);
+  rx = angles(2);
+}
+
 bool TsaiCamera::Project(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* pixel) const {
   const Eigen::Vector3d in_cam = Rotation() * point_in_world + Eigen::Vector3d(tx, ty, tz);
   if (!(in_cam.z() > 1e-9)) return false;

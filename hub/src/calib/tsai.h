@@ -28,6 +28,8 @@ struct TsaiCamera {
 
   // cam_from_world rotation: Rz * Ry * Rx (Willson's convention).
   Eigen::Matrix3d Rotation() const;
+  // Sets rx ry rz from a cam_from_world rotation matrix.
+  void SetRotation(const Eigen::Matrix3d& rotation);
   // Exact Tsai projection to frame-buffer pixels; false behind the camera.
   bool Project(const Eigen::Vector3d& point_in_world, Eigen::Vector2d* pixel) const;
   // Throws std::invalid_argument naming the bad value.

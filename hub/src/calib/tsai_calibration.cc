@@ -1,11 +1,15 @@
-// Tsai's two-stage calibration (seed 000 section 3.2): the radial alignment constraint solved
-// linearly, sign and orthonormalisation steps, f and tz, then a Ceres refinement with kappa1.
+// Tsai's calibration (seed 000 section 3.2): the linear stages per view (tsai_linear.cc), then
+// the joint Ceres refinement of every parameter with kappa1 in image pixels, and whether the
+// points determine kappa1 (the fit's covariance).
 #include "calib/tsai_calibration.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdio>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -13,7 +17,8 @@
 #include <ceres/rotation.h>
 
 #include <Eigen/Dense>
-#include <Eigen/Geometry>
+
+#include "calib/tsai_linear.h"
 
 namespace mocap {
 
@@ -23,15 +28,21 @@ void TsaiCalibrationOptions::Check() const {
   if (!(pixel_mm > 0.0 && pixel_mm < 1.0)) throw std::invalid_argument("pixel_mm must be within (0, 1) mm");
   if (!(sx > 0.5 && sx < 2.0)) throw std::invalid_argument("sx must be within (0.5, 2)");
   if (max_iterations < 1) throw std::invalid_argument("max_iterations must be >= 1");
+  if (!(huber_px > 0.0)) throw std::invalid_argument("huber_px must be > 0");
   if (!(max_rms_px > 0.0)) throw std::invalid_argument("max_rms_px must be > 0");
+  if (!(max_kappa1_corner_sigma_px > 0.0)) throw std::invalid_argument("max_kappa1_corner_sigma_px must be > 0");
 }
 
 namespace {
 
-// Residual in the undistorted sensor plane, scaled to pixels: Tsai's kappa1 maps the distorted
-// sensor point (from the observed pixel) to the undistorted one (from the camera model).
-struct TsaiSensorError {
-  TsaiSensorError(const Eigen::Vector3d& point, const Eigen::Vector2d& pixel, double dpx, double dpy)
+// Newton steps inverting Tsai's distortion per point: ample for |kappa1 r^2| up to ~0.3.
+constexpr int kNewtonSteps = 8;
+
+// The reprojection error in the image (px) through Tsai's exact model: the undistorted sensor
+// point from the pose and f, its distorted radius (ru = rd (1 + kappa1 rd^2) solved for
+// rd = d ru), then the frame buffer through sx and the image centre.
+struct TsaiPixelError {
+  TsaiPixelError(const Eigen::Vector3d& point, const Eigen::Vector2d& pixel, double dpx, double dpy)
       : point_(point), pixel_(pixel), dpx_(dpx), dpy_(dpy) {}
 
   template <typename T>
@@ -42,18 +53,18 @@ struct TsaiSensorError {
     for (int i = 0; i < 3; ++i) cam[i] += pose[3 + i];
     const T xu = f[0] * cam[0] / cam[2];
     const T yu = f[0] * cam[1] / cam[2];
-    const T xd = T(dpx_) * (T(pixel_.x()) - centre[0]) / sx[0];
-    const T yd = T(dpy_) * (T(pixel_.y()) - centre[1]);
-    const T radial = T(1.0) + kappa1[0] * (xd * xd + yd * yd);
-    residuals[0] = (xd * radial - xu) * sx[0] / T(dpx_);
-    residuals[1] = (yd * radial - yu) / T(dpy_);
+    const T kr = kappa1[0] * (xu * xu + yu * yu);
+    T d(1.0);
+    for (int i = 0; i < kNewtonSteps; ++i) d -= (d * (T(1.0) + kr * d * d) - T(1.0)) / (T(1.0) + T(3.0) * kr * d * d);
+    residuals[0] = sx[0] * xu * d / T(dpx_) + centre[0] - T(pixel_.x());
+    residuals[1] = yu * d / T(dpy_) + centre[1] - T(pixel_.y());
     return true;
   }
 
   static ceres::CostFunction* Create(const Eigen::Vector3d& point, const Eigen::Vector2d& pixel, double dpx,
                                      double dpy) {
-    return new ceres::AutoDiffCostFunction<TsaiSensorError, 2, 6, 1, 1, 2, 1>(
-        new TsaiSensorError(point, pixel, dpx, dpy));
+    return new ceres::AutoDiffCostFunction<TsaiPixelError, 2, 6, 1, 1, 2, 1>(
+        new TsaiPixelError(point, pixel, dpx, dpy));
   }
 
   Eigen::Vector3d point_;
@@ -61,217 +72,75 @@ struct TsaiSensorError {
   double dpx_, dpy_;
 };
 
-// One sign choice of the linear stage, completed with f and tz.
-struct Candidate {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  double f = 0.0;
-  double agreement = 0.0;  // the seed's sum of x_I x_P + y_I y_P over the points
-};
+std::array<double, 6> PoseOf(const TsaiCamera& camera) {
+  const Eigen::Matrix3d rotation = camera.Rotation();
+  std::array<double, 6> pose{};
+  ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(rotation.data()), pose.data());
+  pose[3] = camera.tx;
+  pose[4] = camera.ty;
+  pose[5] = camera.tz;
+  return pose;
+}
 
-class TsaiSolver {
+double Rms(const std::vector<std::vector<ControlPoint>>& views, const std::vector<TsaiCamera>& cameras) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    for (const ControlPoint& p : views[v]) {
+      Eigen::Vector2d projected;
+      if (!cameras[v].Project(p.point_in_world, &projected)) return std::numeric_limits<double>::infinity();
+      sum += (projected - p.pixel).squaredNorm();
+      ++count;
+    }
+  }
+  return std::sqrt(sum / static_cast<double>(count));
+}
+
+// The joint refinement; fills result->views and kappa1's standard deviation.
+class TsaiRefinement {
  public:
-  TsaiSolver(const std::vector<ControlPoint>& points, const TsaiCalibrationOptions& options)
-      : points_(points), options_(options) {}
+  TsaiRefinement(const std::vector<std::vector<ControlPoint>>& views, const std::vector<TsaiLinearView>& linear,
+                 const TsaiCalibrationOptions& options)
+      : views_(views), linear_(linear), options_(options) {}
 
-  TsaiCalibrationResult Run() {
-    Normalise();
-    TsaiCalibrationResult result;
-    result.coplanar = coplanar_;
-    const Candidate linear = LinearStage();
-    result.linear = ToTsai(linear.rotation, linear.translation, linear.f, 0.0, centre_, sx_);
-    result.linear_rms_px = Rms(result.linear);
-    result.tsai = options_.refine ? Refine(result.linear) : result.linear;
-    result.rms_px = Rms(result.tsai);
-    if (!(result.rms_px <= options_.max_rms_px))
-      throw std::invalid_argument("the control points do not fit one camera (reprojection RMS " +
-                                  std::to_string(result.rms_px) + " px, at most " +
-                                  std::to_string(options_.max_rms_px) +
-                                  " px): check that each x y z is paired with its own u v");
-    result.camera = CameraFromTsai(result.tsai, options_.camera_id, options_.width, options_.height);
-    return result;
-  }
-
- private:
-  // World points centred and scaled (and, for coplanar points, turned so that z = 0), for a
-  // well-conditioned linear stage; image points as distorted sensor coordinates (mm).
-  void Normalise() {
-    const size_t n = points_.size();
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const ControlPoint& p : points_) mean += p.point_in_world / static_cast<double>(n);
-    Eigen::MatrixXd centred(n, 3);
-    for (size_t i = 0; i < n; ++i) centred.row(static_cast<Eigen::Index>(i)) = (points_[i].point_in_world - mean).transpose();
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
-    const Eigen::Vector3d sigma = svd.singularValues();
-    if (!(sigma(1) > 1e-6 * sigma(0)) || !(sigma(0) > 0.0))
-      throw std::invalid_argument("the control points are collinear or coincide: spread them over the target");
-    coplanar_ = sigma(2) < 1e-6 * sigma(0);
-    if (coplanar_) {
-      turn_ = svd.matrixV().transpose();  // rows: the plane's axes, then its normal
-      if (turn_.determinant() < 0.0) turn_.row(2) *= -1.0;
+  void Run(TsaiCalibrationResult* result) {
+    bool coplanar = true;
+    std::vector<double> focal;
+    for (const TsaiLinearView& v : linear_) {
+      coplanar = coplanar && v.coplanar;
+      focal.push_back(v.camera.f);
     }
-    offset_ = mean;
-    scale_ = std::sqrt(sigma.squaredNorm() / static_cast<double>(n));
-    normalised_.resize(n);
-    sensor_.resize(n);
-    centre_ = Eigen::Vector2d(0.5 * options_.width, 0.5 * options_.height);
-    sx_ = coplanar_ ? options_.sx : 1.0;
-    const double min_points = coplanar_ ? 5 : 7;
-    if (static_cast<double>(n) < min_points)
-      throw std::invalid_argument(std::string("Tsai's method needs at least ") + (coplanar_ ? "5 coplanar" : "7") +
-                                  " control points, got " + std::to_string(n));
-    for (size_t i = 0; i < n; ++i) {
-      normalised_[i] = turn_ * (points_[i].point_in_world - mean) / scale_;
-      if (coplanar_) normalised_[i].z() = 0.0;
-      sensor_[i] = Eigen::Vector2d(options_.pixel_mm * (points_[i].pixel.x() - centre_.x()) / sx_,
-                                   options_.pixel_mm * (points_[i].pixel.y() - centre_.y()));
-    }
-  }
-
-  // Stages 1-5 in the normalised world; the pose comes back in the caller's world.
-  Candidate LinearStage() {
-    const size_t n = points_.size();
-    const int unknowns = coplanar_ ? 6 : 8;
-    Eigen::MatrixXd a(n, unknowns);
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d& x = normalised_[i];
-      const double xd = sensor_[i].x(), yd = sensor_[i].y();
-      const auto row = static_cast<Eigen::Index>(i);
-      if (coplanar_) {
-        a.row(row) << yd * x.x(), yd * x.y(), yd, -xd * x.x(), -xd * x.y(), -xd;
-      } else {
-        a.row(row) << yd * x.x(), yd * x.y(), yd * x.z(), yd, -xd * x.x(), -xd * x.y(), -xd * x.z(), -xd;
-      }
-    }
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullV);
-    const Eigen::VectorXd s = svd.singularValues();
-    if (!(s(unknowns - 2) > 1e-9 * s(0)))
-      throw std::invalid_argument("the radial alignment equations have no unique solution: the points are degenerate "
-                                  "(all on one line through the image centre?); use a target that fills the image");
-    const Eigen::VectorXd v = svd.matrixV().col(unknowns - 1);
-    std::vector<Candidate> candidates;
-    if (coplanar_) {
-      // Seed 3.2.10: row norms k of [r11 r12 r13] and [r21 r22 r23] from the 2 x 2 block.
-      const double r11 = v(0), r12 = v(1), r21 = v(3), r22 = v(4);
-      const double sr = r11 * r11 + r12 * r12 + r21 * r21 + r22 * r22;
-      const double root = std::sqrt(((r11 - r22) * (r11 - r22) + (r12 + r21) * (r12 + r21)) *
-                                    ((r11 + r22) * (r11 + r22) + (r12 - r21) * (r12 - r21)));
-      const double k = std::sqrt(0.5 * (sr + root));
-      for (double sign : {1.0, -1.0}) {
-        const Eigen::VectorXd u = sign * v / k;
-        const double r13_sq = std::max(0.0, 1.0 - u(0) * u(0) - u(1) * u(1));
-        const double r23_sq = std::max(0.0, 1.0 - u(3) * u(3) - u(4) * u(4));
-        // r13 r23 = -(r11 r21 + r12 r22): the product's sign is known, the pair's is not.
-        const double product = -(u(0) * u(3) + u(1) * u(4));
-        for (double third : {1.0, -1.0}) {
-          const double r13 = third * std::sqrt(r13_sq);
-          const double r23 = (product >= 0.0 ? 1.0 : -1.0) * third * std::sqrt(r23_sq);
-          AddCandidate(Eigen::Vector3d(u(0), u(1), r13), Eigen::Vector3d(u(3), u(4), r23), u(2), u(5), &candidates);
-        }
-      }
-    } else {
-      const double row2 = v.segment<3>(4).norm();
-      const double s_estimate = v.head<3>().norm() / row2;
-      if (!(s_estimate > 0.5 && s_estimate < 2.0))
-        throw std::invalid_argument("the x scale factor came out " + std::to_string(s_estimate) +
-                                    ": the points do not fit one camera (check the pairing of x y z with u v)");
-      sx_ = s_estimate;
-      for (Eigen::Vector2d& p : sensor_) p.x() /= sx_;
-      for (double sign : {1.0, -1.0}) {
-        const Eigen::VectorXd u = sign * v / row2;
-        AddCandidate(u.head<3>() / sx_, u.segment<3>(4), u(3) / sx_, u(7), &candidates);
-      }
-    }
-    const Candidate* best = nullptr;
-    for (const Candidate& c : candidates) {
-      if (c.f > 0.0 && (best == nullptr || c.agreement > best->agreement)) best = &c;
-    }
-    if (best == nullptr || !(best->agreement > 0.0))
-      throw std::invalid_argument("no sign choice puts the points in front of the camera with a positive focal length: "
-                                  "check the pairing of x y z with u v");
-    // Back to the caller's world: x_cam = scale (R' turn (x - offset) / scale + T').
-    Candidate out = *best;
-    out.rotation = best->rotation * turn_;
-    out.translation = scale_ * best->translation - out.rotation * offset_;
-    return out;
-  }
-
-  // Stage 4 (orthonormalisation) and 5 (f, tz) for one sign choice, and its agreement.
-  void AddCandidate(Eigen::Vector3d row1, Eigen::Vector3d row2, double tx, double ty, std::vector<Candidate>* out) const {
-    const double k = -0.5 * row1.dot(row2);
-    const Eigen::Vector3d a = row1 + k * row2, b = row2 + k * row1;
-    Candidate c;
-    c.rotation.row(0) = a.normalized().transpose();
-    c.rotation.row(1) = b.normalized().transpose();
-    c.rotation.row(2) = a.normalized().cross(b.normalized()).transpose();
-    // f and tz from both projection equations: X f - xd tz = w xd, Y f - yd tz = w yd.
-    const size_t n = points_.size();
-    Eigen::MatrixXd m(2 * n, 2);
-    Eigen::VectorXd rhs(2 * n);
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d& x = normalised_[i];
-      const double xc = c.rotation.row(0).dot(x) + tx, yc = c.rotation.row(1).dot(x) + ty;
-      const double w = c.rotation.row(2).dot(x);
-      const auto r = static_cast<Eigen::Index>(2 * i);
-      m.row(r) << xc, -sensor_[i].x();
-      rhs(r) = w * sensor_[i].x();
-      m.row(r + 1) << yc, -sensor_[i].y();
-      rhs(r + 1) = w * sensor_[i].y();
-    }
-    const Eigen::Vector2d solution = m.colPivHouseholderQr().solve(rhs);
-    c.f = solution(0);
-    c.translation = Eigen::Vector3d(tx, ty, solution(1));
-    if (!std::isfinite(c.f)) return;
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d cam = c.rotation * normalised_[i] + c.translation;
-      if (!(cam.z() > 0.0)) {
-        c.agreement = -1.0;
+    std::nth_element(focal.begin(), focal.begin() + static_cast<std::ptrdiff_t>(focal.size() / 2), focal.end());
+    const TsaiCamera& first = linear_[0].camera;
+    double f = focal[focal.size() / 2], kappa1 = 0.0, sx = options_.sx;
+    for (const TsaiLinearView& v : linear_) {
+      if (!v.coplanar) {
+        sx = v.camera.sx;
         break;
       }
-      const Eigen::Vector2d predicted = c.f * cam.head<2>() / cam.z();
-      c.agreement += sensor_[i].dot(predicted);
     }
-    out->push_back(c);
-  }
-
-  TsaiCamera ToTsai(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation, double f, double kappa1,
-                    const Eigen::Vector2d& centre, double sx) const {
-    TsaiCamera t;
-    t.ncx = t.nfx = options_.width;
-    t.dx = t.dy = t.dpx = t.dpy = options_.pixel_mm;
-    t.cx = centre.x();
-    t.cy = centre.y();
-    t.sx = sx;
-    t.f = f;
-    t.kappa1 = kappa1;
-    t.tx = translation.x();
-    t.ty = translation.y();
-    t.tz = translation.z();
-    const Eigen::Vector3d angles = rotation.eulerAngles(2, 1, 0);  // R = Rz Ry Rx
-    t.rz = angles(0);
-    t.ry = angles(1);
-    t.rx = angles(2);
-    return t;
-  }
-
-  TsaiCamera Refine(const TsaiCamera& start) const {
-    const Eigen::Matrix3d rotation = start.Rotation();
-    std::array<double, 6> pose{};
-    ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(rotation.data()), pose.data());
-    pose[3] = start.tx;
-    pose[4] = start.ty;
-    pose[5] = start.tz;
-    double f = start.f, kappa1 = 0.0, sx = start.sx;
-    std::array<double, 2> centre = {start.cx, start.cy};
+    std::array<double, 2> centre = {first.cx, first.cy};
+    std::vector<std::array<double, 6>> poses;
+    for (const TsaiLinearView& v : linear_) poses.push_back(PoseOf(v.camera));
     ceres::Problem problem;
-    for (const ControlPoint& p : points_) {
-      problem.AddResidualBlock(TsaiSensorError::Create(p.point_in_world, p.pixel, start.dpx, start.dpy), nullptr,
-                               pose.data(), &f, &kappa1, centre.data(), &sx);
+    size_t residuals = 0;
+    for (size_t v = 0; v < views_.size(); ++v) {
+      for (const ControlPoint& p : views_[v]) {
+        problem.AddResidualBlock(TsaiPixelError::Create(p.point_in_world, p.pixel, first.dpx, first.dpy),
+                                 new ceres::HuberLoss(options_.huber_px), poses[v].data(), &f, &kappa1, centre.data(),
+                                 &sx);
+        residuals += 2;
+      }
     }
-    if (coplanar_) problem.SetParameterBlockConstant(&sx);
+    if (coplanar) problem.SetParameterBlockConstant(&sx);
     if (!options_.refine_centre) problem.SetParameterBlockConstant(centre.data());
     ceres::Solver::Options solver;
-    solver.linear_solver_type = ceres::DENSE_QR;
+    // The poses are independent given the shared intrinsics: eliminated first (Schur).
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (std::array<double, 6>& pose : poses) ordering->AddElementToGroup(pose.data(), 0);
+    for (double* block : {&f, &kappa1, centre.data(), &sx}) ordering->AddElementToGroup(block, 1);
+    solver.linear_solver_type = ceres::DENSE_SCHUR;
+    solver.linear_solver_ordering = ordering;
     solver.max_num_iterations = options_.max_iterations;
     solver.function_tolerance = 1e-14;
     solver.gradient_tolerance = 1e-16;
@@ -279,49 +148,130 @@ class TsaiSolver {
     solver.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(solver, &problem, &summary);
-    Eigen::Matrix3d refined;
-    ceres::AngleAxisToRotationMatrix(pose.data(), ceres::ColumnMajorAdapter3x3(refined.data()));
     if (!(f > 0.0) || !std::isfinite(f) || !std::isfinite(kappa1))
       throw std::invalid_argument("the non-linear refinement diverged (f " + std::to_string(f) +
                                   "): use more control points spread over the image");
-    return ToTsai(refined, Eigen::Vector3d(pose[3], pose[4], pose[5]), f, kappa1,
-                  Eigen::Vector2d(centre[0], centre[1]), sx);
-  }
-
-  double Rms(const TsaiCamera& camera) const {
-    double sum = 0.0;
-    for (const ControlPoint& p : points_) {
-      Eigen::Vector2d projected;
-      if (!camera.Project(p.point_in_world, &projected)) return std::numeric_limits<double>::infinity();
-      sum += (projected - p.pixel).squaredNorm();
+    result->views.clear();
+    for (size_t v = 0; v < views_.size(); ++v) {
+      TsaiCamera camera = first;
+      Eigen::Matrix3d rotation;
+      ceres::AngleAxisToRotationMatrix(poses[v].data(), ceres::ColumnMajorAdapter3x3(rotation.data()));
+      camera.SetRotation(rotation);
+      camera.tx = poses[v][3];
+      camera.ty = poses[v][4];
+      camera.tz = poses[v][5];
+      camera.f = f;
+      camera.kappa1 = kappa1;
+      camera.cx = centre[0];
+      camera.cy = centre[1];
+      camera.sx = sx;
+      result->views.push_back(camera);
     }
-    return std::sqrt(sum / static_cast<double>(points_.size()));
+    const size_t unknowns = static_cast<size_t>(problem.NumParameters()) - (coplanar ? 1 : 0) -
+                        (options_.refine_centre ? 0 : 2);
+    result->kappa1_sigma = Kappa1Sigma(&problem, &kappa1, summary.final_cost, residuals, unknowns);
   }
 
-  const std::vector<ControlPoint>& points_;
+ private:
+  // kappa1's standard deviation: its covariance block at unit pixel noise, scaled by the
+  // residuals' variance; infinite when the fit leaves it unconstrained.
+  static double Kappa1Sigma(ceres::Problem* problem, const double* kappa1, double cost, size_t residuals,
+                            size_t unknowns) {
+    if (residuals <= unknowns) return std::numeric_limits<double>::infinity();
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = ceres::SPARSE_QR;
+    ceres::Covariance covariance(covariance_options);
+    const std::vector<std::pair<const double*, const double*>> blocks = {{kappa1, kappa1}};
+    double variance = 0.0;
+    if (!covariance.Compute(blocks, problem) || !covariance.GetCovarianceBlock(kappa1, kappa1, &variance))
+      return std::numeric_limits<double>::infinity();
+    const double noise = 2.0 * cost / static_cast<double>(residuals - unknowns);
+    return std::sqrt(std::max(0.0, variance * noise));
+  }
+
+  const std::vector<std::vector<ControlPoint>>& views_;
+  const std::vector<TsaiLinearView>& linear_;
   const TsaiCalibrationOptions& options_;
-  bool coplanar_ = false;
-  Eigen::Matrix3d turn_ = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();
-  double scale_ = 1.0;
-  std::vector<Eigen::Vector3d> normalised_;
-  std::vector<Eigen::Vector2d> sensor_;
-  Eigen::Vector2d centre_ = Eigen::Vector2d::Zero();
-  double sx_ = 1.0;
 };
+
+// Whether kappa1 is pinned: its standard deviation as the displacement at the image corner
+// farthest from the centre, and how far the points reach towards that corner.
+void JudgeKappa1(const std::vector<std::vector<ControlPoint>>& views, const TsaiCalibrationOptions& options,
+                 TsaiCalibrationResult* result) {
+  const TsaiCamera& t = result->tsai;
+  const auto sensor = [&t](const Eigen::Vector2d& pixel) {
+    return Eigen::Vector2d(t.dpx * (pixel.x() - t.cx) / t.sx, t.dpy * (pixel.y() - t.cy));
+  };
+  const double corner = sensor(Eigen::Vector2d(t.cx < 0.5 * options.width ? options.width : 0.0,
+                                               t.cy < 0.5 * options.height ? options.height : 0.0))
+                            .norm();
+  double reach = 0.0;
+  for (const std::vector<ControlPoint>& view : views) {
+    for (const ControlPoint& p : view) reach = std::max(reach, sensor(p.pixel).norm());
+  }
+  result->coverage = reach / corner;
+  result->kappa1_corner_sigma_px = result->kappa1_sigma * corner * corner * corner / std::min(t.dpx, t.dpy);
+  result->kappa1_determined = result->kappa1_corner_sigma_px <= options.max_kappa1_corner_sigma_px;
+  if (result->kappa1_determined) return;
+  char note[320];
+  std::snprintf(note, sizeof(note),
+                "kappa1 is undetermined: one standard deviation of it moves the image corner by %.2g px (at most "
+                "%.2g px); the points reach %.0f %% of the way from the image centre to its corner: fill the "
+                "image with the target, or add views that reach the corners",
+                result->kappa1_corner_sigma_px, options.max_kappa1_corner_sigma_px, 100.0 * result->coverage);
+  result->kappa1_note = note;
+}
 
 }  // namespace
 
-TsaiCalibrationResult CalibrateTsai(const std::vector<ControlPoint>& points, const TsaiCalibrationOptions& options) {
+TsaiCalibrationResult CalibrateTsaiViews(const std::vector<std::vector<ControlPoint>>& views,
+                                         const TsaiCalibrationOptions& options) {
   options.Check();
-  for (const ControlPoint& p : points) {
-    if (!p.point_in_world.allFinite() || !p.pixel.allFinite())
-      throw std::invalid_argument("a control point is not finite");
+  if (views.empty()) throw std::invalid_argument("Tsai's method needs at least one view of control points");
+  std::vector<TsaiLinearView> linear;
+  TsaiCalibrationResult result;
+  result.coplanar = true;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const std::string which = views.size() > 1 ? "view " + std::to_string(v + 1) + ": " : "";
+    for (const ControlPoint& p : views[v]) {
+      if (!p.point_in_world.allFinite() || !p.pixel.allFinite())
+        throw std::invalid_argument(which + "a control point is not finite");
+    }
+    if (views[v].size() < 5)
+      throw std::invalid_argument(which + "Tsai's method needs at least 5 coplanar or 7 control points, got " +
+                                  std::to_string(views[v].size()));
+    try {
+      linear.push_back(TsaiLinearStage(views[v], options));
+    } catch (const std::invalid_argument& error) {
+      throw std::invalid_argument(which + error.what());
+    }
+    result.coplanar = result.coplanar && linear.back().coplanar;
   }
-  if (points.size() < 5)
-    throw std::invalid_argument("Tsai's method needs at least 5 coplanar or 7 control points, got " +
-                                std::to_string(points.size()));
-  return TsaiSolver(points, options).Run();
+  std::vector<TsaiCamera> linear_cameras;
+  for (const TsaiLinearView& v : linear) linear_cameras.push_back(v.camera);
+  result.linear = linear_cameras[0];
+  result.linear_rms_px = Rms(views, linear_cameras);
+  if (options.refine) {
+    TsaiRefinement(views, linear, options).Run(&result);
+  } else {
+    result.views = linear_cameras;
+    result.kappa1_sigma = std::numeric_limits<double>::infinity();
+  }
+  result.tsai = result.views[0];
+  result.rms_px = Rms(views, result.views);
+  if (!(result.rms_px <= options.max_rms_px))
+    throw std::invalid_argument("the control points do not fit one camera (reprojection RMS " +
+                                std::to_string(result.rms_px) + " px, at most " + std::to_string(options.max_rms_px) +
+                                " px): check that each x y z is paired with its own u v");
+  JudgeKappa1(views, options, &result);
+  if (!options.refine) result.kappa1_note = "kappa1 is not estimated without the non-linear stage";
+  if (!result.kappa1_determined && options.require_kappa1) throw std::invalid_argument(result.kappa1_note);
+  result.camera = CameraFromTsai(result.tsai, options.camera_id, options.width, options.height);
+  return result;
+}
+
+TsaiCalibrationResult CalibrateTsai(const std::vector<ControlPoint>& points, const TsaiCalibrationOptions& options) {
+  return CalibrateTsaiViews({points}, options);
 }
 
 }  // namespace mocap

@@ -1,7 +1,14 @@
-// Tsai's method on seed 000's folded target (non-coplanar) and on one of its faces (coplanar),
-// seen by simulated Tsai cameras with radial distortion: exact from noiseless points; at 0.2 px
-// the centre within 1 mm and kappa1 within 2 % of the truth, and the DLT of the same points
-// agrees on the centre; bad point sets are refused with the reason.
+// Tsai's method on seed 000's target layout (3 x 5 squares of 20 mm per face), folded
+// (non-coplanar) and one face alone (coplanar), seen by simulated Tsai cameras with radial
+// distortion; intrinsics, lens and views drawn at random per seed. The views follow seed 000's
+// protocol (section 3.4): the camera close enough that the target fills the image (the points
+// spread over the whole image, for kappa1 and the image centre) and the nearest-to-farthest
+// depth of the points about the camera's distance; one face viewed at >= 30 degrees, several
+// views of it for the intrinsics. Asserted: exact from noiseless points; at 0.2 px the centre
+// within 1 mm and kappa1 within 2 % of the truth on every draw, kappa1 reported determined; a
+// distant target (points a third of the way to the corners) reports kappa1 undetermined with a
+// standard deviation that covers its error; the DLT of the same points agrees on the centre;
+// bad point sets are refused with the reason.
 #include "calib/tsai_calibration.h"
 
 #include <algorithm>
@@ -9,6 +16,7 @@
 #include <cstdio>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -23,86 +31,131 @@ namespace {
 
 constexpr int kWidth = 1280;
 constexpr int kHeight = 800;
+constexpr double kPixelMm = 0.005;
+constexpr double kNoisePx = 0.2;
+constexpr int kDraws = 20;
+constexpr int kFoldedViews = 40;  // views per draw where the intrinsics come from several views
+constexpr int kFaceViews = 40;
+constexpr double kPi = 3.14159265358979323846;
 
-// A Tsai camera at `centre` looking at `target`: 1100 px focal length, 5 um cells, the image
-// centre off the middle, barrel distortion of ~3 % at the corners.
-TsaiCamera TruthCamera(const Eigen::Vector3d& centre, const Eigen::Vector3d& target, double sx) {
-  const Camera look = testing::LookAtCamera(1, centre, target);
+// A random lens: focal length 900-1300 px, the image centre up to 20 px off the middle, kappa1
+// moving the image corner by 2-5 % of its radius, barrel or pincushion, sx within 2 % of 1
+// (1 for coplanar targets: their points cannot give it).
+TsaiCamera RandomLens(std::mt19937* rng, bool with_sx) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   TsaiCamera t;
   t.ncx = t.nfx = kWidth;
-  t.dx = t.dy = t.dpx = t.dpy = 0.005;
-  t.cx = 652.0;
-  t.cy = 391.0;
-  t.sx = sx;
-  t.f = 1100.0 * 0.005;
-  t.kappa1 = 0.002;  // 1/mm^2: 1 + kappa1 r^2 = 1.028 at the corners (r = 3.75 mm)
-  t.tx = look.translation.x();
-  t.ty = look.translation.y();
-  t.tz = look.translation.z();
-  const Eigen::Vector3d angles = look.rotation.eulerAngles(2, 1, 0);
-  t.rz = angles(0);
-  t.ry = angles(1);
-  t.rx = angles(2);
+  t.dx = t.dy = t.dpx = t.dpy = kPixelMm;
+  t.f = (900.0 + 400.0 * unit(*rng)) * kPixelMm;
+  t.cx = 0.5 * kWidth + 40.0 * (unit(*rng) - 0.5);
+  t.cy = 0.5 * kHeight + 40.0 * (unit(*rng) - 0.5);
+  t.sx = with_sx ? 0.98 + 0.04 * unit(*rng) : 1.0;
+  const double corner_mm = kPixelMm * std::hypot(0.5 * kWidth, 0.5 * kHeight);
+  const double fraction = (0.02 + 0.03 * unit(*rng)) * (unit(*rng) < 0.5 ? -1.0 : 1.0);
+  t.kappa1 = fraction / (corner_mm * corner_mm);
+  return t;
+}
+
+// The lens placed at `centre` looking at `target`, turned by `roll` about its axis.
+TsaiCamera Place(TsaiCamera t, const Eigen::Vector3d& centre, const Eigen::Vector3d& target, double roll) {
+  const Camera look = testing::LookAtCamera(1, centre, target);
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()).toRotationMatrix() * look.rotation;
+  t.SetRotation(rotation);
+  const Eigen::Vector3d translation = -rotation * centre;
+  t.tx = translation.x();
+  t.ty = translation.y();
+  t.tz = translation.z();
   return t;
 }
 
 Eigen::Vector3d Centre(const TsaiCamera& t) { return -t.Rotation().transpose() * Eigen::Vector3d(t.tx, t.ty, t.tz); }
 
-// The target's points (one face or both) as the camera sees them, with Gaussian pixel noise.
-std::vector<ControlPoint> Observe(const TsaiCamera& camera, bool both_faces, double noise_px, uint32_t seed,
-                                  const CalibrationTargetLayout& layout = CalibrationTargetLayout()) {
-  std::mt19937 rng(seed);
+// The target's points (both faces, or the floor face z = 0 alone) as the camera sees them,
+// those inside the image, with Gaussian pixel noise.
+std::vector<ControlPoint> Observe(const TsaiCamera& camera, bool both_faces, double noise_px, std::mt19937* rng) {
+  const CalibrationTargetLayout layout;
   std::normal_distribution<double> noise(0.0, noise_px);
   std::vector<ControlPoint> points;
-  const int count = both_faces ? layout.NumPoints() : layout.PointsPerFace();
-  const int first = both_faces ? 0 : layout.PointsPerFace();  // the floor face alone: z = 0
-  for (int i = first; i < first + count; ++i) {
+  const int first = both_faces ? 0 : layout.PointsPerFace();
+  for (int i = first; i < layout.NumPoints(); ++i) {
     ControlPoint p;
     p.point_in_world = layout.PointInWorld(i);
     if (!camera.Project(p.point_in_world, &p.pixel)) continue;
     if (p.pixel.x() < 0 || p.pixel.y() < 0 || p.pixel.x() > kWidth || p.pixel.y() > kHeight) continue;
-    p.pixel += Eigen::Vector2d(noise(rng), noise(rng));
+    if (noise_px > 0.0) p.pixel += Eigen::Vector2d(noise(*rng), noise(*rng));
     points.push_back(p);
   }
   return points;
 }
 
-// Seed 000's layout made dense (8 x 12 squares of 10 mm per face), close enough to fill the
-// image out to its corners, where kappa1 shows.
-CalibrationTargetLayout DenseLayout() {
-  CalibrationTargetLayout layout;
-  layout.rows = 8;
-  layout.cols = 12;
-  layout.square_mm = 10.0;
-  layout.gap_mm = 8.0;
-  layout.edge_mm = 8.0;
-  layout.fold_mm = 6.0;
-  return layout;
+// Seed 000's protocol for the folded target: from the front, between the floor and the wall
+// (elevation 30-60 degrees, azimuth within 35 degrees), the page's width spanning 80-100 % of the
+// image width, aimed within 10 mm of the target's middle, rolled up to 20 degrees.
+TsaiCamera FoldedView(const TsaiCamera& lens, std::mt19937* rng) {
+  const CalibrationTargetLayout layout;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double elevation = (30.0 + 30.0 * unit(*rng)) * kPi / 180.0;
+  const double azimuth = (70.0 * unit(*rng) - 35.0) * kPi / 180.0;
+  const Eigen::Vector3d direction(std::sin(azimuth), std::cos(azimuth) * std::cos(elevation),
+                                  std::cos(azimuth) * std::sin(elevation));
+  const double h = layout.HalfHeightMm();
+  const Eigen::Vector3d middle(0.5 * layout.PageWidthMm(), 0.5 * h, 0.5 * h);
+  const double span = 0.8 + 0.2 * unit(*rng);
+  const double distance = lens.f / kPixelMm * layout.PageWidthMm() / (span * kWidth);
+  const Eigen::Vector3d aim = middle + Eigen::Vector3d(20.0 * unit(*rng) - 10.0, 20.0 * unit(*rng) - 10.0, 0.0);
+  return Place(lens, middle + distance * direction, aim, (40.0 * unit(*rng) - 20.0) * kPi / 180.0);
+}
+
+// One face (the floor, z = 0) at 30-50 degrees from its normal (seed 000: at least 30) from any
+// side, filling 80-100 % of the image, rolled up to 20 degrees.
+TsaiCamera FaceView(const TsaiCamera& lens, std::mt19937* rng) {
+  const CalibrationTargetLayout layout;
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double tilt = (30.0 + 20.0 * unit(*rng)) * kPi / 180.0;
+  const double azimuth = 2.0 * kPi * unit(*rng);
+  const Eigen::Vector3d direction(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth),
+                                  std::cos(tilt));
+  const Eigen::Vector3d middle(0.5 * layout.PageWidthMm(), 0.5 * layout.HalfHeightMm(), 0.0);
+  const double span = 0.8 + 0.2 * unit(*rng);
+  const double distance = lens.f / kPixelMm * layout.HalfHeightMm() / (span * kHeight);
+  return Place(lens, middle + distance * direction, middle, (40.0 * unit(*rng) - 20.0) * kPi / 180.0);
 }
 
 TsaiCalibrationOptions Options() {
   TsaiCalibrationOptions options;
   options.width = kWidth;
   options.height = kHeight;
-  options.pixel_mm = 0.005;
+  options.pixel_mm = kPixelMm;
   return options;
 }
 
-// Views of a target of width w and face depth h from the front, the side and the other side
-// (world: x along the fold, floor towards +y, wall up +z); `near` scales the distance.
-std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> Views(const CalibrationTargetLayout& layout, double near) {
-  const double w = layout.PageWidthMm(), h = layout.HalfHeightMm();
-  return {{{0.5 * w, 330.0 * near, 260.0 * near}, {0.5 * w, 0.45 * h, 0.4 * h}},
-          {{-120.0 * near, 300.0 * near, 220.0 * near}, {0.5 * w, 0.4 * h, 0.45 * h}},
-          {{w + 80.0 * near, 260.0 * near, 330.0 * near}, {0.5 * w, 0.5 * h, 0.35 * h}}};
-}
-const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> kViews = Views(CalibrationTargetLayout(), 1.0);
+struct Spread {
+  std::vector<double> centre_mm, kappa_percent, corner_sigma_px;
+  void Add(const TsaiCalibrationResult& result, const TsaiCamera& truth) {
+    centre_mm.push_back((Centre(result.tsai) - Centre(truth)).norm());
+    kappa_percent.push_back(std::abs(100.0 * (result.tsai.kappa1 - truth.kappa1) / truth.kappa1));
+    corner_sigma_px.push_back(result.kappa1_corner_sigma_px);
+  }
+  static double Median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  }
+  static double Max(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+  void Print(const char* name) const {
+    std::printf("%s, %zu draws: centre median %.3f mm, worst %.3f mm; |kappa1 error| median %.2f %%, worst %.2f %%; "
+                "kappa1 sigma at the corner median %.3f px, worst %.3f px\n",
+                name, centre_mm.size(), Median(centre_mm), Max(centre_mm), Median(kappa_percent), Max(kappa_percent),
+                Median(corner_sigma_px), Max(corner_sigma_px));
+  }
+};
 
 TEST(TsaiCalibrationTest, NoiselessPointsGiveTheCameraExactly) {
   for (bool both_faces : {true, false}) {
-    const TsaiCamera truth = TruthCamera(kViews[0].first, kViews[0].second, both_faces ? 1.01 : 1.0);
-    const std::vector<ControlPoint> points = Observe(truth, both_faces, 0.0, 1);
-    ASSERT_GE(points.size(), both_faces ? 100u : 50u);
+    std::mt19937 rng(1);
+    const TsaiCamera lens = RandomLens(&rng, both_faces);
+    const TsaiCamera truth = both_faces ? FoldedView(lens, &rng) : FaceView(lens, &rng);
+    const std::vector<ControlPoint> points = Observe(truth, both_faces, 0.0, &rng);
+    ASSERT_GE(points.size(), both_faces ? 60u : 40u);
     const TsaiCalibrationResult result = CalibrateTsai(points, Options());
     SCOPED_TRACE(both_faces ? "folded target" : "one face");
     EXPECT_EQ(result.coplanar, !both_faces);
@@ -112,75 +165,131 @@ TEST(TsaiCalibrationTest, NoiselessPointsGiveTheCameraExactly) {
     EXPECT_NEAR(result.tsai.f, truth.f, 1e-7);
     EXPECT_NEAR(result.tsai.sx, truth.sx, 1e-8);
     EXPECT_NEAR(result.tsai.cx, truth.cx, 1e-4);
-    // The linear stage alone is already close: the refinement only has the lens to add.
-    EXPECT_LT((Centre(result.linear) - Centre(truth)).norm(), 15.0);
+    // The linear stage alone is already close: the refinement has the lens and centre to add.
+    EXPECT_LT((Centre(result.linear) - Centre(truth)).norm(), 25.0);
   }
 }
 
-struct Accuracy {
-  double centre_mm = 0.0;      // worst over the views
-  double kappa_percent = 0.0;  // worst |error| over the views
-};
-
-// Tsai at 0.2 px over the three views of `layout`; the folded target's DLT must agree on the
-// centre.
-Accuracy Calibrate(const CalibrationTargetLayout& layout, double near, bool both_faces, const char* name) {
-  Accuracy worst;
-  const auto views = Views(layout, near);
-  for (size_t v = 0; v < views.size(); ++v) {
-    const TsaiCamera truth = TruthCamera(views[v].first, views[v].second, 1.0);
-    const std::vector<ControlPoint> points = Observe(truth, both_faces, 0.2, 10 + static_cast<uint32_t>(v), layout);
-    const TsaiCalibrationResult result = CalibrateTsai(points, Options());
-    const double centre_mm = (Centre(result.tsai) - Centre(truth)).norm();
-    const double kappa_percent = 100.0 * (result.tsai.kappa1 - truth.kappa1) / truth.kappa1;
-    std::printf("%s, view %zu: %zu points, rms %.3f px (linear %.2f px), centre %.3f mm off, kappa1 %+.2f %%, f %+.3f %%",
-                name, v, points.size(), result.rms_px, result.linear_rms_px, centre_mm, kappa_percent,
-                100.0 * (result.tsai.f - truth.f) / truth.f);
-    EXPECT_LT(result.rms_px, 0.35) << name << " view " << v;
-    // The OpenCV camera written to the calibration keeps the centre.
-    EXPECT_LT((result.camera.camera.CenterInWorld() - Centre(result.tsai)).norm(), 0.05) << name << " view " << v;
-    if (both_faces) {
-      DltOptions dlt;
-      dlt.width = kWidth;
-      dlt.height = kHeight;
-      dlt.refine_distortion = true;
-      const DltResult d = CalibrateDlt(points, dlt);
-      const double apart = (d.camera.CenterInWorld() - Centre(result.tsai)).norm();
-      std::printf("; DLT centre %.3f mm off, %.3f mm from Tsai's", (d.camera.CenterInWorld() - Centre(truth)).norm(),
-                  apart);
-      EXPECT_LT(apart, 1.0) << name << " view " << v;
+// Several views per draw of one camera (its intrinsics shared, a pose per view), each view's
+// centre within 1 mm and kappa1 within 2 %, kappa1 reported determined.
+void SeveralViews(bool both_faces, int count, uint32_t seed, const char* name) {
+  Spread spread;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    std::mt19937 rng(seed + static_cast<uint32_t>(draw));
+    const TsaiCamera lens = RandomLens(&rng, both_faces);
+    std::vector<std::vector<ControlPoint>> views;
+    std::vector<TsaiCamera> truths;
+    for (int v = 0; v < count; ++v) {
+      truths.push_back(both_faces ? FoldedView(lens, &rng) : FaceView(lens, &rng));
+      views.push_back(Observe(truths.back(), both_faces, kNoisePx, &rng));
     }
-    std::printf("\n");
-    worst.centre_mm = std::max(worst.centre_mm, centre_mm);
-    worst.kappa_percent = std::max(worst.kappa_percent, std::abs(kappa_percent));
+    const TsaiCalibrationResult result = CalibrateTsaiViews(views, Options());
+    spread.Add(result, truths[0]);
+    SCOPED_TRACE(std::string(name) + ", draw " + std::to_string(draw));
+    EXPECT_EQ(result.coplanar, !both_faces);
+    EXPECT_LT(result.rms_px, 0.35);
+    EXPECT_NEAR(result.tsai.sx, truths[0].sx, 1e-3);
+    EXPECT_LT(std::abs(result.tsai.cx - truths[0].cx), 2.0);
+    ASSERT_EQ(result.views.size(), static_cast<size_t>(count));
+    for (int v = 0; v < count; ++v) EXPECT_LT((Centre(result.views[v]) - Centre(truths[v])).norm(), 1.0) << "view " << v;
+    EXPECT_LT(spread.kappa_percent.back(), 2.0);
+    EXPECT_TRUE(result.kappa1_determined) << result.kappa1_note;
+    EXPECT_LT((result.camera.camera.CenterInWorld() - Centre(result.tsai)).norm(), 0.05);
   }
-  return worst;
+  spread.Print(name);
 }
 
-// The seed's folded target (3 x 5 squares of 20 mm per face): the centre within 1 mm of the
-// truth from every view. Its points reach a third of the way to the image corners, too little
-// to pin kappa1 at 0.2 px (it comes out within ~15 %), so the lens needs the dense layout below.
-TEST(TsaiCalibrationTest, SeedTargetGivesTheCentreWithinAMillimetre) {
-  const Accuracy folded = Calibrate(CalibrationTargetLayout(), 1.0, true, "seed target, folded");
-  EXPECT_LT(folded.centre_mm, 1.0);
+TEST(TsaiCalibrationTest, FoldedTargetFromSeveralViewsGivesCentreAndKappa1) {
+  SeveralViews(true, kFoldedViews, 100, "seed target folded, several views");
 }
 
-// The seed's layout made dense and filling the image: folded, the centre within 1 mm and kappa1
-// within 2 % of the truth at 0.2 px. One face alone (coplanar points: f and tz trade against each
-// other along the view) is looser: printed, and held to 3 mm and 6 %.
-TEST(TsaiCalibrationTest, DenseTargetGivesCentreAndKappa1) {
-  const Accuracy folded = Calibrate(DenseLayout(), 0.7, true, "dense target, folded");
-  EXPECT_LT(folded.centre_mm, 1.0);
-  EXPECT_LT(folded.kappa_percent, 2.0);
-  const Accuracy face = Calibrate(DenseLayout(), 0.7, false, "dense target, one face");
-  EXPECT_LT(face.centre_mm, 3.0);
-  EXPECT_LT(face.kappa_percent, 6.0);
+TEST(TsaiCalibrationTest, OneFaceFromSeveralViewsGivesCentreAndKappa1) {
+  SeveralViews(false, kFaceViews, 200, "seed target one face, several views");
+}
+
+// The folded target, one view per draw (seed 000's own protocol): the centre within 1 mm, and
+// the DLT (with its lens terms) agrees on it; kappa1 is held to 2 % where it is reported
+// determined, and its stated standard deviation covers the error where it is not.
+TEST(TsaiCalibrationTest, FoldedTargetFromOneViewReportsWhatItDetermines) {
+  Spread spread;
+  int determined = 0;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    std::mt19937 rng(100 + draw);
+    const TsaiCamera truth = FoldedView(RandomLens(&rng, true), &rng);
+    const std::vector<ControlPoint> points = Observe(truth, true, kNoisePx, &rng);
+    const TsaiCalibrationResult result = CalibrateTsai(points, Options());
+    spread.Add(result, truth);
+    SCOPED_TRACE("draw " + std::to_string(draw) + ", " + std::to_string(points.size()) + " points");
+    EXPECT_LT(result.rms_px, 0.35);
+    EXPECT_LT(spread.centre_mm.back(), 1.0);
+    EXPECT_LT(std::abs(result.tsai.kappa1 - truth.kappa1), 4.0 * result.kappa1_sigma);
+    if (result.kappa1_determined) {
+      ++determined;
+      EXPECT_LT(spread.kappa_percent.back(), 2.0);
+    }
+    DltOptions dlt;
+    dlt.width = kWidth;
+    dlt.height = kHeight;
+    dlt.refine_distortion = true;
+    EXPECT_LT((CalibrateDlt(points, dlt).camera.CenterInWorld() - Centre(result.tsai)).norm(), 1.0);
+  }
+  spread.Print("seed target folded, one view");
+  std::printf("  kappa1 reported determined in %d of %d draws\n", determined, kDraws);
+}
+
+// One face, one view per draw: Tsai's single coplanar view. kappa1 is held to 2 % where it is
+// reported determined, and its stated standard deviation covers the error where it is not.
+TEST(TsaiCalibrationTest, OneFaceFromOneViewReportsWhatItDetermines) {
+  Spread spread;
+  int determined = 0;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    std::mt19937 rng(300 + draw);
+    const TsaiCamera truth = FaceView(RandomLens(&rng, false), &rng);
+    const TsaiCalibrationResult result = CalibrateTsai(Observe(truth, false, kNoisePx, &rng), Options());
+    spread.Add(result, truth);
+    SCOPED_TRACE("draw " + std::to_string(draw));
+    const double error = std::abs(result.tsai.kappa1 - truth.kappa1);
+    EXPECT_LT(error, 4.0 * result.kappa1_sigma);
+    if (result.kappa1_determined) {
+      ++determined;
+      EXPECT_LT(spread.kappa_percent.back(), 2.0);
+    }
+  }
+  spread.Print("seed target one face, one view");
+  std::printf("  kappa1 reported determined in %d of %d draws\n", determined, kDraws);
+}
+
+// The target far off (its points reach about a third of the way to the image corners): kappa1 is reported undetermined with the reason, its stated
+// standard deviation covering the error; require_kappa1 refuses such a set.
+TEST(TsaiCalibrationTest, DistantTargetLeavesKappa1Undetermined) {
+  Spread spread;
+  for (int draw = 0; draw < kDraws; ++draw) {
+    std::mt19937 rng(400 + draw);
+    const TsaiCamera lens = RandomLens(&rng, true);
+    TsaiCamera near = FoldedView(lens, &rng);
+    const Eigen::Vector3d middle(95.0, 57.0, 57.0);
+    const TsaiCamera truth = Place(lens, middle + 2.5 * (Centre(near) - middle), middle, 0.0);
+    const std::vector<ControlPoint> points = Observe(truth, true, kNoisePx, &rng);
+    const TsaiCalibrationResult result = CalibrateTsai(points, Options());
+    spread.Add(result, truth);
+    SCOPED_TRACE("draw " + std::to_string(draw));
+    EXPECT_LT(result.coverage, 0.6);
+    EXPECT_FALSE(result.kappa1_determined);
+    EXPECT_NE(result.kappa1_note.find("fill the image"), std::string::npos) << result.kappa1_note;
+    EXPECT_LT(std::abs(result.tsai.kappa1 - truth.kappa1), 4.0 * result.kappa1_sigma);
+    TsaiCalibrationOptions strict = Options();
+    strict.require_kappa1 = true;
+    EXPECT_THROW(CalibrateTsai(points, strict), std::invalid_argument);
+  }
+  spread.Print("seed target folded, 2.5 times farther");
 }
 
 TEST(TsaiCalibrationTest, UnusablePointSetsAreRefused) {
-  const TsaiCamera truth = TruthCamera(kViews[0].first, kViews[0].second, 1.0);
-  std::vector<ControlPoint> points = Observe(truth, true, 0.0, 2);
+  std::mt19937 rng(2);
+  const TsaiCamera truth = FoldedView(RandomLens(&rng, true), &rng);
+  std::vector<ControlPoint> points = Observe(truth, true, 0.0, &rng);
   EXPECT_THROW(CalibrateTsai({points.begin(), points.begin() + 4}, Options()), std::invalid_argument);
+  EXPECT_THROW(CalibrateTsaiViews({}, Options()), std::invalid_argument);
   std::vector<ControlPoint> line;
   for (int i = 0; i < 10; ++i) {
     ControlPoint p;
@@ -189,8 +298,13 @@ TEST(TsaiCalibrationTest, UnusablePointSetsAreRefused) {
     line.push_back(p);
   }
   EXPECT_THROW(CalibrateTsai(line, Options()), std::invalid_argument);
+  try {
+    CalibrateTsaiViews({points, line}, Options());
+    ADD_FAILURE() << "a collinear second view was taken";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("view 2: ", 0), 0u) << error.what();
+  }
   std::vector<ControlPoint> shuffled = points;
-  std::mt19937 rng(3);
   std::shuffle(shuffled.begin(), shuffled.end(), rng);
   for (size_t i = 0; i < points.size(); ++i) shuffled[i].point_in_world = points[i].point_in_world;
   EXPECT_THROW(CalibrateTsai(shuffled, Options()), std::invalid_argument);  // pixels paired with other points
@@ -201,6 +315,9 @@ TEST(TsaiCalibrationTest, UnusablePointSetsAreRefused) {
   EXPECT_THROW(options.Check(), std::invalid_argument);
   options = Options();
   options.pixel_mm = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = Options();
+  options.max_kappa1_corner_sigma_px = 0.0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
 }
 

@@ -28,7 +28,8 @@ double CameraCoverage::Share(int cell_samples) const {
 WandCoverage::WandCoverage(const Rig& rig, size_t wand_markers, const WandCoverageOptions& options)
     : options_(options), markers_(wand_markers) {
   options_.Check();
-  if (wand_markers != 2 && wand_markers != 3) throw std::invalid_argument("a wand has 2 or 3 markers");
+  if (wand_markers < 1 || wand_markers > 3)
+    throw std::invalid_argument("a wand has 2 or 3 markers (1: a single marker waved)");
   for (const Camera& c : rig.cameras) {
     CameraCoverage coverage;
     coverage.id = c.id;

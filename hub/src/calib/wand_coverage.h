@@ -56,7 +56,7 @@ struct CoverageAdvice {
 
 class WandCoverage {
  public:
-  // wand_markers: 2 or 3. Throws std::invalid_argument on bad options.
+  // wand_markers: 2 or 3 (1: a single marker waved). Throws std::invalid_argument on bad options.
   WandCoverage(const Rig& rig, size_t wand_markers, const WandCoverageOptions& options);
 
   // One frame set; returns whether it counted as a wand frame (enough cameras saw the wand).

@@ -136,6 +136,18 @@ TEST_F(CalibrateRefineCliTest, PrintedTargetThroughACameraGivesADltCalibration) 
   ASSERT_EQ(found8.status, 0) << found8.err;
   const HubRun tsai8 = Hub("calibrate tsai points8.txt --width 1280 --height 800 --id 8 -o tsai8.json");
   ASSERT_EQ(tsai8.status, 0) << tsai8.err;
+  // The two views share the lens: calibrated together, the pose written is the first view's. One
+  // view from this far leaves kappa1 undetermined (the target fills a small part of the image):
+  // a warning with the reason, and a refusal with --require-kappa1.
+  EXPECT_FALSE(summary["kappa1_determined"].get<bool>()) << summary.dump();
+  EXPECT_NE(tsai.err.find("kappa1 is undetermined"), std::string::npos) << tsai.err;
+  const HubRun both = Hub("calibrate tsai points.txt points8.txt --width 1280 --height 800 --id 7 -o both.json --json");
+  ASSERT_EQ(both.status, 0) << both.err;
+  EXPECT_EQ(nlohmann::json::parse(both.out)["views"], 2);
+  EXPECT_LT((LoadRigJson(dir_ + "/both.json").cameras[0].CenterInWorld() - camera.CenterInWorld()).norm(), 1.0);
+  ExpectOneLineError(Hub("calibrate tsai points.txt --width 1280 --height 800 --require-kappa1 -o strict.json"),
+                     "kappa1 is undetermined");
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/strict.json"));
   const HubRun merge = Hub("calibrate merge tsai.json tsai8.json -o rig.json");
   ASSERT_EQ(merge.status, 0) << merge.err;
   const Rig merged = LoadRigJson(dir_ + "/rig.json");

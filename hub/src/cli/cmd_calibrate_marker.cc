@@ -11,8 +11,9 @@
 
 #include "calib/session_frames.h"
 #include "calib/single_marker_calibration.h"
-#include "cli/commands.h"
+#include "calib/single_marker_report.h"
 #include "io/calibration_json.h"
+#include "cli/commands.h"
 #include "util/json_file.h"
 #include "util/log.h"
 
@@ -34,27 +35,8 @@ void RunCalibrateMarker(const CalibrateMarkerArgs& args) {
   const std::vector<FrameSet> frames = LoadSessionFrames(args.session, &warnings);
   for (const std::string& warning : warnings) log::Warn("{}", warning);
   const SingleMarkerResult result = CalibrateSingleMarker(frames, intrinsics, args.options);
-  nlohmann::json document = RigToJson(result.rig);
-  nlohmann::json cameras = nlohmann::json::array();
-  for (size_t c = 0; c < result.cameras.size(); ++c) {
-    const SingleMarkerCamera& camera = result.cameras[c];
-    document["cameras"][c]["reprojection_rms_px"] = camera.rms_px;
-    cameras.push_back({{"id", camera.id},
-                       {"views", camera.views},
-                       {"used", camera.used},
-                       {"rms_px", camera.rms_px},
-                       {"joined_through", camera.joined_through}});
-  }
-  const nlohmann::json report = {{"method", "single-marker"},
-                                 {"session", args.session},
-                                 {"reference_camera", result.reference_id},
-                                 {"frames_selected", result.frames_selected},
-                                 {"frames_used", result.frames_used},
-                                 {"scale_frames", result.scale_frames},
-                                 {"scale_length_mm", args.options.scale_length_mm},
-                                 {"scale_length_rms_mm", result.scale_length_rms_mm},
-                                 {"cameras", cameras}};
-  document["calibration"] = report;
+  const nlohmann::json report = SingleMarkerReportJson(result, args.options, args.session);
+  const nlohmann::json document = SingleMarkerCalibrationDocument(result, report);
   WriteJsonFile(document, args.output);
   if (args.json) {
     std::printf("%s\n", report.dump().c_str());

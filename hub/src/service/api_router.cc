@@ -196,16 +196,22 @@ std::optional<double> NumberField(const json& body, const std::string& name, dou
 // POST /api/calibration/wand/start: the wanding's settings; ranges are checked again (and
 // completely) by WandingOptions::Check in the service.
 WandingOptions WandingFromBody(const std::string& text) {
-  const json body = ParseBody(text, {"name", "wand_length_mm", "middle_marker_mm", "min_samples", "coverage_target",
-                                     "timeout_s", "refine_intrinsics", "intrinsics", "grid_columns", "grid_rows",
-                                     "cell_samples"});
+  const json body = ParseBody(text, {"name", "mode", "wand_length_mm", "middle_marker_mm", "min_samples",
+                                     "min_scale_frames", "coverage_target", "timeout_s", "refine_intrinsics",
+                                     "intrinsics", "grid_columns", "grid_rows", "cell_samples"});
   WandingOptions o;
   if (!body.contains("name") || !body["name"].is_string()) throw ApiError(400, "'name' (a string) is required");
   o.session = body["name"].get<std::string>();
+  if (body.contains("mode")) {
+    if (!body["mode"].is_string()) throw ApiError(400, "'mode' must be wand or single-marker");
+    o.mode = body["mode"].get<std::string>();
+  }
   if (!body.contains("wand_length_mm")) throw ApiError(400, "'wand_length_mm' is required");
   o.wand_length_mm = *NumberField(body, "wand_length_mm", 10.0, 5000.0);
   o.middle_marker_mm = NumberField(body, "middle_marker_mm", 0.0, 5000.0).value_or(0.0);
   o.min_samples = static_cast<size_t>(IntegerField(body, "min_samples", 10, 1'000'000).value_or(300));
+  o.min_scale_frames =
+      static_cast<size_t>(IntegerField(body, "min_scale_frames", 1, 1'000'000).value_or(o.min_scale_frames));
   o.coverage_target = NumberField(body, "coverage_target", 0.05, 1.0).value_or(o.coverage_target);
   o.timeout_s = NumberField(body, "timeout_s", 1.0, 3600.0).value_or(o.timeout_s);
   o.coverage.columns = static_cast<int>(IntegerField(body, "grid_columns", 1, 64).value_or(o.coverage.columns));

@@ -18,10 +18,12 @@
 //   GET    /api/sessions/NAME/files/FILE    one of them (the response names the file to send)
 //   GET    /api/calibration                 the cameras: intrinsics, pose, centre
 //   GET    /api/blobs                       every camera's 2D blobs of the next frame set, masks
-//   POST   /api/calibration/wand/start      {"name", "wand_length_mm", "middle_marker_mm", "min_samples",
+//   POST   /api/calibration/wand/start      {"name", "mode": "wand"|"single-marker", "wand_length_mm",
+//                                            "middle_marker_mm", "min_samples", "min_scale_frames",
 //                                            "coverage_target", "timeout_s", "refine_intrinsics",
 //                                            "intrinsics": {calibration JSON}, "grid_columns",
-//                                            "grid_rows", "cell_samples"} (name and length required)
+//                                            "grid_rows", "cell_samples"} (name and length required;
+//                                            single-marker: the length is the scale bar's)
 //   GET    /api/calibration/wand            the wanding: coverage per camera, advice, the solve
 //   POST   /api/calibration/wand/stop       {"solve": true|false} (default true)
 //   POST   /api/calibration/wand/solve      {"refine_intrinsics"}: solve the recorded wanding again

@@ -182,6 +182,14 @@ TEST(ApiRouter, WandingCarriesItsSettings) {
   EXPECT_EQ(api.last_wanding.coverage.rows, 6);  // the default stays
   EXPECT_EQ(api.last_wanding.refine_intrinsics, "focal-principal");
   EXPECT_FALSE(api.last_wanding.intrinsics.has_value());
+  EXPECT_EQ(api.last_wanding.mode, "wand");  // the default
+  ASSERT_EQ(Send(api, "POST", "/api/calibration/wand/start",
+                 R"({"name": "m1", "mode": "single-marker", "wand_length_mm": 400, "min_scale_frames": 80})")
+                .response.status,
+            200);
+  EXPECT_TRUE(api.last_wanding.SingleMarker());
+  EXPECT_DOUBLE_EQ(api.last_wanding.wand_length_mm, 400.0);  // the scale bar's length
+  EXPECT_EQ(api.last_wanding.min_scale_frames, 80u);
   EXPECT_EQ(Send(api, "GET", "/api/calibration/wand").body["called"], "wanding");
   EXPECT_EQ(Send(api, "POST", "/api/calibration/wand/stop").body["called"], "wandstop");
   EXPECT_TRUE(api.last_flag);  // stopping solves unless told not to
@@ -245,6 +253,11 @@ TEST(ApiRouter, BadWandingRequestsAreRefusedBeforeTheService) {
                           R"({"name": "w", "wand_length_mm": 500, "refine_intrinsics": "some"})",
                           R"({"name": "w", "wand_length_mm": 500, "grid_rows": 0})",
                           R"({"name": "w", "wand_length_mm": 500, "colour": "red"})",
+                          R"({"name": "w", "wand_length_mm": 500, "mode": "light"})",
+                          R"({"name": "w", "wand_length_mm": 500, "mode": 1})",
+                          R"({"name": "w", "wand_length_mm": 500, "mode": "single-marker", "middle_marker_mm": 100})",
+                          R"({"name": "w", "wand_length_mm": 500, "mode": "single-marker", "refine_intrinsics": "all"})",
+                          R"({"name": "w", "wand_length_mm": 500, "min_scale_frames": 0})",
                           "[1]", "{"};
   for (const char* body : bodies) {
     FakeServiceApi api;

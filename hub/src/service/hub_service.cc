@@ -586,9 +586,10 @@ nlohmann::json HubService::StartWanding(const WandingOptions& requested) {
     auto collection = std::make_unique<WandCollection>(rig_, requested, now);  // checks the options
     captures_.Start(requested.session, ingest_.stats(), now);
     wanding_.Start(std::move(collection));
-    log::Info("wanding {} started: {:.1f} mm wand, {} samples and {:.0f} % coverage per camera, timeout {:.0f} s",
-              requested.session, requested.wand_length_mm, requested.min_samples, 100.0 * requested.coverage_target,
-              requested.timeout_s);
+    log::Info("wanding {} started ({}): {:.1f} mm {}, {} samples and {:.0f} % coverage per camera, timeout {:.0f} s",
+              requested.session, requested.mode, requested.wand_length_mm,
+              requested.SingleMarker() ? "scale bar" : "wand", requested.min_samples,
+              100.0 * requested.coverage_target, requested.timeout_s);
     return wanding_.Json(RealtimeNowNs());
   });
 }

@@ -75,6 +75,9 @@ void LiveWanding::StartSolve(const std::string& sessions_dir, const Rig& calibra
   input.options.bundle.refine_intrinsics = IntrinsicsRefinementFromName(options_.refine_intrinsics);
   input.options.bundle.num_threads = 1;  // one core for the solve, the other for the frame path
   input.thresholds = options_.thresholds;
+  input.single_marker = options_.SingleMarker();
+  input.single_marker_options.scale_length_mm = options_.wand_length_mm;
+  input.single_marker_options.num_threads = 1;
   job_ = std::make_unique<WandSolveJob>(std::move(input));
   state_ = WandingState::kSolving;
 }
@@ -101,6 +104,19 @@ void LiveWanding::Applied(const std::string& saved_to) {
   if (!saved_to.empty()) saved_to_ = saved_to;
 }
 
+namespace {
+
+// The files the solve wrote beside the session (a single marker's: the calibration only).
+nlohmann::json Files(const WandSolveOutcome& o) {
+  if (!o.ok) return nullptr;
+  const auto name = [](const std::string& path) {
+    return path.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::filesystem::path(path).filename().string());
+  };
+  return {{"calibration", name(o.calibration_file)}, {"report", name(o.report_file)}, {"figures", name(o.figures_file)}};
+}
+
+}  // namespace
+
 nlohmann::json LiveWanding::Json(uint64_t now_ns) const {
   nlohmann::json j = {{"state", WandingStateName(state_)},
                       {"session", options_.session},
@@ -109,6 +125,7 @@ nlohmann::json LiveWanding::Json(uint64_t now_ns) const {
                       {"stop_reason", stop_reason_},
                       {"applied", applied_},
                       {"saved_to", saved_to_.empty() ? nlohmann::json(nullptr) : nlohmann::json(saved_to_)}};
+  j["mode"] = options_.mode;
   j["collection"] = collection_ ? collection_->Json(now_ns) : collected_;
   if (job_ && job_->done()) {
     const WandSolveOutcome& o = job_->outcome();
@@ -117,10 +134,7 @@ nlohmann::json LiveWanding::Json(uint64_t now_ns) const {
                   {"seconds", o.seconds},
                   {"all_accepted", o.all_accepted},
                   {"report", o.report},
-                  {"files", o.ok ? nlohmann::json{{"calibration", "wand_calibration.json"},
-                                                  {"report", "wand_report.html"},
-                                                  {"figures", "wand_figures.json"}}
-                                 : nlohmann::json(nullptr)}};
+                  {"files", Files(o)}};
   } else {
     j["solve"] = nullptr;
   }

@@ -64,7 +64,7 @@ class LiveWanding {
   // Its calibration was applied, and saved to `saved_to` ("" when not saved).
   void Applied(const std::string& saved_to);
 
-  // {"state", "session", "wand_length_mm", "middle_marker_mm", "stop_reason", "applied",
+  // {"state", "mode", "session", "wand_length_mm", "middle_marker_mm", "stop_reason", "applied",
   //  "saved_to", "collection", "solve"} (GET /api/calibration/wand).
   nlohmann::json Json(uint64_t now_ns) const;
 

@@ -76,6 +76,42 @@ TEST(WandCollection, StopsWhenEveryCameraHasEnough) {
   EXPECT_TRUE(j["advice"].empty());
 }
 
+// A single marker waved fills every camera, but collection goes on (asking for the scale bar)
+// until the bar (two markers) has been seen in min_scale_frames frame sets.
+TEST(WandCollection, SingleMarkerStopsOnceTheScaleBarWasSeen) {
+  const Rig rig = testing::RingRig(4, 2);
+  const testing::WandScene marker = testing::MakeWandScene(rig, {0.0}, 2000, 0.1, 5);
+  const testing::WandScene bar = testing::MakeWandScene(rig, {-250.0, 250.0}, 400, 0.1, 6);
+  WandingOptions o = Options();
+  o.mode = kWandingModeSingleMarker;
+  o.min_scale_frames = 40;
+  WandCollection collection(rig, o, 100 * kSecond);
+  for (const FrameSet& set : marker.frames) collection.Add(set);
+  EXPECT_EQ(collection.StopReason(101 * kSecond), "");
+  nlohmann::json j = collection.Json(101 * kSecond);
+  EXPECT_EQ(j["mode"], "single-marker");
+  EXPECT_EQ(j["scale_frames"].get<size_t>(), 0u);
+  for (const auto& c : j["cameras"]) EXPECT_TRUE(c["enough"].get<bool>()) << c.dump();
+  ASSERT_EQ(j["advice"].size(), 1u);
+  EXPECT_EQ(j["advice"][0].get<std::string>().rfind("show the scale bar (two markers 500 mm apart)", 0), 0u);
+  size_t fed = 0;
+  for (const FrameSet& set : bar.frames) {
+    collection.Add(set);
+    ++fed;
+    if (!collection.StopReason(102 * kSecond).empty()) break;
+  }
+  EXPECT_LT(fed, bar.frames.size());
+  EXPECT_EQ(collection.StopReason(102 * kSecond),
+            "every camera has enough samples and coverage, and the scale bar was seen");
+  j = collection.Json(102 * kSecond);
+  EXPECT_EQ(j["scale_frames"].get<size_t>(), 40u);
+  EXPECT_TRUE(j["advice"].empty());
+  // The wand's collection has no scale bar figures; a single marker takes no middle marker.
+  EXPECT_TRUE(WandCollection(rig, Options(), 0).Json(0)["scale_frames"].is_null());
+  o.middle_marker_mm = 200.0;
+  EXPECT_THROW(WandCollection(rig, o, 0), ApiError);
+}
+
 TEST(WandCollection, TimesOutAndAdvisesTheCamerasStillShort) {
   const Rig rig = testing::RingRig(3, 4);
   WandCollection collection(rig, Options(), 10 * kSecond);

@@ -1,7 +1,8 @@
 // Live wanding in `serve`, the solving part: one worker thread reads the recorded wand session,
 // runs the wand calibration (calib/wand_calibration.h) on it and writes beside the session
 // wand_calibration.json (the calibration with its report), wand_figures.json and
-// wand_report.html (calib/wand_report.h). The loop thread polls done() and never waits for it,
+// wand_report.html (calib/wand_report.h); for a single marker waved, the single-marker
+// calibration (calib/single_marker_calibration.h) and wand_calibration.json only. The loop thread polls done() and never waits for it,
 // so the frame path is never blocked by a solve.
 //
 // Threads: the constructor starts the worker; done() and outcome() may be called from any
@@ -12,12 +13,15 @@
 #include <atomic>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "calib/single_marker_calibration.h"
 #include "calib/wand_calibration.h"
 #include "calib/wand_quality.h"
 #include "geometry/camera.h"
+#include "ingest/camera_frame.h"
 
 namespace mocap::service {
 
@@ -28,6 +32,8 @@ struct WandSolveInput {
   WandGeometry wand;
   WandCalibrationOptions options;
   RatingThresholds thresholds;
+  bool single_marker = false;     // one marker waved: the single-marker solve, scale from the bar
+  SingleMarkerOptions single_marker_options;
 };
 
 struct WandSolveOutcome {
@@ -35,11 +41,12 @@ struct WandSolveOutcome {
   std::string error;              // why no calibration came out (ok = false)
   bool all_accepted = false;
   Rig rig;                        // accepted cameras
-  nlohmann::json report;          // WandResultJson: figures and ratings per camera
+  nlohmann::json report;          // WandResultJson: figures and ratings per camera (single marker:
+                                  // SingleMarkerReportJson)
   nlohmann::json calibration;     // the calibration document as written
   std::string calibration_file;   // SESSION/wand_calibration.json
-  std::string report_file;        // SESSION/wand_report.html
-  std::string figures_file;       // SESSION/wand_figures.json
+  std::string report_file;        // SESSION/wand_report.html ("" for a single marker)
+  std::string figures_file;       // SESSION/wand_figures.json ("" for a single marker)
   double seconds = 0.0;           // wall clock of the whole job
 };
 
@@ -55,6 +62,8 @@ class WandSolveJob {
 
  private:
   void Run();
+  void SolveWand(const std::vector<FrameSet>& frames);
+  void SolveSingleMarker(const std::vector<FrameSet>& frames);
 
   WandSolveInput input_;
   WandSolveOutcome outcome_;

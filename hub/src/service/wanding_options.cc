@@ -15,6 +15,13 @@ WandGeometry WandingOptions::Wand() const {
 }
 
 void WandingOptions::Check() const {
+  if (mode != kWandingModeWand && mode != kWandingModeSingleMarker)
+    throw ApiError(400, "'mode' must be wand or single-marker");
+  if (SingleMarker() && middle_marker_mm != 0.0)
+    throw ApiError(400, "'middle_marker_mm' is for the wand; a single marker's scale bar has two markers");
+  if (SingleMarker() && refine_intrinsics != "none")
+    throw ApiError(400, "'refine_intrinsics' must be none for a single marker (its solve holds the intrinsics)");
+  if (min_scale_frames < 1 || min_scale_frames > 1000000) throw ApiError(400, "'min_scale_frames' must be 1..1000000");
   if (!ValidSessionName(session))
     throw ApiError(400, "'name' must be 1-64 letters, digits, '.', '-' or '_', not starting with '.'");
   if (!(wand_length_mm >= 10.0 && wand_length_mm <= 5000.0)) throw ApiError(400, "'wand_length_mm' must be 10..5000");
