@@ -9,7 +9,8 @@ the take are the hub's own deformation (`mesh drive` on those frames, a .pc2) wi
 both apply the same weights to the same marker displacements, the page in float32 (weights,
 bound vertices and its output buffer: 2^-24 relative, 0.0001 mm at 2 m) where the hub uses
 doubles, so the difference is float rounding, far under 0.01 mm. Printed, not asserted: the
-frames per second rendered and the per-frame deformation cost (software WebGL).
+frames per second rendered, with the mesh and for the same take as markers alone (software
+WebGL: a relative cost), and the per-frame deformation cost.
 usage: mesh_player_test.py BIN_DIR WORK_DIR"""
 
 import os
@@ -123,10 +124,16 @@ def main():
         wait_for("the sessions page", lambda: js("return window.mocapConsole && mocapConsole.currentPage()") ==
                  "sessions")
         wait_for("the session's files", lambda: click(page, "tr[data-session='face'] button[data-action=files]"))
+        player = "mocapConsole.pages.sessions.player"
+        # The same take as markers alone first: the frames rendered without the mesh, the
+        # baseline the mesh's cost is relative to.
+        wait_for("markers.trc's play button", lambda: click(
+            page, "#session-details tr[data-file='markers.trc'] button[data-action=play]"))
+        wait_for("the markers playing", lambda: js(f"return {player}.playing && {player}.mesh === null"), timeout=60)
+        baseline = rendered_per_second(js, player)
         play = wait_for("face.mdb's play button", lambda: page.find_elements(
             By.CSS_SELECTOR, "#session-details tr[data-file='face.mdb'] button[data-action=play]"))[0]
         play.click()
-        player = "mocapConsole.pages.sessions.player"
         try:
             wait_for("the mesh playing", lambda: js(f"return {player}.playing && {player}.mesh !== null"), timeout=60)
         except AssertionError:
@@ -142,7 +149,8 @@ def main():
         deformed = end[3] - start[3]
         assert end[2] > start[2], "the take did not advance"
         print(f"mesh of {vertex_count} vertices driven by {MARKERS} markers: {(end[1] - start[1]) / seconds:.1f} "
-              f"frames per second rendered, {(end[2] - start[2]) / seconds:.1f} capture frames a second "
+              f"frames per second rendered ({baseline:.1f} for the markers alone), "
+              f"{(end[2] - start[2]) / seconds:.1f} capture frames a second "
               f"(capture rate {RATE} Hz), deformation {(end[4] - start[4]) / max(deformed, 1):.2f} ms a frame "
               f"({deformed} frames deformed)")
         js(f"{player}.pause()")
@@ -162,6 +170,13 @@ def main():
             page.quit()
         serve.terminate()
         serve.wait(timeout=10)
+
+
+def rendered_per_second(js, player, seconds=2.0):
+    start = js(f"return [performance.now(), {player}.scene.framesRendered]")
+    time.sleep(seconds)
+    end = js(f"return [performance.now(), {player}.scene.framesRendered]")
+    return (end[1] - start[1]) * 1000 / (end[0] - start[0])
 
 
 def click(page, selector):
