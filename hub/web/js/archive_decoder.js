@@ -4,7 +4,7 @@
 // Limits and refusals as the hub's reader (it names the field); errors throw Error.
 //   {type: 'header', rate, names, frames, firstFrame, frameNumbers (Float64Array), window}
 //   {type: 'window', first, count, positions: Float32Array(count * markers * 3), NaN for gaps}
-import { RangeDecoder, newIntModel } from './archive_range_decoder.js';
+import { RangeDecoder, newBitModel, newIntModel } from './archive_range_decoder.js';
 
 const MAX_MARKERS = 4096;
 const MAX_WINDOW = 4096;
@@ -166,13 +166,13 @@ export class ArchiveDecoder {
     this.need(length);
     const coder = new RangeDecoder(this.bytes.subarray(this.pos, this.pos + length));
     const models = {
-      relative: 1 << 10, components: newIntModel(), mean: newIntModel(), timeStart: newIntModel(),
+      relative: newBitModel(), components: newIntModel(), mean: newIntModel(), timeStart: newIntModel(),
       time: Array.from({ length: 8 }, () => [newIntModel(), newIntModel(), newIntModel()]),
       weights: Array.from({ length: 8 }, newIntModel),
     };
     const values = new Float32Array(count * markers * 3);
     try {
-      if (!coder.bit(models, 'relative')) this.means.fill(0);
+      if (!coder.bit(models.relative, 0)) this.means.fill(0);
       for (const group of h.groups) this.decodeBlock(coder, models, group, count, values);
     } catch (e) {
       throw new Error(`archive: window ${this.windowIndex}: ${e.message}`);

@@ -6,8 +6,16 @@ const PROBABILITY_BITS = 11;
 const HALF = 1 << (PROBABILITY_BITS - 1);
 const TOP = 2 ** 24;
 
+// An integer's adaptive probabilities in one array: zero flag, sign, 30 exponent bits, 30 top
+// mantissa bits (the C++ IntModel's fields in order).
+const ZERO = 0, SIGN = 1, EXPONENT = 2, TOP_BIT = 32;
 export function newIntModel() {
-  return { zero: HALF, sign: HALF, exponent: new Uint16Array(30).fill(HALF), top: new Uint16Array(30).fill(HALF) };
+  return new Uint16Array(62).fill(HALF);
+}
+
+// A single adaptive bit.
+export function newBitModel() {
+  return new Uint16Array(1).fill(HALF);
 }
 
 export class RangeDecoder {
@@ -34,7 +42,7 @@ export class RangeDecoder {
     }
   }
 
-  // probabilities: a Uint16Array (or the model object) and the index of the bit's probability.
+  // probabilities: a Uint16Array and the index of the bit's probability in it.
   bit(holder, key) {
     const p = holder[key];
     const bound = (this.range >>> PROBABILITY_BITS) * p;
@@ -66,15 +74,15 @@ export class RangeDecoder {
   }
 
   int(model, field) {
-    if (!this.bit(model, 'zero')) return 0;
-    const negative = this.bit(model, 'sign');
+    if (!this.bit(model, ZERO)) return 0;
+    const negative = this.bit(model, SIGN);
     let n = 0;
-    while (this.bit(model.exponent, n)) {
+    while (this.bit(model, EXPONENT + n)) {
       if (++n > 28) throw new Error(`${field}: a value past +-(2^29 - 1)`);
     }
     let magnitude = 1;
     if (n > 0) {
-      magnitude = magnitude * 2 + this.bit(model.top, n);
+      magnitude = magnitude * 2 + this.bit(model, TOP_BIT + n);
       magnitude = magnitude * 2 ** (n - 1) + this.direct(n - 1);
     }
     return negative ? -magnitude : magnitude;
