@@ -55,9 +55,10 @@ def read_varint(data, pos):
 
 def repeat_archive(minute_path, hour_path, repeats):
     """The minute's archive with its windows repeated: an hour with the same layout
-    (hub/src/archive/archive_format.h)."""
+    (hub/src/archive/archive_format.h, version 2: the first window's means are absolute, so each
+    repeat starts afresh)."""
     data = open(minute_path, "rb").read()
-    assert data[:8] == b"MOCAPMCA" and struct.unpack_from("<I", data, 8)[0] == 1
+    assert data[:8] == b"MOCAPMCA" and struct.unpack_from("<I", data, 8)[0] == 2
     markers, frames, window = struct.unpack_from("<III", data, 20)
     assert frames % window == 0 and data[32] == 0, "a contiguous minute of whole windows"
     pos = 33 + 8

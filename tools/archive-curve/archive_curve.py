@@ -6,7 +6,8 @@ bound (and a few fixed component counts), writes the archive, reads it back with
 TRC and lets `eval` measure the error independently of the archive's own figure. Prints one
 table per recording: the bound or K, mean components, archive bytes, the ratio to the TRC as
 given and to the TRC this hub writes (convert's output, same numbers in the hub's own format),
-and the RMS error from eval and from archive.
+the archive's bits per marker position present in the recording (eval's truth_points), and the
+RMS error from eval and from archive.
 Usage: archive_curve.py BIN_DIR [--window-frames N] [--marker-set FILE] [TRC ...]
 """
 import argparse
@@ -54,8 +55,8 @@ def main():
             subprocess.run([hub, "convert", trc, hub_trc], check=True, capture_output=True)
             trc_bytes, hub_bytes = os.path.getsize(trc), os.path.getsize(hub_trc)
             print("\n%s: TRC %d bytes as given, %d as the hub writes it" % (os.path.relpath(trc), trc_bytes, hub_bytes))
-            print("%-10s %6s %10s %9s %9s %9s %9s" % ("setting", "mean K", "bytes", "x TRC", "x hubTRC", "eval mm",
-                                                      "arch mm"))
+            print("%-10s %6s %10s %9s %9s %7s %9s %9s" % ("setting", "mean K", "bytes", "x TRC", "x hubTRC", "bits/pt",
+                                                           "eval mm", "arch mm"))
             settings = [("E=%gmm" % e, ["--max-error-mm", str(e)]) for e in BOUNDS_MM]
             settings += [("K=%d" % k, ["--components", str(k)]) for k in COMPONENTS]
             for label, option in settings:
@@ -63,13 +64,15 @@ def main():
                 subprocess.run([hub, "convert", archive, back], check=True, capture_output=True)
                 measured = run_json([hub, "eval", "--truth", trc, "--result", back, "--json"])
                 row = (label, made["mean_components"], made["archive_bytes"], trc_bytes / made["archive_bytes"],
-                       hub_bytes / made["archive_bytes"], measured["rmse_mm"], made["rms_mm"])
-                print("%-10s %6.1f %10d %9.1f %9.1f %9.3f %9.3f" % row)
+                       hub_bytes / made["archive_bytes"], 8.0 * made["archive_bytes"] / measured["truth_points"],
+                       measured["rmse_mm"], made["rms_mm"])
+                print("%-10s %6.1f %10d %9.1f %9.1f %7.2f %9.3f %9.3f" % row)
                 if label == "E=0.5mm":
                     summary.append((os.path.basename(trc),) + row[2:])
-    print("\nat a 0.5 mm bound: %-22s %9s %9s %9s %9s" % ("recording", "bytes", "x TRC", "x hubTRC", "eval mm"))
-    for name, size, ratio, hub_ratio, rms, _ in summary:
-        print("                   %-22s %9d %9.1f %9.1f %9.3f" % (name, size, ratio, hub_ratio, rms))
+    print("\nat a 0.5 mm bound: %-22s %9s %9s %9s %7s %9s" % ("recording", "bytes", "x TRC", "x hubTRC", "bits/pt",
+                                                             "eval mm"))
+    for name, size, ratio, hub_ratio, bits, rms, _ in summary:
+        print("                   %-22s %9d %9.1f %9.1f %7.2f %9.3f" % (name, size, ratio, hub_ratio, bits, rms))
     return 0
 
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "archive/range_coder.h"
 #include "util/regular_file.h"
 
 namespace mocap {
@@ -100,26 +101,118 @@ class ByteReader {
   size_t offset_ = 0;
 };
 
+// Adaptive models of one window's chunk (reset per window, so that each window decodes alone once
+// the means before it are known): time factors by component (the first 8 apart, later ones
+// together) and by the size of the previous second difference, weights by component.
+struct WindowModels {
+  uint16_t relative = 1 << 10;
+  IntModel components, mean, time_start;
+  IntModel time[8][3];
+  IntModel weights[8];
+};
+
+size_t ComponentContext(size_t k) { return std::min<size_t>(k, 7); }
+size_t SizeContext(int64_t value) { return value == 0 ? 0 : (value >= -2 && value <= 2) ? 1 : 2; }
+
 // The time factors along t: the first value, the first difference, then second differences.
-void PutTimeColumn(ByteWriter& out, const std::vector<int32_t>& time, size_t frames, size_t k, size_t k_count) {
+void PutTimeColumn(RangeEncoder& out, WindowModels& models, const std::vector<int32_t>& time, size_t frames, size_t k,
+                   size_t k_count) {
+  int64_t previous = 0;
   for (size_t t = 0; t < frames; ++t) {
     const int64_t now = time[t * k_count + k];
     const int64_t before = t >= 1 ? time[(t - 1) * k_count + k] : 0;
     const int64_t earlier = t >= 2 ? time[(t - 2) * k_count + k] : 0;
-    out.PutSigned(t == 0 ? now : t == 1 ? now - before : now - 2 * before + earlier);
+    const int64_t delta = t == 0 ? now : t == 1 ? now - before : now - 2 * before + earlier;
+    if (delta > kMaxRangeCodedInteger || delta < -kMaxRangeCodedInteger)
+      throw std::invalid_argument("archive: a time factor's second difference " + std::to_string(delta) +
+                                  " is outside +-(2^29 - 1)");
+    out.Int(t < 2 ? models.time_start : models.time[ComponentContext(k)][SizeContext(previous)],
+            static_cast<int32_t>(delta));
+    previous = delta;
   }
 }
 
-void GetTimeColumn(ByteReader& in, std::vector<int32_t>* time, size_t frames, size_t k, size_t k_count) {
-  int64_t before = 0, earlier = 0;
+void GetTimeColumn(RangeDecoder& in, WindowModels& models, std::vector<int32_t>* time, size_t frames, size_t k,
+                   size_t k_count) {
+  int64_t before = 0, earlier = 0, previous = 0;
   for (size_t t = 0; t < frames; ++t) {
-    const int64_t delta = in.GetSigned("time");
+    const int64_t delta =
+        in.Int(t < 2 ? models.time_start : models.time[ComponentContext(k)][SizeContext(previous)], "time");
     const int64_t now = t == 0 ? delta : t == 1 ? before + delta : 2 * before - earlier + delta;
     if (now > kMaxArchiveInteger || now < -kMaxArchiveInteger)
-      in.Fail("time: value " + std::to_string(now) + " is outside +-(2^29 - 1)");
+      throw std::runtime_error("time: value " + std::to_string(now) + " is outside +-(2^29 - 1)");
     (*time)[t * k_count + k] = static_cast<int32_t>(now);
     earlier = before;
     before = now;
+    previous = delta;
+  }
+}
+
+// The smallest chunk a window of `points` (frames x markers) may have: the coder's 5 bytes, and
+// at least a byte per kMaxPointsPerByte points so that a short file cannot claim a long take.
+constexpr uint64_t kMaxPointsPerByte = 1024;
+uint64_t MinimumChunk(uint64_t points) { return std::max<uint64_t>(5, (points + kMaxPointsPerByte - 1) / kMaxPointsPerByte); }
+
+// One window's blocks as a range-coded chunk; `means` holds every marker's quantised mean of the
+// window before (0 before the first), each block's means coded as the change from it.
+std::string EncodeWindow(const CompressedTrajectories& compressed, size_t w, std::vector<int32_t>& means) {
+  RangeEncoder out;
+  WindowModels models;
+  // The first window's means are absolute (from 0), every later one's relative.
+  if (w == 0) std::fill(means.begin(), means.end(), 0);
+  out.Bit(models.relative, w > 0);
+  for (size_t g = 0; g < compressed.groups.size(); ++g) {
+    const PcaBlock& block = compressed.blocks[w * compressed.groups.size() + g];
+    const std::vector<int>& group = compressed.groups[g];
+    out.Int(models.components, block.components);
+    for (size_t c = 0; c < block.mean.size(); ++c) {
+      int32_t& before = means[3 * static_cast<size_t>(group[c / 3]) + c % 3];
+      const int64_t change = int64_t{block.mean[c]} - before;
+      if (change > kMaxRangeCodedInteger || change < -kMaxRangeCodedInteger)
+        throw std::invalid_argument("archive: a mean moved " + std::to_string(change) + " steps between windows, past +-(2^29 - 1)");
+      out.Int(models.mean, static_cast<int32_t>(change));
+      before = block.mean[c];
+    }
+    if (block.components == 0) continue;
+    const size_t k_count = static_cast<size_t>(block.components);
+    out.Float(block.time_step);
+    for (size_t k = 0; k < k_count; ++k) PutTimeColumn(out, models, block.time, block.time.size() / k_count, k, k_count);
+    const size_t channels = block.mean.size();
+    for (size_t k = 0; k < k_count; ++k) {
+      out.Float(block.weight_steps[k]);
+      for (size_t c = 0; c < channels; ++c) out.Int(models.weights[ComponentContext(k)], block.weights[c * k_count + k]);
+    }
+  }
+  return out.Finish();
+}
+
+void DecodeBlock(RangeDecoder& in, WindowModels& models, const std::vector<int>& group, size_t window_frames,
+                 std::vector<int32_t>& means, PcaBlock& block) {
+  const size_t channels = 3 * group.size();
+  block.components = in.Int(models.components, "components");
+  if (block.components < 0 || static_cast<size_t>(block.components) > std::min(window_frames, channels))
+    throw std::runtime_error("components: " + std::to_string(block.components) + " is outside 0..the window's rank " +
+                             std::to_string(std::min(window_frames, channels)));
+  block.mean.resize(channels);
+  for (size_t c = 0; c < channels; ++c) {
+    int32_t& before = means[3 * static_cast<size_t>(group[c / 3]) + c % 3];
+    const int64_t now = int64_t{before} + in.Int(models.mean, "mean");
+    if (now > kMaxArchiveInteger || now < -kMaxArchiveInteger)
+      throw std::runtime_error("mean: value " + std::to_string(now) + " is outside +-(2^29 - 1)");
+    block.mean[c] = before = static_cast<int32_t>(now);
+  }
+  const size_t k = static_cast<size_t>(block.components);
+  if (k == 0) return;
+  block.time_step = in.Float();
+  if (!(block.time_step > 0.0f && std::isfinite(block.time_step))) throw std::runtime_error("time step: not a finite number > 0");
+  block.time.resize(window_frames * k);
+  for (size_t q = 0; q < k; ++q) GetTimeColumn(in, models, &block.time, window_frames, q, k);
+  block.weights.resize(channels * k);
+  for (size_t q = 0; q < k; ++q) {
+    block.weight_steps.push_back(in.Float());
+    if (!(block.weight_steps.back() > 0.0f && std::isfinite(block.weight_steps.back())))
+      throw std::runtime_error("weight step: not a finite number > 0");
+    for (size_t c = 0; c < channels; ++c) block.weights[c * k + q] = in.Int(models.weights[ComponentContext(q)], "weights");
   }
 }
 
@@ -127,11 +220,6 @@ bool Contiguous(const std::vector<uint64_t>& frame_numbers) {
   for (size_t i = 1; i < frame_numbers.size(); ++i)
     if (frame_numbers[i] != frame_numbers[i - 1] + 1) return false;
   return true;
-}
-
-void CheckFinite(ByteReader& reader, const std::vector<float>& values, const char* field) {
-  for (float value : values)
-    if (!std::isfinite(value)) reader.Fail(std::string(field) + ": not a finite number");
 }
 
 }  // namespace
@@ -170,18 +258,16 @@ std::string EncodeArchive(const CompressedTrajectories& compressed) {
     out.PutVarint(static_cast<uint32_t>(runs.size()));
     for (uint32_t run : runs) out.PutVarint(run);
   }
-  for (const PcaBlock& block : compressed.blocks) {
-    out.Put<uint8_t>(static_cast<uint8_t>(block.components));
-    for (float v : block.mean) out.Put<float>(v);
-    if (block.components == 0) continue;
-    const size_t k_count = static_cast<size_t>(block.components);
-    out.Put<float>(block.time_step);
-    for (size_t k = 0; k < k_count; ++k) PutTimeColumn(out, block.time, block.time.size() / k_count, k, k_count);
-    const size_t channels = block.mean.size();
-    for (size_t k = 0; k < k_count; ++k) {
-      out.Put<float>(block.weight_steps[k]);
-      for (size_t c = 0; c < channels; ++c) out.PutSigned(block.weights[c * k_count + k]);
-    }
+  std::vector<int32_t> means(3 * compressed.names.size(), 0);
+  for (size_t w = 0; w < compressed.NumWindows(); ++w) {
+    const std::string chunk = EncodeWindow(compressed, w, means);
+    const size_t frames = std::min<size_t>(compressed.window_frames, compressed.NumFrames() - w * compressed.window_frames);
+    if (chunk.size() < MinimumChunk(uint64_t{frames} * compressed.names.size()))
+      throw std::invalid_argument("archive: window " + std::to_string(w) + " compresses to " + std::to_string(chunk.size()) +
+                                  " bytes, under the format's byte per " + std::to_string(kMaxPointsPerByte) +
+                                  " points; use shorter windows (--window-frames)");
+    out.PutVarint(static_cast<uint32_t>(chunk.size()));
+    out.PutBytes(chunk);
   }
   return std::move(out.bytes());
 }
@@ -191,6 +277,9 @@ CompressedTrajectories DecodeArchive(const std::string& bytes, const std::string
   if (in.GetBytes(sizeof(kMagic), "magic") != std::string(kMagic, sizeof(kMagic)))
     in.Fail("magic: not a mocap archive (.mca starts with MOCAPMCA)");
   const uint32_t version = in.Get<uint32_t>("version");
+  if (version == 1)
+    in.Fail("version: 1 (plain-varint blocks, before the range coder) is not supported; this reader knows version " +
+            std::to_string(kArchiveVersion) + ": write the archive again with mocap-hub archive");
   if (version != kArchiveVersion)
     in.Fail("version: " + std::to_string(version) + " is not supported (this reader knows version " +
             std::to_string(kArchiveVersion) + ")");
@@ -208,9 +297,10 @@ CompressedTrajectories DecodeArchive(const std::string& bytes, const std::string
   if (window < 1 || window > kMaxArchiveWindowFrames)
     in.Fail("window: " + std::to_string(window) + " is outside 1.." + std::to_string(kMaxArchiveWindowFrames));
   out.window_frames = static_cast<int>(window);
-  // Every window holds every marker's mean (12 bytes) and each group's K: a short file cannot
-  // claim a long take and make the decoder allocate it (at most window / 12 points per byte).
-  in.Need((static_cast<uint64_t>(frames) + window - 1) / window, 12 * size_t{markers} + 1, "blocks");
+  // Every window's chunk holds at least a length byte and MinimumChunk of its points: a short
+  // file cannot claim a long take and make the decoder allocate it.
+  const uint64_t window_count = (static_cast<uint64_t>(frames) + window - 1) / window;
+  in.Need(std::max(6 * window_count, (uint64_t{frames} * markers + kMaxPointsPerByte - 1) / kMaxPointsPerByte), 1, "blocks");
   const uint8_t numbering = in.Get<uint8_t>("numbering");
   if (numbering > 1) in.Fail("numbering: " + std::to_string(numbering) + " is neither 0 (contiguous) nor 1 (listed)");
   out.frame_numbers.reserve(frames);
@@ -266,40 +356,26 @@ CompressedTrajectories DecodeArchive(const std::string& bytes, const std::string
               std::to_string(frames));
   }
   const size_t windows = out.NumWindows();
-  out.blocks.reserve(windows * group_count);
+  out.blocks.resize(windows * group_count);
+  std::vector<int32_t> means(3 * size_t{markers}, 0);
   for (size_t w = 0; w < windows; ++w) {
     const size_t window_frames = std::min<size_t>(window, frames - w * window);
-    for (const std::vector<int>& group : out.groups) {
-      PcaBlock block;
-      const size_t channels = 3 * group.size();
-      block.components = in.Get<uint8_t>("components");
-      if (static_cast<size_t>(block.components) > std::min(window_frames, channels))
-        in.Fail("components: " + std::to_string(block.components) + " is more than the window's rank " +
-                std::to_string(std::min(window_frames, channels)));
-      const size_t k = static_cast<size_t>(block.components);
-      in.GetArray(&block.mean, channels, "mean");
-      CheckFinite(in, block.mean, "mean");
-      if (k > 0) {
-        block.time_step = in.Get<float>("time step");
-        if (!(block.time_step > 0.0f && std::isfinite(block.time_step))) in.Fail("time step: not a finite number > 0");
-        in.Need(window_frames * k, 1, "time");  // a varint is at least a byte
-        block.time.resize(window_frames * k);
-        for (size_t q = 0; q < k; ++q) GetTimeColumn(in, &block.time, window_frames, q, k);
-        in.Need(k, 4 + channels, "weights");
-        block.weights.resize(channels * k);
-        for (size_t q = 0; q < k; ++q) {
-          block.weight_steps.push_back(in.Get<float>("weight step"));
-          if (!(block.weight_steps.back() > 0.0f && std::isfinite(block.weight_steps.back())))
-            in.Fail("weight step: not a finite number > 0");
-          for (size_t c = 0; c < channels; ++c) {
-            const int64_t w = in.GetSigned("weights");
-            if (w > kMaxArchiveInteger || w < -kMaxArchiveInteger)
-              in.Fail("weights: value " + std::to_string(w) + " is outside +-(2^29 - 1)");
-            block.weights[c * k + q] = static_cast<int32_t>(w);
-          }
-        }
-      }
-      out.blocks.push_back(std::move(block));
+    const uint32_t length = in.GetVarint("window chunk length");
+    if (length < MinimumChunk(uint64_t{window_frames} * markers))
+      in.Fail("window chunk length: " + std::to_string(length) + " bytes for " + std::to_string(window_frames) + " frames x " +
+              std::to_string(markers) + " markers, under the format's minimum " +
+              std::to_string(MinimumChunk(uint64_t{window_frames} * markers)));
+    const std::string chunk = in.GetBytes(length, "window chunk");
+    try {
+      RangeDecoder coder(reinterpret_cast<const uint8_t*>(chunk.data()), chunk.size());
+      WindowModels models;
+      if (!coder.Bit(models.relative)) std::fill(means.begin(), means.end(), 0);
+      for (size_t g = 0; g < group_count; ++g)
+        DecodeBlock(coder, models, out.groups[g], window_frames, means, out.blocks[w * group_count + g]);
+      if (coder.Consumed() != chunk.size())
+        throw std::runtime_error(std::to_string(chunk.size() - coder.Consumed()) + " bytes left after its blocks");
+    } catch (const std::runtime_error& error) {
+      in.Fail("window " + std::to_string(w) + ": " + error.what());
     }
   }
   if (in.Left() != 0) in.Fail(std::to_string(in.Left()) + " bytes after the last block");

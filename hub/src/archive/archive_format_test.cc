@@ -84,7 +84,8 @@ TEST(ArchiveFormat, RefusalsNameTheField) {
   std::string wrong_magic = bytes;
   wrong_magic[0] = 'X';
   EXPECT_NE(ErrorOf(wrong_magic).find("magic"), std::string::npos);
-  EXPECT_NE(ErrorOf(WithU32(bytes, 8, 2)).find("version: 2"), std::string::npos);
+  EXPECT_NE(ErrorOf(WithU32(bytes, 8, 3)).find("version: 3 is not supported"), std::string::npos);
+  EXPECT_NE(ErrorOf(WithU32(bytes, 8, 1)).find("version: 1 (plain-varint blocks"), std::string::npos);
   // Offsets: magic 8, version 4, rate 8, then markers, frames, window.
   EXPECT_NE(ErrorOf(WithU32(bytes, 20, 0)).find("markers: 0"), std::string::npos);
   EXPECT_NE(ErrorOf(WithU32(bytes, 20, 5000)).find("markers: 5000"), std::string::npos);

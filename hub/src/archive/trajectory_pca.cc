@@ -75,7 +75,7 @@ PcaBlock MakeBlock(const Eigen::BDCSVD<MatrixXd>& svd, const Eigen::RowVectorXd&
   PcaBlock block;
   block.components = components;
   block.mean.resize(channels);
-  for (size_t c = 0; c < channels; ++c) block.mean[c] = static_cast<float>(mean[static_cast<Eigen::Index>(c)]);
+  for (size_t c = 0; c < channels; ++c) block.mean[c] = Quantise(mean[static_cast<Eigen::Index>(c)], kArchiveMeanStepMm);
   if (k_count == 0) return block;
   const double share = 0.5 * quantisation_mm * quantisation_mm;
   block.time_step = static_cast<float>(std::sqrt(12.0 * markers * share / static_cast<double>(k_count)));
@@ -111,7 +111,7 @@ MatrixXd ExpandBlock(const PcaBlock& block, size_t frames) {
           static_cast<double>(block.weight_steps[k]) * block.weights[c * k_count + k];
   }
   MatrixXd values = time * weights;
-  for (size_t c = 0; c < channels; ++c) values.col(static_cast<Eigen::Index>(c)).array() += static_cast<double>(block.mean[c]);
+  for (size_t c = 0; c < channels; ++c) values.col(static_cast<Eigen::Index>(c)).array() += kArchiveMeanStepMm * block.mean[c];
   return values;
 }
 

@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "io/trajectory_file.h"
 #include "registration/marker_driven_mesh.h"
+#include "registration/mesh_binding_file.h"
 #include "registration/obj_mesh.h"
 #include "registration/point_cache.h"
 
@@ -21,7 +22,7 @@ namespace mocap {
 namespace {
 
 struct MeshDriveArgs {
-  std::string mesh, markers, output, bound_mesh, kernel = "thin-plate";
+  std::string mesh, markers, output, bound_mesh, binding, kernel = "thin-plate";
   size_t static_frame = 0;
   MarkerDrivenMeshOptions options;
   bool json = false;
@@ -56,6 +57,13 @@ void RunMeshDrive(const MeshDriveArgs& args) {
                              error.what());
   }
   if (!args.bound_mesh.empty()) WriteObj(mesh, args.bound_mesh, &driven->bound_vertices());
+  if (!args.binding.empty()) {
+    try {
+      WriteMeshBindingFile(EncodeMeshBinding(*driven, motion.names, mesh.faces), args.binding);
+    } catch (const std::invalid_argument& error) {
+      throw std::runtime_error(args.binding + ": " + error.what());
+    }
+  }
   PointCacheWriter writer;
   writer.Open(args.output, mesh.vertices.size(), motion.NumFrames(), motion.rate_hz);
   std::vector<Eigen::Vector3d> vertices = driven->bound_vertices();
@@ -97,6 +105,8 @@ void AddMeshDriveCommand(CLI::App& app) {
                       "Refuse a binding whose markers lie farther than this from the mesh after ICP, mm")
       ->check(FiniteRange(1e-3, 1e6));
   command->add_option("--bound-mesh", args->bound_mesh, "Also write the mesh as bound, in the capture's frame (.obj)");
+  command->add_option("--binding", args->binding,
+                      "Also write the binding the console plays (.mdb: bound vertices, triangles, RBF weights)");
   command->add_option("-o,--output", args->output, "Point cache to write (.pc2 or .mdd)")->required();
   command->add_flag("--json", args->json, "Print one JSON object");
   command->callback([args] { RunMeshDrive(*args); });

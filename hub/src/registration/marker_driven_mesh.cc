@@ -46,6 +46,7 @@ MarkerDrivenMesh::MarkerDrivenMesh(const std::vector<Eigen::Vector3d>& mesh_vert
   for (const Eigen::Vector3d& v : mesh_vertices) bound_vertices_.push_back(capture_from_mesh_.Apply(v));
   weights_present_.assign(driving_.size(), true);
   weights_ = RbfInterpolator(static_markers_, options.rbf).Weights(bound_vertices_);
+  bound_weights_ = weights_;
 }
 
 bool MarkerDrivenMesh::Deform(const std::vector<Eigen::Vector3d>& markers, std::vector<Eigen::Vector3d>* vertices) {

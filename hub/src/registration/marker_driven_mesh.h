@@ -43,6 +43,11 @@ class MarkerDrivenMesh {
   double alignment_rms_mm() const { return alignment_rms_mm_; }
   const std::vector<Eigen::Vector3d>& bound_vertices() const { return bound_vertices_; }
   size_t NumDrivingMarkers() const { return driving_.size(); }
+  // The driving markers' indices and static positions, and each vertex's RBF weights on them
+  // (vertices x driving markers) as bound, before any Deform left a marker out.
+  const std::vector<size_t>& driving_markers() const { return driving_; }
+  const std::vector<Eigen::Vector3d>& static_markers() const { return static_markers_; }
+  const Eigen::MatrixXd& bound_weights() const { return bound_weights_; }
 
   // The vertices for one frame's markers (same count as the static ones, gaps allowed). Returns
   // false, leaving *vertices untouched, when fewer than 4 driving markers are present.
@@ -57,6 +62,7 @@ class MarkerDrivenMesh {
   std::vector<Eigen::Vector3d> static_markers_; // their static positions
   std::vector<bool> weights_present_;           // which driving markers `weights_` is for
   Eigen::MatrixXd weights_;                     // vertices x present driving markers
+  Eigen::MatrixXd bound_weights_;               // vertices x driving markers
 };
 
 }  // namespace mocap

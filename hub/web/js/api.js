@@ -76,6 +76,18 @@ export async function getText(path) {
   return text;
 }
 
+// A binary file (a mesh binding) as an ArrayBuffer.
+export async function getBytes(path) {
+  const sentAfterLogins = logins;
+  const response = await fetch(path, { cache: 'no-store' });
+  const bytes = await response.arrayBuffer();
+  traffic.httpBytes += bytes.byteLength;
+  traffic.requests += 1;
+  if (response.status === 401) refused(sentAfterLogins);
+  if (!response.ok) throw new ApiError(response.status, response.statusText);
+  return bytes;
+}
+
 // A PNG (node previews) as an image bitmap.
 export async function getImage(path) {
   const sentAfterLogins = logins;

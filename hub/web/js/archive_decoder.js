@@ -1,13 +1,16 @@
-// The .mca archive (hub/src/archive/archive_format.h) decoded as its bytes arrive: push() takes
-// each chunk of the download and returns what became complete, the header first, then one
-// message per window of frames, so a player can start on the first seconds of an hour's take.
+// The .mca archive (hub/src/archive/archive_format.h, version 2) decoded as its bytes arrive:
+// push() takes each chunk of the download and returns what became complete, the header first,
+// then one message per window of frames (a window's range-coded chunk once all of it arrived), so a player can start on the first seconds of an hour's take.
 // Limits and refusals as the hub's reader (it names the field); errors throw Error.
 //   {type: 'header', rate, names, frames, firstFrame, frameNumbers (Float64Array), window}
 //   {type: 'window', first, count, positions: Float32Array(count * markers * 3), NaN for gaps}
+import { RangeDecoder, newBitModel, newIntModel } from './archive_range_decoder.js';
 
 const MAX_MARKERS = 4096;
 const MAX_WINDOW = 4096;
 const MAX_POINTS = 2 ** 28;
+const POINTS_PER_BYTE = 1024;
+const MEAN_STEP_MM = 1 / 256;
 
 class NeedMore extends Error {}
 
@@ -17,8 +20,6 @@ export class ArchiveDecoder {
     this.pos = 0;
     this.header = null;
     this.windowIndex = 0;
-    this.groupIndex = 0;
-    this.windowValues = null;
   }
 
   push(chunk) {
@@ -33,7 +34,7 @@ export class ArchiveDecoder {
       for (;;) {
         const start = this.pos;
         try {
-          const message = this.header ? this.nextBlock() : this.readHeader();
+          const message = this.header ? this.nextWindow() : this.readHeader();
           if (message) out.push(message);
           if (this.header && this.windowIndex >= this.windows) break;
         } catch (e) {
@@ -92,7 +93,8 @@ export class ArchiveDecoder {
     const magic = String.fromCharCode(...Array.from({ length: 8 }, () => this.u8()));
     if (magic !== 'MOCAPMCA') throw new Error('archive: magic: not a mocap archive (.mca starts with MOCAPMCA)');
     const version = this.u32();
-    if (version !== 1) throw new Error(`archive: version: ${version} is not supported (this reader knows version 1)`);
+    if (version === 1) throw new Error('archive: version: 1 (plain-varint blocks, before the range coder) is not supported; this reader knows version 2: write the archive again with mocap-hub archive');
+    if (version !== 2) throw new Error(`archive: version: ${version} is not supported (this reader knows version 2)`);
     const rate = this.f64();
     if (!(rate > 0) || !Number.isFinite(rate)) throw new Error(`archive: rate_hz: ${rate} is not > 0`);
     const markers = this.u32(), frames = this.u32(), window = this.u32();
@@ -145,52 +147,84 @@ export class ArchiveDecoder {
     }
     this.header = { rate, names, frames, window, frameNumbers, groups, gapRuns };
     this.windows = Math.ceil(frames / window);
+    // Every marker's quantised mean in the window before, the base of the next window's means.
+    this.means = new Float64Array(3 * markers);
     // Per marker: the run it is in and where that run ends, advanced window by window.
     this.runCursor = gapRuns.map((runs) => ({ run: 0, end: runs[0] }));
     return { type: 'header', rate, names, frames, window, frameNumbers };
   }
 
-  // One group's block; returns the window when its last group completes it.
-  nextBlock() {
+  // One window's range-coded chunk, once all of it arrived: its blocks group by group.
+  nextWindow() {
     const h = this.header;
     const first = this.windowIndex * h.window;
     const count = Math.min(h.window, h.frames - first);
-    const group = h.groups[this.groupIndex];
+    const markers = h.names.length;
+    const length = this.varint('window chunk length');
+    const minimum = Math.max(5, Math.ceil((count * markers) / POINTS_PER_BYTE));
+    if (length < minimum) throw new Error(`archive: window chunk length: ${length} bytes, under the format's minimum ${minimum}`);
+    this.need(length);
+    const coder = new RangeDecoder(this.bytes.subarray(this.pos, this.pos + length));
+    const models = {
+      relative: newBitModel(), components: newIntModel(), mean: newIntModel(), timeStart: newIntModel(),
+      time: Array.from({ length: 8 }, () => [newIntModel(), newIntModel(), newIntModel()]),
+      weights: Array.from({ length: 8 }, newIntModel),
+    };
+    const values = new Float32Array(count * markers * 3);
+    try {
+      if (!coder.bit(models.relative, 0)) this.means.fill(0);
+      for (const group of h.groups) this.decodeBlock(coder, models, group, count, values);
+    } catch (e) {
+      throw new Error(`archive: window ${this.windowIndex}: ${e.message}`);
+    }
+    if (coder.pos !== length) throw new Error(`archive: window ${this.windowIndex}: ${length - coder.pos} bytes left after its blocks`);
+    this.pos += length;
+    this.applyGaps(first, count, values);
+    this.windowIndex += 1;
+    return { type: 'window', first, count, positions: values };
+  }
+
+  decodeBlock(coder, models, group, count, values) {
+    const markers = this.header.names.length;
     const channels = 3 * group.length;
-    const k = this.u8();
-    if (k > Math.min(count, channels)) throw new Error(`archive: components: ${k} is more than the window's rank`);
-    const mean = this.floats(channels, 'mean');
+    const limit = 2 ** 29 - 1;
+    const k = coder.int(models.components, 'components');
+    if (k < 0 || k > Math.min(count, channels)) throw new Error(`components: ${k} is outside 0..the window's rank`);
+    const mean = new Float64Array(channels);
+    for (let c = 0; c < channels; ++c) {
+      const slot = 3 * group[Math.floor(c / 3)] + (c % 3);
+      const now = this.means[slot] + coder.int(models.mean, 'mean');
+      if (Math.abs(now) > limit) throw new Error(`mean: value ${now} is outside +-(2^29 - 1)`);
+      this.means[slot] = now;
+      mean[c] = MEAN_STEP_MM * now;
+    }
     // time[t * k + q] and weights[c * k + q] as numbers, steps applied.
     const time = new Float64Array(count * k);
     const weights = new Float64Array(channels * k);
     if (k > 0) {
-      const timeStep = this.f32();
-      if (!(timeStep > 0) || !Number.isFinite(timeStep)) throw new Error('archive: time step: not a finite number > 0');
-      const limit = 2 ** 29 - 1;
+      const timeStep = coder.float();
+      if (!(timeStep > 0) || !Number.isFinite(timeStep)) throw new Error('time step: not a finite number > 0');
       for (let q = 0; q < k; ++q) {
-        let before = 0, earlier = 0;
+        const context = models.time[Math.min(q, 7)];
+        let before = 0, earlier = 0, previous = 0;
         for (let t = 0; t < count; ++t) {
-          const delta = this.signed('time');
+          const size = previous === 0 ? 0 : Math.abs(previous) <= 2 ? 1 : 2;
+          const delta = coder.int(t < 2 ? models.timeStart : context[size], 'time');
           const now = t === 0 ? delta : t === 1 ? before + delta : 2 * before - earlier + delta;
-          if (Math.abs(now) > limit) throw new Error(`archive: time: value ${now} is outside +-(2^29 - 1)`);
+          if (Math.abs(now) > limit) throw new Error(`time: value ${now} is outside +-(2^29 - 1)`);
           time[t * k + q] = timeStep * now;
           earlier = before;
           before = now;
+          previous = delta;
         }
       }
       for (let q = 0; q < k; ++q) {
-        const step = this.f32();
-        if (!(step > 0) || !Number.isFinite(step)) throw new Error('archive: weight step: not a finite number > 0');
-        for (let c = 0; c < channels; ++c) {
-          const w = this.signed('weights');
-          if (Math.abs(w) > limit) throw new Error(`archive: weights: value ${w} is outside +-(2^29 - 1)`);
-          weights[c * k + q] = step * w;
-        }
+        const step = coder.float();
+        if (!(step > 0) || !Number.isFinite(step)) throw new Error('weight step: not a finite number > 0');
+        const model = models.weights[Math.min(q, 7)];
+        for (let c = 0; c < channels; ++c) weights[c * k + q] = step * coder.int(model, 'weights');
       }
     }
-    const markers = h.names.length;
-    if (!this.windowValues) this.windowValues = new Float32Array(count * markers * 3);
-    const values = this.windowValues;
     for (let t = 0; t < count; ++t) {
       for (let c = 0; c < channels; ++c) {
         let v = mean[c];
@@ -198,12 +232,6 @@ export class ArchiveDecoder {
         values[(t * markers + group[Math.floor(c / 3)]) * 3 + (c % 3)] = v;
       }
     }
-    if (++this.groupIndex < h.groups.length) return null;
-    this.applyGaps(first, count, values);
-    this.groupIndex = 0;
-    this.windowIndex += 1;
-    this.windowValues = null;
-    return { type: 'window', first, count, positions: values };
   }
 
   applyGaps(first, count, values) {

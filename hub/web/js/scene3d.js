@@ -175,6 +175,31 @@ export class Scene3D {
     p.instanceMatrix.needsUpdate = true;
   }
 
+  // A bound mesh (mesh_binding.js) drawn with flat shading from its triangles; null removes it.
+  setMesh(binding) {
+    if (this.mesh) {
+      this.scene.remove(this.mesh);
+      this.mesh.geometry.dispose();
+      this.mesh = null;
+    }
+    if (!binding) return;
+    const geometry = new THREE.BufferGeometry();
+    const position = new THREE.BufferAttribute(Float32Array.from(binding.bound), 3);
+    position.setUsage(THREE.DynamicDrawUsage);
+    geometry.setAttribute('position', position);
+    geometry.setIndex(new THREE.BufferAttribute(binding.index, 1));
+    this.mesh = new THREE.Mesh(geometry, new THREE.MeshNormalMaterial({ flatShading: true, side: THREE.DoubleSide }));
+    this.mesh.frustumCulled = false;
+    this.scene.add(this.mesh);
+  }
+
+  // The mesh's vertices for the next render (Float32Array, 3 per vertex).
+  updateMesh(positions) {
+    const attribute = this.mesh.geometry.attributes.position;
+    attribute.array.set(positions);
+    attribute.needsUpdate = true;
+  }
+
   // bodies: [[id, tracked, predicted, x, y, z, qx, qy, qz, qw, error, markers], ...].
   setBodies(bodies) {
     this.bodies = bodies;

@@ -1,10 +1,12 @@
 // Sessions: capture start/stop, the sessions directory, each session's files to download, and
 // playback of a marker file (a reconstructed TRC, the capture's live_points.tsv: what serve
 // published, or a .mca archive decoded in a Web Worker as it streams in) in a 3D view with a
-// timeline: play, pause, scrub, speed.
-import { el, getJson, getText, postJson } from './api.js';
+// timeline: play, pause, scrub, speed. A mesh binding (.mdb) plays the session's markers (its
+// first .mca, else markers.trc) with the mesh they drive, deformed in the page frame by frame.
+import { el, getBytes, getJson, getText, postJson } from './api.js';
 import { openArchive } from './archive_recording.js';
 import { parseMarkerFile } from './marker_files.js';
+import { MeshDriver, parseMeshBinding } from './mesh_binding.js';
 import { Scene3D } from './scene3d.js';
 
 function defaultName() {
@@ -15,7 +17,7 @@ function defaultName() {
 }
 
 function playable(name) {
-  return name.endsWith('.trc') || name.endsWith('.mca') || name === 'live_points.tsv';
+  return name.endsWith('.trc') || name.endsWith('.mca') || name.endsWith('.mdb') || name === 'live_points.tsv';
 }
 
 // A parsed file holds its frames; an archive decodes them as they arrive (archive_recording.js).
@@ -37,6 +39,8 @@ class Player {
     this.playing = false;
     this.speed = 1;
     this.framesShown = 0;
+    this.mesh = null;  // a MeshDriver while a binding plays
+    this.deform = { frames: 0, ms: 0 };  // the mesh's deformation cost, summed
     this.playButton = el('button', { id: 'play', text: 'Play', onclick: () => this.toggle() });
     this.slider = el('input', { type: 'range', id: 'timeline', min: '0', max: '0', value: '0' });
     this.slider.addEventListener('input', () => this.seek(Number(this.slider.value)));
@@ -51,8 +55,12 @@ class Player {
     scene.beforeRender = () => this.tick();
   }
 
-  load(recording, title) {
+  // mesh: a MeshDriver for the recording, or null.
+  load(recording, title, mesh = null) {
     this.recording = recording;
+    this.mesh = mesh;
+    this.deform = { frames: 0, ms: 0 };
+    this.scene.setMesh(mesh ? mesh.binding : null);
     this.playing = false;
     this.scene.names = recording.markers.length ? recording.markers : null;
     this.slider.max = String(Math.max(frameCount(recording) - 1, 0));
@@ -76,7 +84,14 @@ class Player {
   }
 
   show() {
-    this.scene.setPoints(pointsAt(this.recording, this.index));
+    const points = pointsAt(this.recording, this.index);
+    this.scene.setPoints(points);
+    if (this.mesh) {
+      const start = performance.now();
+      if (this.mesh.deform(points)) this.scene.updateMesh(this.mesh.positions);
+      this.deform.ms += performance.now() - start;
+      this.deform.frames += 1;
+    }
     this.slider.value = String(this.index);
     this.label.textContent = `${this.time.toFixed(2)} s · frame ${this.recording.frameNumbers[this.index]}`;
     this.framesShown += 1;
@@ -228,6 +243,10 @@ export class SessionsPage {
     this.player.title.textContent = `loading ${file}…`;
     const url = `/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(file)}`;
     try {
+      if (file.endsWith('.mdb')) {
+        await this.playMesh(session, file, url);
+        return;
+      }
       if (file.endsWith('.mca')) {
         const recording = await openArchive(url, (r) => {
           this.player.title.dataset.decoded = String(r.decodedFrames);
@@ -242,5 +261,17 @@ export class SessionsPage {
     } catch (e) {
       this.player.title.textContent = `${file}: ${e.message}`;
     }
+  }
+
+  async playMesh(session, file, url) {
+    const binding = parseMeshBinding(await getBytes(url));
+    const { files } = await getJson(`/api/sessions/${encodeURIComponent(session)}`);
+    const source = (files.find((f) => f.name.endsWith('.mca')) || files.find((f) => f.name === 'markers.trc') || {}).name;
+    if (!source) throw new Error('the session holds no .mca or markers.trc to drive the mesh');
+    const sourceUrl = `/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(source)}`;
+    const recording = source.endsWith('.mca') ? await openArchive(sourceUrl)
+      : parseMarkerFile(source, await getText(sourceUrl));
+    this.player.load(recording, `${session}/${file} on ${source}, ${binding.vertices} vertices`,
+      new MeshDriver(binding, recording.markers));
   }
 }
