@@ -12,6 +12,7 @@
 
 #include "cli/commands.h"
 #include "cli/labels_helpers.h"
+#include "cli/reconstruct_session.h"
 #include "cli/progress.h"
 #include "ingest/session.h"
 #include "io/calibration_json.h"
@@ -27,21 +28,6 @@
 namespace mocap {
 namespace {
 
-struct ReconstructArgs {
-  std::string session;
-  std::string calibration;
-  std::string output;
-  std::string matcher = "relaxation";
-  std::string assignment = "optimal";
-  bool no_predictions = false;
-  pipeline::OfflineReconstructionOptions chain;
-  std::string bodies;  // rigid bodies file; empty: none
-  BodySmoothingOptions body_smoothing;
-  bool bodies_live = false;  // the live (causal) body path instead of the offline one
-  BodyLiveFilterOptions body_filter;
-  std::string labels;  // marker set; empty: anonymous columns
-  std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
-};
 
 // The whole-take steps over the finished marker file (pipeline/take_outputs.h), written back in
 // place: names from a marker set; rigid bodies' poses beside it (OUT.bodies.tsv) and one virtual
@@ -150,7 +136,9 @@ void WriteKnownCorrespondenceFloor(const ReconstructArgs& args, const Rig& rig, 
               static_cast<double>(points) / static_cast<double>(frames));
 }
 
-void RunReconstruct(ReconstructArgs args) {
+}  // namespace
+
+void ReconstructSession(ReconstructArgs args) {
   try {
     TrajectoryFormatOf(args.output);
   } catch (const std::invalid_argument& error) {
@@ -184,14 +172,16 @@ void RunReconstruct(ReconstructArgs args) {
     if (args.bodies.empty()) throw UsageError("--bodies-live needs --bodies");
     live_bodies = std::make_unique<LiveBodiesRun>(args);
   }
-  ProgressBar progress("reconstruct", static_cast<size_t>(info.frame_sets));
+  // Sessions processed side by side (`process --jobs`) draw no bar: one line cannot show several.
+  std::unique_ptr<ProgressBar> progress;
+  if (args.progress) progress = std::make_unique<ProgressBar>("reconstruct", static_cast<size_t>(info.frame_sets));
   FrameSet frame_set;
   while (reader.Next(&frame_set)) {
     if (!chain.Add(frame_set)) continue;  // the reader guarantees order
     if (live_bodies) live_bodies->Add(frame_set.frame_number, chain.points());
-    progress.Update(chain.frames());
+    if (progress) progress->Update(chain.frames());
   }
-  progress.Finish();
+  if (progress) progress->Finish();
   const size_t done = chain.frames();
   if (done == 0) throw std::runtime_error(args.session + ": no frames to reconstruct");
   const int columns = chain.Finish();
@@ -224,8 +214,6 @@ void RunReconstruct(ReconstructArgs args) {
                 read.damaged_log_stretches == 1 ? "" : "es", static_cast<unsigned long long>(read.skipped_log_bytes));
   }
 }
-
-}  // namespace
 
 void AddReconstructCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("reconstruct", "2D blobs of a session -> labelled 3D markers (TRC)");
@@ -297,7 +285,7 @@ void AddReconstructCommand(CLI::App& app) {
                     "trajectories' next frames show is undone)");
   command->add_option("--max-spline-gap-s", args->chain.max_spline_gap_s,
                       "Longest gap (seconds) filled by a spline")->capture_default_str();
-  command->callback([args]() { RunReconstruct(*args); });
+  command->callback([args]() { ReconstructSession(*args); });
 }
 
 }  // namespace mocap

@@ -63,6 +63,7 @@ void AddEvalCommand(CLI::App& app);
 // Commands of the other layers; each lives in its own cmd_<name>.cc.
 void AddRecordCommand(CLI::App& app);
 void AddReconstructCommand(CLI::App& app);
+void AddProcessCommand(CLI::App& app);  // cmd_process.cc: a recipe applied to sessions
 void AddBenchCommand(CLI::App& app);
 void AddSimRenderCommand(CLI::App& app);
 void AddSimWandCommand(CLI::App& app);

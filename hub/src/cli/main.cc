@@ -25,6 +25,7 @@ const AddCommand kCommands[] = {
     mocap::AddSimMotionCommand,
     mocap::AddEvalCommand,
     mocap::AddReconstructCommand,
+    mocap::AddProcessCommand,
     mocap::AddConvertCommand,
     mocap::AddArchiveCommand,
     mocap::AddRegisterCommand,

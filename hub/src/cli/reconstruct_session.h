@@ -1,0 +1,35 @@
+// One session's reconstruction as `reconstruct` runs it, for the commands that run it
+// (`reconstruct`, and `process` once per session of a batch): the offline chain
+// (pipeline/offline_reconstruction.h) into OUTPUT, then the whole-take steps
+// (pipeline/take_outputs.h), printing one summary line per step to stdout.
+// Errors: UsageError for options out of range, std::runtime_error for files and data.
+#pragma once
+
+#include <string>
+
+#include "bodies/body_live_filter.h"
+#include "bodies/body_smoothing.h"
+#include "pipeline/offline_reconstruction.h"
+
+namespace mocap {
+
+struct ReconstructArgs {
+  std::string session;
+  std::string calibration;
+  std::string output;  // .trc or .c3d
+  std::string matcher = "relaxation";
+  std::string assignment = "optimal";
+  bool no_predictions = false;
+  pipeline::OfflineReconstructionOptions chain;
+  std::string bodies;  // rigid bodies file; empty: none
+  BodySmoothingOptions body_smoothing;
+  bool bodies_live = false;  // the live (causal) body path instead of the offline one
+  BodyLiveFilterOptions body_filter;
+  std::string labels;  // marker set; empty: anonymous columns
+  std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
+  bool progress = true;  // a progress bar on stderr when it is a terminal
+};
+
+void ReconstructSession(ReconstructArgs args);
+
+}  // namespace mocap
