@@ -1,4 +1,4 @@
-// VMC bundles per frame over liblo (see vmc_sender.h).
+// VMC bundles per frame, encoded by liblo and sent on the hub's loop (see vmc_sender.h).
 #include "stream/vmc_sender.h"
 #include "stream/publish_latency.h"
 
@@ -9,12 +9,9 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
-#include "ingest/udp_socket.h"
-
 namespace mocap::stream {
 namespace {
 
-constexpr std::chrono::milliseconds kIdleWait{100};
 constexpr double kMetresPerMm = 1e-3;
 
 Eigen::Vector3d AxisOf(const std::string& up) {
@@ -43,7 +40,6 @@ void VmcOptions::Check() const {
   if (hp.host.empty() || hp.port == 0) throw std::invalid_argument("VMC target '" + target + "' must be HOST:PORT");
   AxisOf(up_axis);
   if (!(rate_hz > 0.0)) throw std::invalid_argument("VMC: rate must be > 0 Hz");
-  if (queue_frames == 0) throw std::invalid_argument("VMC queue must hold at least one frame");
 }
 
 std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOptions& options) {
@@ -68,70 +64,63 @@ std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOpt
   return out;
 }
 
-struct VmcSender::Target {
-  lo_address address = nullptr;
-  ~Target() {
-    if (address) lo_address_free(address);
-  }
-};
+namespace {
 
-VmcSender::VmcSender(VmcOptions options)
-    : options_((options.Check(), std::move(options))), target_(std::make_unique<Target>()),
-      queue_(options_.queue_frames) {
-  const HostPort hp = ParseHostPort(options_.target);
-  target_->address = lo_address_new(hp.host.c_str(), std::to_string(hp.port).c_str());
-  if (!target_->address) throw std::invalid_argument("VMC target '" + options_.target + "': liblo cannot use it");
-  thread_ = std::thread([this] { Run(); });
+// One frame's bundle as liblo encodes it, into `out`; false when liblo cannot.
+bool SerialiseBundle(const std::vector<VmcMessage>& messages, std::vector<uint8_t>* out) {
+  lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+  for (const VmcMessage& v : messages) {
+    lo_message msg = lo_message_new();
+    size_t f = 0, i = 0;
+    for (char t : v.types) {
+      if (t == 's') lo_message_add_string(msg, v.text.c_str());
+      else if (t == 'f') lo_message_add_float(msg, v.floats[f++]);
+      else lo_message_add_int32(msg, v.ints[i++]);
+    }
+    lo_bundle_add_message(bundle, v.path.c_str(), msg);
+  }
+  size_t size = lo_bundle_length(bundle);
+  out->resize(size);
+  const bool ok = size > 0 && lo_bundle_serialise(bundle, out->data(), &size) != nullptr;
+  out->resize(ok ? size : 0);
+  lo_bundle_free_recursive(bundle);
+  return ok;
 }
 
-VmcSender::~VmcSender() {
-  stop_ = true;
-  queue_.Close();
-  if (thread_.joinable()) thread_.join();
+}  // namespace
+
+VmcSender::VmcSender(VmcOptions options) : options_((options.Check(), std::move(options))) {
+  try {
+    target_ = ResolveHostPort(ParseHostPort(options_.target));
+    socket_.Bind(HostPort{"", 0});  // any address, a port of the kernel's choosing
+  } catch (const std::exception& error) {
+    throw std::invalid_argument("VMC target '" + options_.target + "': " + error.what());
+  }
 }
 
 VmcStats VmcSender::stats() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  VmcStats s = stats_;
-  s.frames_dropped = queue_.dropped();
-  return s;
+  return stats_;
 }
 
 nlohmann::json VmcSender::StatsJson() const {
-  const VmcStats s = stats();
   std::lock_guard<std::mutex> lock(stats_mutex_);
   return {{"target", options_.target},
           {"up_axis", options_.up_axis},
-          {"bundles", s.bundles},
-          {"send_failures", s.send_failures},
-          {"frames_dropped", s.frames_dropped},
+          {"bundles", stats_.bundles},
+          {"send_failures", stats_.send_failures},
           {"publish_to_sent_ms",
            PublishToSentJson(publish_to_sent_ms_, "3D result published -> its VMC bundle handed to the kernel")}};
 }
 
-void VmcSender::Run() {
-  while (!stop_) {
-    const SharedFrame frame = queue_.Pop(kIdleWait);
-    if (!frame) continue;
-    lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
-    for (const VmcMessage& v : VmcBundle(*frame, options_)) {
-      lo_message msg = lo_message_new();
-      size_t f = 0, i = 0;
-      for (char t : v.types) {
-        if (t == 's') lo_message_add_string(msg, v.text.c_str());
-        else if (t == 'f') lo_message_add_float(msg, v.floats[f++]);
-        else lo_message_add_int32(msg, v.ints[i++]);
-      }
-      lo_bundle_add_message(bundle, v.path.c_str(), msg);
-    }
-    const bool sent = lo_send_bundle(target_->address, bundle) > 0;
-    lo_bundle_free_recursive(bundle);
-    const uint64_t done_ns = RealtimeNowNs();
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    (sent ? stats_.bundles : stats_.send_failures)++;
-    if (sent && done_ns >= frame->publish_ns)
-      publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame->publish_ns) * 1e-6);
-  }
+void VmcSender::Publish(SharedFrame frame) {
+  const bool sent = SerialiseBundle(VmcBundle(*frame, options_), &datagram_) &&
+                    socket_.SendTo(target_, datagram_.data(), datagram_.size());
+  const uint64_t done_ns = RealtimeNowNs();
+  std::lock_guard<std::mutex> lock(stats_mutex_);
+  (sent ? stats_.bundles : stats_.send_failures)++;
+  if (sent && done_ns >= frame->publish_ns)
+    publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame->publish_ns) * 1e-6);
 }
 
 }  // namespace mocap::stream

@@ -11,21 +11,24 @@
 // rotations are conjugated by the same map (vmc_axes in the .cc). Skeleton bones (/VMC/Ext/Bone/Pos,
 // /VMC/Ext/Root/Pos) follow once the hub has skeletons.
 //
-// Threads: Publish() from the hub's loop only queues; the sender's own thread builds and sends.
+// Threads: none of its own. Publish() (the hub's loop) builds the bundle (liblo) and hands it to
+// the kernel at once from a non-blocking socket (a few microseconds: one target, one datagram,
+// no thread hand-over between the frame's publish and its send); a datagram the kernel will not
+// take is counted, never waited for. stats() from any thread.
 // Errors: the constructor throws std::invalid_argument for a bad target or up axis.
 #pragma once
 
-#include <atomic>
+#include <netinet/in.h>
+
 #include <cstdint>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>
 
-#include "stream/frame_queue.h"
+#include "ingest/udp_socket.h"
 #include "stream/stream_sink.h"
 #include "util/latency_sample.h"
 
@@ -35,7 +38,6 @@ struct VmcOptions {
   std::string target;            // HOST:PORT (VMC receivers listen on 39539 by default)
   std::string up_axis = "+Y";    // the hub world's up: "+X", "-X", "+Y", "-Y", "+Z", "-Z"
   double rate_hz = 0.0;          // serve's --rate (for /VMC/Ext/T)
-  size_t queue_frames = 64;
 
   void Check() const;  // throws std::invalid_argument
 };
@@ -55,33 +57,28 @@ std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOpt
 
 struct VmcStats {
   uint64_t bundles = 0;
-  uint64_t send_failures = 0;
-  uint64_t frames_dropped = 0;
+  uint64_t send_failures = 0;  // bundles the kernel did not take (a full socket buffer, no route)
 };
 
 class VmcSender : public StreamSink {
  public:
   explicit VmcSender(VmcOptions options);
-  ~VmcSender() override;
+  ~VmcSender() override = default;
   VmcSender(const VmcSender&) = delete;
   VmcSender& operator=(const VmcSender&) = delete;
 
-  void Publish(SharedFrame frame) override { queue_.Push(std::move(frame)); }
+  void Publish(SharedFrame frame) override;
   VmcStats stats() const;
   nlohmann::json StatsJson() const override;
 
  private:
-  struct Target;
-  void Run();
-
   const VmcOptions options_;
-  std::unique_ptr<Target> target_;
-  FrameQueue queue_;
+  UdpSocket socket_;
+  sockaddr_in target_{};
+  std::vector<uint8_t> datagram_;  // the loop's own
   mutable std::mutex stats_mutex_;
   VmcStats stats_;
   LatencySample publish_to_sent_ms_{20000};
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
 };
 
 }  // namespace mocap::stream

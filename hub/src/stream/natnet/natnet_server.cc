@@ -70,7 +70,23 @@ NatNetServer::~NatNetServer() {
 }
 
 void NatNetServer::Publish(SharedFrame frame) {
+  // Never waits: while the thread holds the sockets (answering requests) the frame queues for it.
+  std::unique_lock<std::mutex> lock(send_mutex_, std::try_to_lock);
+  if (lock.owns_lock() && (multicast_ || clients_.size() <= options_.inline_clients)) {
+    SendQueued();
+    latest_ = frame;
+    Send(*frame, true);
+    return;
+  }
+  if (lock.owns_lock()) lock.unlock();
   queue_.Push(std::move(frame));
+}
+
+void NatNetServer::SendQueued() {
+  while (SharedFrame frame = queue_.PopNow()) {
+    latest_ = frame;
+    Send(*frame, false);
+  }
 }
 
 NatNetStats NatNetServer::stats() const {
@@ -89,6 +105,7 @@ nlohmann::json NatNetServer::StatsJson() const {
           {"requests", s.requests},
           {"refused", s.refused},
           {"frames", s.frames},
+          {"frames_on_publish", s.frames_on_publish},
           {"datagrams", s.datagrams},
           {"send_failures", s.send_failures},
           {"frames_dropped", s.frames_dropped},
@@ -104,11 +121,9 @@ void NatNetServer::Run() {
       log::Error("natnet: poll failed: {}", std::strerror(errno));
       break;
     }
+    std::lock_guard<std::mutex> lock(send_mutex_);
     if (fds[1].revents & POLLIN) queue_.Acknowledge();
-    while (SharedFrame frame = queue_.PopNow()) {
-      latest_ = frame;
-      Send(*frame);
-    }
+    SendQueued();
     Serve(RealtimeNowNs());
   }
 }
@@ -172,7 +187,7 @@ std::string NatNetServer::EncodeLatest(uint64_t* points_dropped) {
   return EncodeFrame(*latest_, model_, state_.version, FrameStamps{RealtimeNowNs()}, points_dropped);
 }
 
-void NatNetServer::Send(const pipeline::LiveFrame& frame) {
+void NatNetServer::Send(const pipeline::LiveFrame& frame, bool on_publish) {
   uint64_t points_dropped = 0;
   const std::string packet = EncodeLatest(&points_dropped);
   const auto* bytes = reinterpret_cast<const uint8_t*>(packet.data());
@@ -185,6 +200,7 @@ void NatNetServer::Send(const pipeline::LiveFrame& frame) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
   if (sent) ++stats_.frames;
+  if (sent && on_publish) ++stats_.frames_on_publish;
   stats_.datagrams += sent;
   stats_.send_failures += failed;
   stats_.points_dropped += points_dropped;

@@ -5,9 +5,12 @@
 // clients read unicast frames), for as long as it keeps sending (any request or NAT_KEEPALIVE
 // within `client_timeout_s`).
 //
-// Threads: one thread of its own runs a poll() loop over the socket and a wake-up eventfd;
-// Publish() (the hub's loop) only queues the shared frame. Each frame is encoded once and handed
-// to the kernel for the group or every client; the time from the hub's publish to the last
+// Threads: Publish() (the hub's loop) encodes each frame once and hands it to the kernel for the
+// group or every client at once (non-blocking sends, no thread hand-over) when the frames go to
+// the group or to at most `inline_clients` clients and the server's own thread is not answering
+// requests at that moment; otherwise it queues the shared frame for that thread, which runs a
+// poll() loop over the socket and a wake-up eventfd, answers requests and sends what was queued
+// (queued frames always go before a newer one). The time from the hub's publish to the last
 // send is sampled (stats publish_to_sent_ms). Errors: the constructor throws
 // std::invalid_argument for bad options and std::runtime_error when it cannot bind; nothing a
 // client sends throws (bad requests are answered and counted).
@@ -41,6 +44,7 @@ struct NatNetOptions {
   size_t max_clients = 256;                 // unicast subscribers; more are told so
   double client_timeout_s = 10.0;           // unicast: silence this long ends a subscription
   size_t queue_frames = 64;
+  size_t inline_clients = 8;                // unicast: up to this many, sent on the hub's loop
 
   void Check() const;  // throws std::invalid_argument naming the option
 };
@@ -50,6 +54,7 @@ struct NatNetStats {
   uint64_t requests = 0;
   uint64_t refused = 0;          // failed commands, malformed or unknown requests, clients over max
   uint64_t frames = 0;           // frames sent (to the group or anyone)
+  uint64_t frames_on_publish = 0;  // of those, sent on the hub's loop as they were published
   uint64_t datagrams = 0;
   uint64_t send_failures = 0;
   uint64_t frames_dropped = 0;   // this thread fell behind the hub
@@ -77,7 +82,8 @@ class NatNetServer : public StreamSink {
   void Run();
   void Serve(uint64_t now_ns);
   void Subscribe(const sockaddr_in& from, Subscription what, uint64_t now_ns);
-  void Send(const pipeline::LiveFrame& frame);
+  void SendQueued();
+  void Send(const pipeline::LiveFrame& frame, bool on_publish);
   std::string EncodeLatest(uint64_t* points_dropped);
 
   const NatNetOptions options_;
@@ -85,9 +91,10 @@ class NatNetServer : public StreamSink {
   UdpSocket socket_;
   bool multicast_ = false;
   sockaddr_in group_{};
-  CommandState state_;           // the thread's own
-  std::vector<Client> clients_;  // the thread's own
-  SharedFrame latest_;           // the thread's own
+  std::mutex send_mutex_;        // the socket, state_, clients_ and latest_: the thread's or Publish()'s
+  CommandState state_;
+  std::vector<Client> clients_;
+  SharedFrame latest_;
   PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   NatNetStats stats_;

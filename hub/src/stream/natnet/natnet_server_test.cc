@@ -1,15 +1,19 @@
 // The NatNet server's socket on loopback: a unicast client connects, gets NAT_SERVERINFO and
 // then every published frame at the address it sent from, asks for the model definitions and
 // the newest frame, is refused a command and answered unrecognized for garbage; it stops getting
-// frames once it disconnects; a client over max_clients is told so and gets no frames.
+// frames once it disconnects; a client over max_clients is told so and gets no frames; frames
+// reach a client complete and in order whether the hub's loop sends them as they are published
+// or the server's thread does (requests in between, or more clients than inline_clients).
 #include <arpa/inet.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -136,6 +140,44 @@ TEST(NatNetServer, ClientsOverTheLimitAreToldAndGetNoFrames) {
   server.Publish(Frame(9));
   EXPECT_EQ(FrameNumber(first.Next(kFrameOfData)), 9);
   EXPECT_EQ(second.Next(kFrameOfData), "");
+}
+
+// Publishes frames 1..n to one unicast client, a keep-alive every third frame (the server's thread
+// takes the sockets to answer it, so frames published meanwhile queue); the frame numbers received.
+std::vector<int32_t> PublishWithRequestsBetween(NatNetServer* server, Client* client, int n) {
+  std::vector<int32_t> got;
+  for (int i = 1; i <= n; ++i) {
+    server->Publish(Frame(static_cast<uint64_t>(i)));
+    if (i % 3 == 0) client->Send(kKeepAlive);
+  }
+  for (std::string p = client->Next(kFrameOfData); !p.empty(); p = client->Next(kFrameOfData)) {
+    got.push_back(FrameNumber(p));
+    if (got.size() == static_cast<size_t>(n)) break;
+  }
+  return got;
+}
+
+TEST(NatNetServer, FramesArriveCompleteAndInOrderOnEitherPath) {
+  for (size_t inline_clients : {size_t{8}, size_t{0}}) {
+    NatNetOptions options = Unicast();
+    options.inline_clients = inline_clients;
+    options.queue_frames = 256;
+    NatNetServer server(options, OneBody());
+    Client c(server.port());
+    c.Send(kConnect);
+    ASSERT_FALSE(c.Next(kServerInfo).empty());
+    const std::vector<int32_t> got = PublishWithRequestsBetween(&server, &c, 150);
+    std::vector<int32_t> want(150);
+    for (int i = 0; i < 150; ++i) want[static_cast<size_t>(i)] = i + 1;
+    EXPECT_EQ(got, want) << "inline_clients " << inline_clients;
+    const NatNetStats s = server.stats();
+    EXPECT_EQ(s.frames, 150u);
+    if (inline_clients == 0) {
+      EXPECT_EQ(s.frames_on_publish, 0u);
+    }
+    std::printf("inline_clients %zu: %llu of %llu frames sent on publish\n", inline_clients,
+                static_cast<unsigned long long>(s.frames_on_publish), static_cast<unsigned long long>(s.frames));
+  }
 }
 
 TEST(NatNetServer, OptionsAreChecked) {

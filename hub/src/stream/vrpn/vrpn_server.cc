@@ -96,7 +96,22 @@ VrpnServer::~VrpnServer() {
 }
 
 void VrpnServer::Publish(SharedFrame frame) {
+  // Never waits: while the thread holds the clients the frame queues for it.
+  std::unique_lock<std::mutex> lock(clients_mutex_, std::try_to_lock);
+  if (lock.owns_lock() && clients_.size() <= options_.inline_clients) {
+    SendQueued();
+    SendFrame(*frame, true);
+    // Bytes a client's socket did not take wait for the thread's poll to see it writable.
+    for (const auto& c : clients_)
+      if (!c->queue.empty()) return queue_.Wake();
+    return;
+  }
+  if (lock.owns_lock()) lock.unlock();
   queue_.Push(std::move(frame));
+}
+
+void VrpnServer::SendQueued() {
+  while (SharedFrame frame = queue_.PopNow()) SendFrame(*frame, false);
 }
 
 VrpnStats VrpnServer::stats() const {
@@ -116,6 +131,7 @@ nlohmann::json VrpnServer::StatsJson() const {
           {"lookups", s.lookups},
           {"refused", s.refused},
           {"frames", s.frames},
+          {"frames_on_publish", s.frames_on_publish},
           {"reports", s.reports},
           {"frames_dropped", s.frames_dropped},
           {"publish_to_sent_ms",
@@ -125,18 +141,23 @@ nlohmann::json VrpnServer::StatsJson() const {
 void VrpnServer::Run() {
   std::vector<pollfd> fds;
   while (!stop_) {
-    fds.clear();
-    fds.push_back({listen_fd_, POLLIN, 0});
-    fds.push_back({udp_fd_, POLLIN, 0});
-    fds.push_back({queue_.fd(), POLLIN, 0});
-    for (const auto& c : clients_)
-      fds.push_back({c->fd, static_cast<short>(c->connecting ? POLLOUT : (POLLIN | (c->queue.empty() ? 0 : POLLOUT))), 0});
+    {
+      std::lock_guard<std::mutex> lock(clients_mutex_);
+      fds.clear();
+      fds.push_back({listen_fd_, POLLIN, 0});
+      fds.push_back({udp_fd_, POLLIN, 0});
+      fds.push_back({queue_.fd(), POLLIN, 0});
+      for (const auto& c : clients_)
+        fds.push_back({c->fd, static_cast<short>(c->connecting ? POLLOUT : (POLLIN | (c->queue.empty() ? 0 : POLLOUT))), 0});
+    }
+    // Publish() may send meanwhile (it only marks clients dead: the list and its order hold).
     if (poll(fds.data(), fds.size(), kIdlePollMs) < 0 && errno != EINTR) {
       log::Error("vrpn: poll failed: {}", std::strerror(errno));
       break;
     }
+    std::lock_guard<std::mutex> lock(clients_mutex_);
     if (fds[2].revents & POLLIN) queue_.Acknowledge();
-    while (SharedFrame frame = queue_.PopNow()) SendFrame(*frame);
+    SendQueued();
     const size_t polled = fds.size() - 3;
     for (size_t i = 0; i < polled && i < clients_.size(); ++i) {
       Client& c = *clients_[i];
@@ -305,7 +326,7 @@ void VrpnServer::Flush(Client& c) {
   }
 }
 
-void VrpnServer::SendFrame(const pipeline::LiveFrame& frame) {
+void VrpnServer::SendFrame(const pipeline::LiveFrame& frame, bool on_publish) {
   const uint64_t stamp_ns = frame.trigger_time_ns ? frame.trigger_time_ns : frame.publish_ns;
   const Timestamp time = FromNs(stamp_ns);
   std::string bytes;
@@ -339,6 +360,7 @@ void VrpnServer::SendFrame(const pipeline::LiveFrame& frame) {
   std::lock_guard<std::mutex> lock(stats_mutex_);
   if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
   ++stats_.frames;
+  stats_.frames_on_publish += on_publish;
   stats_.reports += reports * sent;
 }
 

@@ -10,10 +10,13 @@
 // is the address it came from (nobody can make the hub connect to a third host), once per
 // address and port at a time.
 //
-// Threads: one thread of its own runs a poll() loop over the sockets, every client and a
-// wake-up eventfd; Publish() (the hub's loop) only queues the shared frame. Each frame's reports
-// are encoded once for every client; the time from the hub's publish to the last client's
-// bytes handed to the kernel is sampled (stats publish_to_sent_ms). Slow clients: a client's
+// Threads: Publish() (the hub's loop) encodes each frame's reports once and hands them to every
+// client's socket at once (non-blocking sends, no thread hand-over) when at most
+// `inline_clients` are connected and the server's own thread is not busy with the clients at
+// that moment; otherwise it queues the shared frame for that thread, which runs a poll() loop
+// over the sockets, every client and a wake-up eventfd, and sends what was queued (queued frames
+// always go before a newer one). The time from the hub's publish to the last client's bytes
+// handed to the kernel is sampled (stats publish_to_sent_ms). Slow clients: a client's
 // queued bytes are bounded; a frame that does not fit is dropped for that client only (whole
 // frames), a client that does not take even its answers is closed. Errors: the constructor
 // throws std::invalid_argument for bad options and std::runtime_error when it cannot listen;
@@ -47,6 +50,7 @@ struct VrpnOptions {
   size_t client_frame_bytes = 64 * 1024;       // queued beyond this: the frame drops for that client
   size_t client_reply_bytes = 1024 * 1024;     // unread answers beyond this close the client
   size_t queue_frames = 64;
+  size_t inline_clients = 8;                   // up to this many clients: sent on the hub's loop
 
   void Check() const;  // throws std::invalid_argument naming the option
 };
@@ -57,6 +61,7 @@ struct VrpnStats {
   uint64_t lookups = 0;         // UDP connection requests honoured
   uint64_t refused = 0;         // bad cookies or messages, lookups for another host, over max_clients
   uint64_t frames = 0;
+  uint64_t frames_on_publish = 0;  // of those, sent on the hub's loop as they were published
   uint64_t reports = 0;         // tracker messages queued to clients
   uint64_t frames_dropped = 0;  // a slow client's, and this thread falling behind the hub
 };
@@ -89,7 +94,8 @@ class VrpnServer : public StreamSink {
   void Read(Client& c);
   void Queue(Client& c, std::shared_ptr<const std::string> bytes, bool droppable);
   void Flush(Client& c);
-  void SendFrame(const pipeline::LiveFrame& frame);
+  void SendQueued();
+  void SendFrame(const pipeline::LiveFrame& frame, bool on_publish);
   void CloseDead();
 
   const VrpnOptions options_;
@@ -97,8 +103,9 @@ class VrpnServer : public StreamSink {
   int listen_fd_ = -1;
   int udp_fd_ = -1;
   uint16_t port_ = 0;
-  std::vector<std::unique_ptr<Client>> clients_;  // the thread's own
-  std::vector<LastPose> last_;                    // the thread's own
+  std::mutex clients_mutex_;  // clients_ and last_: the thread's, or Publish()'s when it sends
+  std::vector<std::unique_ptr<Client>> clients_;
+  std::vector<LastPose> last_;
   PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   VrpnStats stats_;

@@ -2,16 +2,19 @@
 // UDP lookup (the server connects back) both exchange cookies, get the trackers described and a
 // fitted body's report stamped with the trigger time; a lookup naming another host is refused;
 // an unfitted body sends nothing; fifty trackers are described and reported; --vrpn-velocity's
-// report is the last two fitted poses' difference over their time.
+// report is the last two fitted poses' difference over their time; reports arrive complete and in
+// order whether the hub's loop sends them as frames are published or the server's thread does.
 #include <arpa/inet.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -212,6 +215,49 @@ TEST(VrpnServer, FiftyTrackers) {
   ASSERT_EQ(reported.size(), 50u);
   for (int32_t i = 0; i < 50; ++i) EXPECT_EQ(reported[static_cast<size_t>(i)], i);
   close(tcp);
+}
+
+TEST(VrpnServer, ReportsArriveCompleteAndInOrderOnEitherPath) {
+  for (size_t inline_clients : {size_t{8}, size_t{0}}) {
+    VrpnOptions o;
+    o.listen = "127.0.0.1:0";
+    o.inline_clients = inline_clients;
+    o.queue_frames = 256;
+    VrpnServer server(o, {"drone"});
+    const int tcp = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(server.port());
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
+    ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
+    WaitUntil([&] { return server.stats().connections >= 1; });
+    constexpr int kFrames = 150;
+    for (int n = 0; n < kFrames; ++n) {
+      auto f = std::make_shared<pipeline::LiveFrame>();
+      f->frame_number = static_cast<uint64_t>(n);
+      f->trigger_time_ns = 1'000'000'000ull + static_cast<uint64_t>(n) * 1'000'000ull;  // 1 ms apart
+      f->publish_ns = RealtimeNowNs();
+      pipeline::LiveBody b;
+      b.id = 1;
+      b.tracked = true;
+      f->bodies = {b};
+      server.Publish(f);
+    }
+    std::vector<uint32_t> microseconds;
+    for (const ReceivedMessage& m : ReadUntil(tcp, kPosQuat, kFrames))
+      if (m.type == kPosQuat) microseconds.push_back(m.time.microseconds);
+    ASSERT_EQ(microseconds.size(), static_cast<size_t>(kFrames)) << "inline_clients " << inline_clients;
+    for (int n = 0; n < kFrames; ++n) EXPECT_EQ(microseconds[static_cast<size_t>(n)], static_cast<uint32_t>(n) * 1000u);
+    const VrpnStats s = server.stats();
+    EXPECT_EQ(s.frames, static_cast<uint64_t>(kFrames));
+    if (inline_clients == 0) {
+      EXPECT_EQ(s.frames_on_publish, 0u);
+    }
+    std::printf("inline_clients %zu: %llu of %llu frames sent on publish\n", inline_clients,
+                static_cast<unsigned long long>(s.frames_on_publish), static_cast<unsigned long long>(s.frames));
+    close(tcp);
+  }
 }
 
 }  // namespace
