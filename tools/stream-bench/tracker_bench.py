@@ -93,6 +93,8 @@ def main():
     p.add_argument("--seconds", type=float, default=60)
     p.add_argument("--cameras", type=int, default=6)
     p.add_argument("--render-s", type=float, default=4)
+    p.add_argument("--realtime-priority", type=int, default=10 if os.geteuid() == 0 else 0,
+                   help="serve's frame loop under SCHED_FIFO at this priority, as its unit runs it (0: off)")
     args = p.parse_args()
     in_namespace()
     from live_rig import Rig, wait_for, websocket_messages
@@ -107,7 +109,7 @@ def main():
     tracker_scene.make(bin_dir, out, args.rate, int(args.render_s * args.rate), args.cameras)
     rig = Rig(bin_dir, out, args.rate, serve_args=[
         "--bodies", os.path.join(out, "bodies.json"), "--natnet", "127.0.0.1:1510", "--vrpn", "127.0.0.1:3883",
-        "--vmc", "127.0.0.1:39539"])
+        "--vmc", "127.0.0.1:39539", *(["--realtime-priority", str(args.realtime_priority)] if args.realtime_priority else [])])
     published, natnet, vrpn, vmc = set(), set(), set(), set()
     stop = threading.Event()
     try:
@@ -136,6 +138,7 @@ def main():
             client.shutdown()
         osc.shutdown()
         status = json.loads(rig.hub("status", "--json").stdout)
+        json.dump({k: status.get(k) for k in ("natnet", "vrpn", "vmc")}, open(os.path.join(out, "tracker_status.json"), "w"), indent=1)
     finally:
         rig.stop()
     # /api/live gives a reader that falls behind the newest frame: a frame any reader got was published too.

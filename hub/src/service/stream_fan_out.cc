@@ -147,10 +147,10 @@ void StreamFanOut::Add(std::string name, std::unique_ptr<stream::StreamSink> sin
 
 void StreamFanOut::Publish(const pipeline::LiveFrame& frame) {
   const stream::SharedFrame shared = stream::ShareFrame(frame);
-  size_t next = 0;
-  if (!adapters_.empty() && adapters_[0].name == "stream") adapters_[next++].sink->Publish(shared);
+  // Every adapter before the WebSockets' hand-off: the adapters send on this thread, and waking
+  // the WebSockets' thread first can let it run ahead of them on a busy core.
+  for (const Adapter& a : adapters_) a.sink->Publish(shared);
   if (also_) also_(shared);
-  for (; next < adapters_.size(); ++next) adapters_[next].sink->Publish(shared);
 }
 
 std::vector<std::string> StreamFanOut::Where() const {
