@@ -61,12 +61,15 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
     ingest_.auth().ReloadIfChanged(now);
     // serve's receive step (UdpSocket::Drain): a first datagram waited for briefly, then what is
     // queued, bounded; then what is complete or overdue is handed out.
-    socket_.Drain(1, UdpSocket::kDrainMax, [&](const Datagram& d) {
+    uint64_t last_receive = 0;
+    const size_t drained = socket_.Drain(1, UdpSocket::kDrainMax, [&](const Datagram& d) {
       last_datagram = RealtimeNowNs();
+      last_receive = std::max(last_receive, d.receive_time_ns);
       ingest_.Add(d, session);
     });
     const uint64_t after = RealtimeNowNs();
-    Emit(ingest_.Collect(after), on_set);
+    // Deadlines on the receive clock while datagrams are still queued (as serve's loop).
+    Emit(ingest_.Collect(drained == UdpSocket::kDrainMax ? last_receive : after), on_set);
     // Raw log: flushed at least every 50 ms so a crash loses little.
     if (after > last_flush + 50'000'000ull) {
       session->Flush();

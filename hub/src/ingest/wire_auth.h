@@ -1,7 +1,8 @@
 // The hub's end of the authenticated wire, shared by `serve` and `record`: the keys of the
 // installation's nodes (one file per node in the keys directory, wire/key_file.h), every
 // datagram from a node opened and checked before anything else reads it (envelope, node known,
-// key id held, tag, direction, counter fresh and not replayed), every datagram to a node sealed
+// key id held, counter fresh and not replayed, tag, direction; the counter is looked up before the
+// tag is computed, so a replay flood costs no hashing, and remembered only after), every datagram to a node sealed
 // under that node's key with the hub's own strictly increasing counter. Refusals are counted
 // per node (for nodes with a key) and in total; they never reach the decoder or the assembler.
 //
@@ -99,6 +100,7 @@ class WireAuth {
     PeerCounts counts;
   };
   WireOpened Reject(WireRejection kind, std::string reason, uint32_t node_id);
+  WireOpened RejectCounter(wire::ReplayWindow::Verdict verdict, uint32_t node_id);
   std::map<uint32_t, wire::KeyFile> LoadDirectory() const;  // throws std::runtime_error
   std::string DirectoryFingerprint() const;
 
