@@ -80,6 +80,13 @@ def flood(port, datagram):
         return sent, time.monotonic() - start
 
 
+def udp_receive_buffer_errors():
+    """The namespace's count of UDP datagrams the kernel dropped for a full receive buffer."""
+    with open("/proc/net/snmp") as f:
+        rows = [line.split() for line in f if line.startswith("Udp:")]
+    return int(rows[1][rows[0].index("RcvbufErrors")])
+
+
 def nodes_sent(rig):
     """Every node's count of frames sent, from its closing log line (the nodes run one pass)."""
     total = {}
@@ -118,6 +125,7 @@ def capture(bin_dir, work, name, kind):
         assert time.time_ns() < rig.epoch, "the nodes started after the epoch: the machine is too busy"
         time.sleep(max(0.0, (rig.epoch - time.time_ns()) / 1e9 + 1.0))
         sent, seconds = 0, 0.0
+        dropped_before = udp_receive_buffer_errors()
         if kind == "plausible":
             sent, seconds = flood(rig.udp_port, plausible())
         elif kind == "replayed":
@@ -127,6 +135,7 @@ def capture(bin_dir, work, name, kind):
         end = rig.epoch + (FRAMES + 50) * 1_000_000_000 // RATE
         time.sleep(max(0.0, (end - time.time_ns()) / 1e9))
         sent_by_node = nodes_sent(rig)
+        kernel_dropped = udp_receive_buffer_errors() - dropped_before
         status = json.loads(rig.hub("status", "--json").stdout)
         rig.hub("capture", "stop")
     finally:
@@ -138,7 +147,7 @@ def capture(bin_dir, work, name, kind):
     logged = captured_frames(session)
     lost = frames_sent - len(logged)
     late = status["late_frames"]
-    return {"late": late, "set_lost": frames_sent - (info["camera_frames"] - late),
+    return {"late": late, "kernel_dropped": kernel_dropped, "set_lost": frames_sent - (info["camera_frames"] - late),
             "set_lost_pct": 100.0 * (frames_sent - (info["camera_frames"] - late)) / max(frames_sent, 1),
             "kind": kind or "none", "flood_sent": sent, "flood_s": seconds, "frames_sent": frames_sent,
             "frames_captured": len(logged), "lost": lost, "lost_pct": 100.0 * lost / max(frames_sent, 1),
@@ -170,9 +179,10 @@ def inside(bin_dir, work):
             f"{r['frames_sent']} camera frames, {r['frames_captured']} in the session's raw log: {r['lost']} lost "
             f"({r['lost_pct']:.2f} %); {r['camera_frames']} camera frames received, {r['late']} of them too late for "
             f"their frame set: {r['set_lost']} not in a frame set ({r['set_lost_pct']:.2f} %); {r['frame_sets']} "
-            f"frame sets, {r['incomplete_sets']} incomplete; refused by kind {json.dumps(r['refused'])}")
+            f"frame sets, {r['incomplete_sets']} incomplete; refused by kind {json.dumps(r['refused'])}; "
+            f"{r['kernel_dropped']} datagrams dropped by the kernel (receive buffer full)")
         if kind:
-            ok = ok and r["lost_pct"] <= 1.0 and r["flood_sent"] > 0
+            ok = ok and r["lost_pct"] <= 1.0 and r["set_lost_pct"] <= 1.0 and r["flood_sent"] > 0
     return 0 if ok else 1
 
 

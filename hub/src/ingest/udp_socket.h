@@ -65,7 +65,7 @@ class UdpSocket {
   static constexpr size_t kDrainMax = 4096;  // the loops' bound
   static constexpr size_t kBatch = 32;
   // The receive buffer Bind asks for (granted up to net.core.rmem_max without CAP_NET_ADMIN).
-  static constexpr int kReceiveBuffer = 32 * 1024 * 1024;
+  static constexpr int kReceiveBuffer = 64 * 1024 * 1024;
   // Best effort: a full send buffer or an unreachable peer is reported by the return value.
   bool SendTo(const HostPort& to, const std::vector<uint8_t>& bytes);
   bool SendTo(const sockaddr_in& to, const uint8_t* bytes, size_t size);

@@ -32,6 +32,7 @@ void WireAuthOptions::Check() const {
         "for development only");
   if (!keys_dir.empty() && insecure_dev)
     throw std::invalid_argument("--keys and --insecure-dev-wire exclude each other");
+  budget.Check();
 }
 
 const char* WireRejectionName(WireRejection r) {
@@ -47,11 +48,12 @@ const char* WireRejectionName(WireRejection r) {
     case WireRejection::kStale: return "stale";
     case WireRejection::kFuture: return "future";
     case WireRejection::kNodeMismatch: return "node_mismatch";
+    case WireRejection::kThrottled: return "throttled";
   }
   return "?";
 }
 
-WireAuth::WireAuth(WireAuthOptions options) : options_(std::move(options)) {
+WireAuth::WireAuth(WireAuthOptions options) : options_(std::move(options)), budget_(options_.budget) {
   options_.Check();
   if (options_.insecure_dev) return;
   wire::InitSodium();
@@ -155,7 +157,7 @@ WireOpened WireAuth::RejectCounter(wire::ReplayWindow::Verdict verdict, uint32_t
   return Reject(WireRejection::kReplayed, who + ": counter", node);
 }
 
-WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns) {
+WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns, const sockaddr_in* source) {
   const bool enveloped = wire::LooksEnveloped(data, size);
   if (options_.insecure_dev) {
     if (enveloped)
@@ -182,6 +184,8 @@ WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns) {
   using Verdict = wire::ReplayWindow::Verdict;
   if (const Verdict early = peer.window.Check(env.header.counter, now_ns); early != Verdict::kAccepted)
     return RejectCounter(early, node);
+  if (source && !budget_.Allow(*source, now_ns))
+    return Reject(WireRejection::kThrottled, "node " + std::to_string(node) + ": its source's tag checks spent", node);
   if (!wire::VerifyEnvelopeTag(data, size, key->key))
     return Reject(WireRejection::kBadTag, "node " + std::to_string(node) + ": bad tag (forged, or another key)", node);
   if (env.header.direction != wire::Direction::kToHub)
@@ -190,6 +194,7 @@ WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns) {
   if (const Verdict verdict = peer.window.Accept(env.header.counter, now_ns); verdict != Verdict::kAccepted)
     return RejectCounter(verdict, node);
   ++peer.counts.accepted;
+  if (source) budget_.Trust(*source, now_ns);
   peer.send_key_id = env.header.key_id;  // answer with the key the node uses now (rotation)
   WireOpened out;
   out.ok = true;

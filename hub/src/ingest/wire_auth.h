@@ -26,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ingest/source_budget.h"
 #include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
 #include "wire/replay_window.h"
@@ -35,6 +36,7 @@ namespace mocap {
 struct WireAuthOptions {
   std::string keys_dir;      // node-N.key files; required unless insecure_dev
   bool insecure_dev = false; // unauthenticated wire: development only
+  SourceBudgetOptions budget;  // tag checks per second per source that is not a node's
   // Throws std::invalid_argument when neither or both are set.
   void Check() const;
 };
@@ -51,6 +53,7 @@ enum class WireRejection {
   kStale,            // a counter far older than the hub's clock
   kFuture,           // a counter far ahead of the hub's clock
   kNodeMismatch,     // authentic, but the packet inside speaks for another node
+  kThrottled,        // its source (not a node's) spent its budget of tag checks: a flood
 };
 const char* WireRejectionName(WireRejection r);  // "bad_tag", "replayed", ...
 
@@ -68,8 +71,9 @@ class WireAuth {
   explicit WireAuth(WireAuthOptions options);
 
   bool insecure() const { return options_.insecure_dev; }
-  // One datagram from the network, at the hub's realtime clock now_ns.
-  WireOpened Open(const uint8_t* data, size_t size, uint64_t now_ns);
+  // One datagram from the network, at the hub's realtime clock now_ns; from `source` when known
+  // (then its tag is checked only within the source's budget, source_budget.h).
+  WireOpened Open(const uint8_t* data, size_t size, uint64_t now_ns, const sockaddr_in* source = nullptr);
   // The caller found that an opened packet names another node than its envelope.
   void CountNodeMismatch(uint32_t envelope_node);
   // payload sealed for node_id; empty when there is no key for it. Insecure: payload itself.
@@ -106,6 +110,7 @@ class WireAuth {
 
   WireAuthOptions options_;
   std::map<uint32_t, Peer> peers_;
+  SourceBudget budget_;
   uint64_t last_counter_ = 0;
   uint64_t rejected_total_ = 0;
   std::map<WireRejection, uint64_t> rejected_;  // all nodes, and datagrams naming none we know
