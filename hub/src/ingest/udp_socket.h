@@ -57,7 +57,7 @@ class UdpSocket {
   static constexpr size_t kMaxDatagram = 65507;
   // Waits up to timeout_ms for one datagram; false on timeout or EINTR.
   bool Receive(Datagram* datagram, int timeout_ms);
-  // The receive step of the hub's loop (serve's, which `record` runs too): waits up to
+  // The receive step of the hub's loops (serve's and record's): waits up to
   // first_wait_ms for a first datagram, then takes what is queued without waiting, kBatch a
   // system call (recvmmsg), at most max_datagrams, so that a flood still leaves the loop its
   // other work; each goes to `handle` (valid during the call). Returns how many came.
