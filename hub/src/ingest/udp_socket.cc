@@ -163,9 +163,9 @@ size_t UdpSocket::Drain(int first_wait_ms, size_t max_datagrams,
       if (errno == EAGAIN || errno == EINTR) break;
       throw std::runtime_error("recvmmsg: " + std::string(std::strerror(errno)));
     }
-    for (int i = 0; i < got; ++i) {
+    for (size_t i = 0; i < static_cast<size_t>(got); ++i) {
       Datagram& d = batch_[i];
-      const uint8_t* bytes = batch_buffer_.data() + size_t(i) * kMaxDatagram;
+      const uint8_t* bytes = batch_buffer_.data() + i * kMaxDatagram;
       d.bytes.assign(bytes, bytes + msgs[i].msg_len);
       d.receive_time_ns = ReceiveTimeOf(msgs[i].msg_hdr);
       handle(d);
