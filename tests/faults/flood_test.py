@@ -12,9 +12,10 @@ A capture without a flood runs first (what the machine itself costs).
 Camera frames lost, exactly: the frames the nodes sent (the sum of every node's own count of
 frames whose every chunk it sent, from its closing "done:" line after its one pass) minus the
 distinct (node, frame number) marker frames with every chunk in the captured session's raw log;
-as a share of the frames sent. session.json's camera_frames (frames that reached a frame set) is
-printed beside it. Asserted: <= 1 % lost under each flood (the issue's done-when); the figures
-(send rate, loss, frame sets, refusals) are printed.
+as a share of the frames sent. Not in a frame set: the frames sent minus session.json's
+camera_frames (received while capturing) plus serve's late frames (received after their set
+left). Asserted: both <= 1 % under each flood (the issue's done-when); the figures (send rate,
+loss, frame sets, refusals by kind, the kernel's receive-buffer drops) are printed.
 
 Without root or iproute2 (no namespace) the test reports itself skipped (exit 77).
 
