@@ -21,7 +21,7 @@ FrameIngest::FrameIngest(const std::vector<uint32_t>& cameras, const FrameSetAss
 
 const wire::DecodeResult& FrameIngest::Add(const Datagram& d, SessionWriter* session) {
   last_outcome_ = IngestOutcome::kAccepted;
-  const WireOpened opened = auth_.Open(d.bytes.data(), d.bytes.size(), d.receive_time_ns);
+  const WireOpened opened = auth_.Open(d.bytes.data(), d.bytes.size(), d.receive_time_ns, &d.from);
   if (!opened.ok) return RefuseUnauthentic(opened.reason, d);
   decoded_ = wire::Decode(opened.payload, opened.payload_size);
   if (!decoded_.ok) {

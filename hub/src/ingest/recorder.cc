@@ -23,6 +23,7 @@ Recorder::Recorder(RecorderOptions options)
 
 void Recorder::Bind() {
   socket_.Bind(ParseHostPort(options_.listen));
+  bound_ns_ = RealtimeNowNs();  // --duration counts from here: datagrams queue from now on
   if (!options_.announce.empty()) {
     announce_to_ = ParseHostPort(options_.announce);
     socket_.EnableBroadcast();
@@ -47,7 +48,7 @@ void Recorder::Emit(std::vector<FrameSet> sets, const std::function<void(const F
 
 void Recorder::Run(SessionWriter* session, const std::function<void(const FrameSet&)>& on_set,
                    const std::atomic<bool>* stop) {
-  const uint64_t start = RealtimeNowNs();
+  const uint64_t start = bound_ns_ ? bound_ns_ : RealtimeNowNs();
   const uint64_t end = options_.duration_s > 0 ? start + uint64_t(options_.duration_s * 1e9) : 0;
   uint64_t last_datagram = 0, last_flush = start;
   while (!(stop && stop->load())) {
@@ -61,12 +62,21 @@ void Recorder::Run(SessionWriter* session, const std::function<void(const FrameS
     ingest_.auth().ReloadIfChanged(now);
     // serve's receive step (UdpSocket::Drain): a first datagram waited for briefly, then what is
     // queued, bounded; then what is complete or overdue is handed out.
-    socket_.Drain(1, UdpSocket::kDrainMax, [&](const Datagram& d) {
+    uint64_t last_receive = 0;
+    bool past_end = false;
+    const size_t drained = socket_.Drain(1, UdpSocket::kDrainMax, [&](const Datagram& d) {
+      // --duration holds to the kernel's receive time: what came after the end (while this turn
+      // ran late on a busy machine) is not recorded.
+      if (end && d.receive_time_ns >= end) past_end = true;
+      if (past_end) return;
       last_datagram = RealtimeNowNs();
+      last_receive = std::max(last_receive, d.receive_time_ns);
       ingest_.Add(d, session);
     });
     const uint64_t after = RealtimeNowNs();
-    Emit(ingest_.Collect(after), on_set);
+    // Deadlines on the receive clock while datagrams are still queued (as serve's loop).
+    Emit(ingest_.Collect(drained == UdpSocket::kDrainMax ? last_receive : after), on_set);
+    if (past_end) break;
     // Raw log: flushed at least every 50 ms so a crash loses little.
     if (after > last_flush + 50'000'000ull) {
       session->Flush();

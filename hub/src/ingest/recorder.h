@@ -26,7 +26,7 @@ struct RecorderOptions {
   double rate_hz = 240.0;
   uint64_t epoch_ns = 0;              // published to nodes in HubAnnounce
   std::string announce;               // broadcast HOST:PORT for HubAnnounce; empty = none
-  double duration_s = 0.0;            // 0 = no time limit
+  double duration_s = 0.0;            // 0 = no time limit; datagrams the kernel received later are not recorded
   uint64_t max_frames = 0;            // frame sets; 0 = no limit
   double idle_timeout_s = 0.0;        // stop after this long without datagrams once data came; 0 = never
   FrameSetAssemblerOptions assembly;
@@ -39,7 +39,7 @@ struct RecorderOptions {
 class Recorder {
  public:
   explicit Recorder(RecorderOptions options);
-  // Binds the socket (so tests can learn the port before nodes start).
+  // Binds the socket (so tests can learn the port before nodes start); --duration counts from here.
   void Bind();
   uint16_t port() const { return socket_.port(); }
   // Receives until a limit is reached or *stop turns true; every set goes to on_set.
@@ -60,6 +60,7 @@ class Recorder {
   FrameIngest ingest_;
   uint64_t frame_sets_ = 0;
   uint64_t next_announce_ns_ = 0;
+  uint64_t bound_ns_ = 0;  // when Bind ran: the start of --duration
 };
 
 }  // namespace mocap

@@ -8,6 +8,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -66,6 +68,30 @@ std::string SockaddrToString(const sockaddr_in& address) {
 
 std::string Datagram::FromString() const { return SockaddrToString(from); }
 
+const std::string& SourceText::Of(const sockaddr_in& address) {
+  if (text_.empty() || address.sin_addr.s_addr != last_.sin_addr.s_addr || address.sin_port != last_.sin_port) {
+    last_ = address;
+    text_ = SockaddrToString(address);
+  }
+  return text_;
+}
+
+namespace {
+
+// The kernel's receive time of a datagram (SO_TIMESTAMPNS), else now.
+uint64_t ReceiveTimeOf(const msghdr& msg) {
+  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(const_cast<msghdr*>(&msg), c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
+      timespec ts{};
+      std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+      return uint64_t(ts.tv_sec) * 1'000'000'000ull + uint64_t(ts.tv_nsec);
+    }
+  }
+  return RealtimeNowNs();
+}
+
+}  // namespace
+
 UdpSocket::~UdpSocket() {
   if (fd_ >= 0) close(fd_);
 }
@@ -76,9 +102,11 @@ void UdpSocket::Bind(const HostPort& address) {
   if (fd_ < 0) throw std::runtime_error("socket: " + std::string(std::strerror(errno)));
   const int one = 1;
   setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);
-  // A deep receive buffer absorbs bursts from many nodes while the hub is busy with a frame.
-  const int rcvbuf = 8 * 1024 * 1024;
-  setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
+  // A deep receive buffer absorbs bursts from many nodes (and a flood's) while the hub is busy
+  // with a frame: beyond net.core.rmem_max where the process may (CAP_NET_ADMIN), else up to it.
+  const int rcvbuf = kReceiveBuffer;
+  if (setsockopt(fd_, SOL_SOCKET, SO_RCVBUFFORCE, &rcvbuf, sizeof rcvbuf) != 0)
+    setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
   const sockaddr_in addr = ResolveHostPort(address);
   if (bind(fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)
     throw std::runtime_error("cannot listen on " + where + ": " + std::strerror(errno));
@@ -106,27 +134,62 @@ uint16_t UdpSocket::port() const {
 
 size_t UdpSocket::Drain(int first_wait_ms, size_t max_datagrams,
                         const std::function<void(const Datagram&)>& handle) {
-  Datagram d;
+  if (max_datagrams == 0 || !WaitReadable(first_wait_ms)) return 0;
+  // recvmmsg: up to kBatch datagrams a system call, into slots allocated once; a short batch
+  // means the queue is empty.
+  if (batch_buffer_.empty()) {
+    batch_buffer_.resize(kBatch * kMaxDatagram);
+    batch_.resize(kBatch);
+  }
+  std::array<mmsghdr, kBatch> msgs{};
+  std::array<iovec, kBatch> iov{};
+  alignas(cmsghdr) char control[kBatch][kControlSize];
   size_t n = 0;
-  while (n < max_datagrams && Receive(&d, n == 0 ? first_wait_ms : 0)) {
-    ++n;
-    handle(d);
+  while (n < max_datagrams) {
+    const unsigned want = static_cast<unsigned>(std::min(kBatch, max_datagrams - n));
+    for (unsigned i = 0; i < want; ++i) {
+      iov[i] = {batch_buffer_.data() + i * kMaxDatagram, kMaxDatagram};
+      msghdr& m = msgs[i].msg_hdr;
+      m = msghdr{};
+      m.msg_name = &batch_[i].from;
+      m.msg_namelen = sizeof batch_[i].from;
+      m.msg_iov = &iov[i];
+      m.msg_iovlen = 1;
+      m.msg_control = control[i];
+      m.msg_controllen = kControlSize;
+    }
+    const int got = recvmmsg(fd_, msgs.data(), want, MSG_DONTWAIT, nullptr);
+    if (got < 0) {
+      if (errno == EAGAIN || errno == EINTR) break;
+      throw std::runtime_error("recvmmsg: " + std::string(std::strerror(errno)));
+    }
+    for (size_t i = 0; i < static_cast<size_t>(got); ++i) {
+      Datagram& d = batch_[i];
+      const uint8_t* bytes = batch_buffer_.data() + i * kMaxDatagram;
+      d.bytes.assign(bytes, bytes + msgs[i].msg_len);
+      d.receive_time_ns = ReceiveTimeOf(msgs[i].msg_hdr);
+      handle(d);
+    }
+    n += static_cast<size_t>(got);
+    if (static_cast<unsigned>(got) < want) break;
   }
   return n;
 }
 
-bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
+bool UdpSocket::WaitReadable(int timeout_ms) const {
   pollfd pfd{fd_, POLLIN, 0};
   const int ready = poll(&pfd, 1, timeout_ms);
-  if (ready <= 0) {
-    if (ready < 0 && errno != EINTR) throw std::runtime_error("poll: " + std::string(std::strerror(errno)));
-    return false;
-  }
+  if (ready < 0 && errno != EINTR) throw std::runtime_error("poll: " + std::string(std::strerror(errno)));
+  return ready > 0;
+}
+
+bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
+  if (!WaitReadable(timeout_ms)) return false;
   // The datagram lands in the socket's own buffer (allocated once, never zero-filled again) and
   // is copied out at its length. IPv4 cannot carry more than kMaxDatagram, so nothing is cut.
   if (buffer_.empty()) buffer_.resize(kMaxDatagram);
   iovec iov{buffer_.data(), buffer_.size()};
-  alignas(cmsghdr) char control[256];
+  alignas(cmsghdr) char control[kControlSize];
   msghdr msg{};
   msg.msg_name = &d->from;
   msg.msg_namelen = sizeof d->from;
@@ -140,15 +203,7 @@ bool UdpSocket::Receive(Datagram* d, int timeout_ms) {
     throw std::runtime_error("recvmsg: " + std::string(std::strerror(errno)));
   }
   d->bytes.assign(buffer_.begin(), buffer_.begin() + n);
-  d->receive_time_ns = 0;
-  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) {
-      timespec ts{};
-      std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-      d->receive_time_ns = uint64_t(ts.tv_sec) * 1'000'000'000ull + uint64_t(ts.tv_nsec);
-    }
-  }
-  if (d->receive_time_ns == 0) d->receive_time_ns = RealtimeNowNs();
+  d->receive_time_ns = ReceiveTimeOf(msg);
   return true;
 }
 

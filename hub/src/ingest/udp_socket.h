@@ -29,6 +29,17 @@ struct Datagram {
   std::string FromString() const;
 };
 
+// A source address as "HOST:PORT", written out only when it differs from the last one asked
+// (a flood comes from few addresses: a loop names each datagram's sender without formatting it).
+class SourceText {
+ public:
+  const std::string& Of(const sockaddr_in& address);
+
+ private:
+  sockaddr_in last_{};
+  std::string text_;
+};
+
 class UdpSocket {
  public:
   UdpSocket() = default;
@@ -46,19 +57,28 @@ class UdpSocket {
   static constexpr size_t kMaxDatagram = 65507;
   // Waits up to timeout_ms for one datagram; false on timeout or EINTR.
   bool Receive(Datagram* datagram, int timeout_ms);
-  // The receive step of the hub's loops (serve's and record's): waits up to first_wait_ms for a
-  // first datagram, then takes what is queued without waiting, at most max_datagrams, so that a
-  // flood still leaves the loop its other work; each goes to `handle`. Returns how many came.
+  // The receive step of the hub's loops (serve's and record's): waits up to
+  // first_wait_ms for a first datagram, then takes what is queued without waiting, kBatch a
+  // system call (recvmmsg), at most max_datagrams, so that a flood still leaves the loop its
+  // other work; each goes to `handle` (valid during the call). Returns how many came.
   size_t Drain(int first_wait_ms, size_t max_datagrams, const std::function<void(const Datagram&)>& handle);
   static constexpr size_t kDrainMax = 4096;  // the loops' bound
+  static constexpr size_t kBatch = 32;
+  // The receive buffer Bind asks for (granted up to net.core.rmem_max without CAP_NET_ADMIN).
+  static constexpr int kReceiveBuffer = 64 * 1024 * 1024;
   // Best effort: a full send buffer or an unreachable peer is reported by the return value.
   bool SendTo(const HostPort& to, const std::vector<uint8_t>& bytes);
   bool SendTo(const sockaddr_in& to, const uint8_t* bytes, size_t size);
   int fd() const { return fd_; }
 
  private:
+  bool WaitReadable(int timeout_ms) const;  // false on timeout or EINTR
+  static constexpr size_t kControlSize = 256;
+
   int fd_ = -1;
-  std::vector<uint8_t> buffer_;
+  std::vector<uint8_t> buffer_;        // Receive's
+  std::vector<uint8_t> batch_buffer_;  // Drain's: kBatch slots of kMaxDatagram
+  std::vector<Datagram> batch_;
 };
 
 uint64_t RealtimeNowNs();

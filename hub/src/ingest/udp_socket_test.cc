@@ -25,6 +25,40 @@ TEST(UdpSocket, DrainTakesWhatIsQueuedUpToItsBound) {
   EXPECT_EQ(receiver.Drain(0, 10, keep), 0u);  // nothing queued, no wait
 }
 
+// More than one recvmmsg batch, of mixed lengths: each whole, in order, with its sender and time.
+TEST(UdpSocket, DrainCrossesBatchesKeepingEachDatagramWhole) {
+  UdpSocket receiver, sender;
+  receiver.Bind(Loopback(0));
+  sender.Bind(Loopback(0));
+  const size_t count = 3 * UdpSocket::kBatch + 5;
+  for (size_t i = 0; i < count; ++i)
+    ASSERT_TRUE(sender.SendTo(Loopback(receiver.port()), std::vector<uint8_t>(1 + (i * 37) % 3000, uint8_t(i))));
+  size_t i = 0;
+  const auto check = [&](const Datagram& d) {
+    EXPECT_EQ(d.bytes, std::vector<uint8_t>(1 + (i * 37) % 3000, uint8_t(i))) << i;
+    EXPECT_EQ(d.FromString(), "127.0.0.1:" + std::to_string(sender.port()));
+    EXPECT_GT(d.receive_time_ns, 0u);
+    ++i;
+  };
+  EXPECT_EQ(receiver.Drain(1000, UdpSocket::kDrainMax, check), count);
+  EXPECT_EQ(i, count);
+}
+
+TEST(SourceText, NamesEachAddressAndFollowsAChange) {
+  SourceText text;
+  sockaddr_in a{}, b{};
+  a.sin_family = b.sin_family = AF_INET;
+  inet_pton(AF_INET, "10.0.0.7", &a.sin_addr);
+  a.sin_port = htons(30000);
+  b = a;
+  b.sin_port = htons(30001);
+  EXPECT_EQ(text.Of(a), "10.0.0.7:30000");
+  EXPECT_EQ(text.Of(a), "10.0.0.7:30000");
+  EXPECT_EQ(text.Of(b), "10.0.0.7:30001");
+  inet_pton(AF_INET, "10.0.0.8", &b.sin_addr);
+  EXPECT_EQ(text.Of(b), "10.0.0.8:30001");
+}
+
 TEST(UdpSocket, ReceivesEachDatagramAtItsLengthWithSender) {
   UdpSocket receiver, sender;
   receiver.Bind(Loopback(0));

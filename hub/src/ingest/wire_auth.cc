@@ -32,6 +32,7 @@ void WireAuthOptions::Check() const {
         "for development only");
   if (!keys_dir.empty() && insecure_dev)
     throw std::invalid_argument("--keys and --insecure-dev-wire exclude each other");
+  budget.Check();
 }
 
 const char* WireRejectionName(WireRejection r) {
@@ -47,11 +48,12 @@ const char* WireRejectionName(WireRejection r) {
     case WireRejection::kStale: return "stale";
     case WireRejection::kFuture: return "future";
     case WireRejection::kNodeMismatch: return "node_mismatch";
+    case WireRejection::kThrottled: return "throttled";
   }
   return "?";
 }
 
-WireAuth::WireAuth(WireAuthOptions options) : options_(std::move(options)) {
+WireAuth::WireAuth(WireAuthOptions options) : options_(std::move(options)), budget_(options_.budget) {
   options_.Check();
   if (options_.insecure_dev) return;
   wire::InitSodium();
@@ -142,7 +144,20 @@ WireOpened WireAuth::Reject(WireRejection kind, std::string reason, uint32_t nod
   return out;
 }
 
-WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns) {
+WireOpened WireAuth::RejectCounter(wire::ReplayWindow::Verdict verdict, uint32_t node) {
+  const std::string who = "node " + std::to_string(node);
+  switch (verdict) {
+    case wire::ReplayWindow::Verdict::kReplayed: return Reject(WireRejection::kReplayed, who + ": replayed counter", node);
+    case wire::ReplayWindow::Verdict::kStale:
+      return Reject(WireRejection::kStale, who + ": stale counter (replay, or clocks apart)", node);
+    case wire::ReplayWindow::Verdict::kFuture:
+      return Reject(WireRejection::kFuture, who + ": counter ahead of the hub's clock", node);
+    case wire::ReplayWindow::Verdict::kAccepted: break;
+  }
+  return Reject(WireRejection::kReplayed, who + ": counter", node);
+}
+
+WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns, const sockaddr_in* source) {
   const bool enveloped = wire::LooksEnveloped(data, size);
   if (options_.insecure_dev) {
     if (enveloped)
@@ -164,22 +179,22 @@ WireOpened WireAuth::Open(const uint8_t* data, size_t size, uint64_t now_ns) {
   const wire::WireKeyEntry* key = peer.file.Find(env.header.key_id);
   if (!key) return Reject(WireRejection::kUnknownKey, "node " + std::to_string(node) + ": unknown key id " +
                                                           std::to_string(env.header.key_id), node);
+  // The counter first (a lookup, not a hash): a flood of recorded datagrams is refused before
+  // the tag is computed; the window moves only below, once the tag verified.
+  using Verdict = wire::ReplayWindow::Verdict;
+  if (const Verdict early = peer.window.Check(env.header.counter, now_ns); early != Verdict::kAccepted)
+    return RejectCounter(early, node);
+  if (source && !budget_.Allow(*source, now_ns))
+    return Reject(WireRejection::kThrottled, "node " + std::to_string(node) + ": its source's tag checks spent", node);
   if (!wire::VerifyEnvelopeTag(data, size, key->key))
     return Reject(WireRejection::kBadTag, "node " + std::to_string(node) + ": bad tag (forged, or another key)", node);
   if (env.header.direction != wire::Direction::kToHub)
     return Reject(WireRejection::kWrongDirection, "node " + std::to_string(node) + ": the hub's own datagram sent back",
                   node);
-  switch (peer.window.Accept(env.header.counter, now_ns)) {
-    case wire::ReplayWindow::Verdict::kAccepted: break;
-    case wire::ReplayWindow::Verdict::kReplayed:
-      return Reject(WireRejection::kReplayed, "node " + std::to_string(node) + ": replayed counter", node);
-    case wire::ReplayWindow::Verdict::kStale:
-      return Reject(WireRejection::kStale, "node " + std::to_string(node) + ": stale counter (replay, or clocks apart)",
-                    node);
-    case wire::ReplayWindow::Verdict::kFuture:
-      return Reject(WireRejection::kFuture, "node " + std::to_string(node) + ": counter ahead of the hub's clock", node);
-  }
+  if (const Verdict verdict = peer.window.Accept(env.header.counter, now_ns); verdict != Verdict::kAccepted)
+    return RejectCounter(verdict, node);
   ++peer.counts.accepted;
+  if (source) budget_.Trust(*source, now_ns);
   peer.send_key_id = env.header.key_id;  // answer with the key the node uses now (rotation)
   WireOpened out;
   out.ok = true;

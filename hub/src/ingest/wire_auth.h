@@ -1,7 +1,8 @@
 // The hub's end of the authenticated wire, shared by `serve` and `record`: the keys of the
 // installation's nodes (one file per node in the keys directory, wire/key_file.h), every
 // datagram from a node opened and checked before anything else reads it (envelope, node known,
-// key id held, tag, direction, counter fresh and not replayed), every datagram to a node sealed
+// key id held, counter fresh and not replayed, tag, direction; the counter is looked up before the
+// tag is computed, so a replay flood costs no hashing, and remembered only after), every datagram to a node sealed
 // under that node's key with the hub's own strictly increasing counter. Refusals are counted
 // per node (for nodes with a key) and in total; they never reach the decoder or the assembler.
 //
@@ -25,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ingest/source_budget.h"
 #include "wire/datagram_envelope.h"
 #include "wire/key_file.h"
 #include "wire/replay_window.h"
@@ -34,6 +36,7 @@ namespace mocap {
 struct WireAuthOptions {
   std::string keys_dir;      // node-N.key files; required unless insecure_dev
   bool insecure_dev = false; // unauthenticated wire: development only
+  SourceBudgetOptions budget;  // tag checks per second per source that is not a node's
   // Throws std::invalid_argument when neither or both are set.
   void Check() const;
 };
@@ -50,6 +53,7 @@ enum class WireRejection {
   kStale,            // a counter far older than the hub's clock
   kFuture,           // a counter far ahead of the hub's clock
   kNodeMismatch,     // authentic, but the packet inside speaks for another node
+  kThrottled,        // its source (not a node's) spent its budget of tag checks: a flood
 };
 const char* WireRejectionName(WireRejection r);  // "bad_tag", "replayed", ...
 
@@ -67,8 +71,9 @@ class WireAuth {
   explicit WireAuth(WireAuthOptions options);
 
   bool insecure() const { return options_.insecure_dev; }
-  // One datagram from the network, at the hub's realtime clock now_ns.
-  WireOpened Open(const uint8_t* data, size_t size, uint64_t now_ns);
+  // One datagram from the network, at the hub's realtime clock now_ns; from `source` when known
+  // (then its tag is checked only within the source's budget, source_budget.h).
+  WireOpened Open(const uint8_t* data, size_t size, uint64_t now_ns, const sockaddr_in* source = nullptr);
   // The caller found that an opened packet names another node than its envelope.
   void CountNodeMismatch(uint32_t envelope_node);
   // payload sealed for node_id; empty when there is no key for it. Insecure: payload itself.
@@ -99,11 +104,13 @@ class WireAuth {
     PeerCounts counts;
   };
   WireOpened Reject(WireRejection kind, std::string reason, uint32_t node_id);
+  WireOpened RejectCounter(wire::ReplayWindow::Verdict verdict, uint32_t node_id);
   std::map<uint32_t, wire::KeyFile> LoadDirectory() const;  // throws std::runtime_error
   std::string DirectoryFingerprint() const;
 
   WireAuthOptions options_;
   std::map<uint32_t, Peer> peers_;
+  SourceBudget budget_;
   uint64_t last_counter_ = 0;
   uint64_t rejected_total_ = 0;
   std::map<WireRejection, uint64_t> rejected_;  // all nodes, and datagrams naming none we know

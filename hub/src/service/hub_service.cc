@@ -103,9 +103,12 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
     // flood too).
     const int wait_ms = busy_poll_until_ns_ != 0 && RealtimeNowNs() < busy_poll_until_ns_ ? 0 : 1;
-    socket_.Drain(wait_ms, UdpSocket::kDrainMax, [this](const Datagram& d) { HandleDatagram(d); });
+    const size_t drained =
+        socket_.Drain(wait_ms, UdpSocket::kDrainMax, [this](const Datagram& d) { HandleDatagram(d); });
     const uint64_t now = RealtimeNowNs();
-    for (const FrameSet& set : ingest_.Collect(now)) Publish(set);
+    // Deadlines on the receive clock while datagrams are still queued (a flood, a stalled loop):
+    // a set is overdue when its cameras were not received in time, not when the loop came late.
+    for (const FrameSet& set : ingest_.Collect(drained == UdpSocket::kDrainMax ? last_receive_ns_ : now)) Publish(set);
     Tick(now);
     subscribers_.NoticeCapture(captures_.running(), captures_.name());
     if (on_turn) on_turn(now);
@@ -139,8 +142,9 @@ void HubService::RunTasks() {
 }
 
 void HubService::HandleDatagram(const Datagram& d) {
+  last_receive_ns_ = std::max(last_receive_ns_, d.receive_time_ns);
   const wire::DecodeResult& decoded = ingest_.Add(d, captures_.writer());
-  const std::string source = d.FromString();
+  const std::string& source = source_text_.Of(d.from);
   if (!decoded.ok) {
     if (ingest_.last_outcome() == IngestOutcome::kUnauthentic)
       registry_.OnUnauthentic(source, decoded.reason, d.receive_time_ns);
@@ -165,7 +169,7 @@ void HubService::HandleDatagram(const Datagram& d) {
     // loop turn. Until then its other cameras' datagrams are awaited without sleeping.
     if (options_.busy_poll_us > 0.0)
       busy_poll_until_ns_ = RealtimeNowNs() + static_cast<uint64_t>(options_.busy_poll_us * 1e3);
-    for (const FrameSet& set : ingest_.Collect(RealtimeNowNs())) {
+    for (const FrameSet& set : ingest_.Collect(d.receive_time_ns)) {
       Publish(set);
       busy_poll_until_ns_ = 0;
     }

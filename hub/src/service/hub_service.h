@@ -173,6 +173,8 @@ class HubService : public ServiceApi {
   Waiters waiters_;
   std::unique_ptr<AutoMaskJob> mask_job_;
   uint64_t busy_poll_until_ns_ = 0;  // the loop polls without sleeping until then (busy_poll_us)
+  uint64_t last_receive_ns_ = 0;     // the newest datagram's receive time: the deadlines' clock in a backlog
+  SourceText source_text_;           // the datagrams' "HOST:PORT"
 
   // Live wanding (loop-owned): the collection while it runs, then its last figures, the solve.
   LiveWanding wanding_;

@@ -121,5 +121,19 @@ TEST(ReplayWindow, RefusesDuplicatesAndOldCountersToleratesReordering) {
   EXPECT_STREQ(VerdictName(ReplayWindow::Verdict::kStale), "stale");
 }
 
+TEST(ReplayWindow, CheckGivesAcceptsVerdictAndRemembersNothing) {
+  ReplayWindow w(4);
+  EXPECT_EQ(w.Check(kNow + 10, kNow), ReplayWindow::Verdict::kAccepted);
+  EXPECT_EQ(w.Check(kNow + 10, kNow), ReplayWindow::Verdict::kAccepted);  // not remembered
+  EXPECT_EQ(w.remembered(), 0u);
+  for (uint64_t i = 1; i <= 4; ++i) ASSERT_EQ(w.Accept(kNow + 10 * i, kNow), ReplayWindow::Verdict::kAccepted);
+  EXPECT_EQ(w.Check(kNow + 20, kNow), ReplayWindow::Verdict::kReplayed);   // seen
+  EXPECT_EQ(w.Check(kNow + 5, kNow), ReplayWindow::Verdict::kReplayed);    // below the full window
+  EXPECT_EQ(w.Check(kNow + 45, kNow), ReplayWindow::Verdict::kAccepted);
+  EXPECT_EQ(w.Check(kNow - kMaxCounterSkewNs - 1, kNow), ReplayWindow::Verdict::kStale);
+  EXPECT_EQ(w.Check(kNow + kMaxCounterSkewNs + 1, kNow), ReplayWindow::Verdict::kFuture);
+  EXPECT_EQ(w.remembered(), 4u);
+}
+
 }  // namespace
 }  // namespace mocap::wire

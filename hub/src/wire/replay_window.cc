@@ -5,11 +5,18 @@
 
 namespace mocap::wire {
 
-ReplayWindow::Verdict ReplayWindow::Accept(uint64_t counter, uint64_t now_ns) {
+ReplayWindow::Verdict ReplayWindow::Check(uint64_t counter, uint64_t now_ns) const {
   if (counter > now_ns + kMaxCounterSkewNs) return Verdict::kFuture;
   if (counter + kMaxCounterSkewNs < now_ns) return Verdict::kStale;
   if (seen_.size() >= slots_ && counter <= *seen_.begin()) return Verdict::kReplayed;
-  if (!seen_.insert(counter).second) return Verdict::kReplayed;
+  if (seen_.count(counter)) return Verdict::kReplayed;
+  return Verdict::kAccepted;
+}
+
+ReplayWindow::Verdict ReplayWindow::Accept(uint64_t counter, uint64_t now_ns) {
+  const Verdict verdict = Check(counter, now_ns);
+  if (verdict != Verdict::kAccepted) return verdict;
+  seen_.insert(counter);
   if (seen_.size() > slots_) seen_.erase(seen_.begin());
   return Verdict::kAccepted;
 }

@@ -3,7 +3,7 @@
 // remembered, so reordering up to that depth is tolerated; once full, anything at or below the
 // smallest remembered counter is refused, and so is a counter already seen or further than
 // kMaxCounterSkewNs from the receiver's clock. Call Accept only after the tag verified, so that
-// forged datagrams can never move the window. Pure: the caller passes the clock.
+// forged datagrams can never move the window (Check, which moves nothing, may come before). Pure: the caller passes the clock.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +19,10 @@ class ReplayWindow {
   enum class Verdict { kAccepted, kReplayed, kStale, kFuture };
   // Remembers counter when accepted.
   Verdict Accept(uint64_t counter, uint64_t now_ns);
+  // Accept's verdict without remembering anything: a receiver refuses a replayed or stale
+  // counter with it before the costly tag check (a flood of recorded datagrams then costs a
+  // lookup each), and calls Accept once the tag verified.
+  Verdict Check(uint64_t counter, uint64_t now_ns) const;
   size_t remembered() const { return seen_.size(); }
 
  private:
