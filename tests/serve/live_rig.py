@@ -37,7 +37,7 @@ def render_scene(bin_dir, work, cameras, rate, markers=12, frames=200, reflectio
 STUCK_S = 60.0
 
 
-def wait_for(what, predicate, timeout=10.0, step=0.05):
+def wait_for(what, predicate, timeout=STUCK_S, step=0.05):
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         value = predicate()
