@@ -171,8 +171,11 @@ class WebConsoleTest(unittest.TestCase):
         field.clear()
         field.send_keys("47")
         row.find_element(By.CSS_SELECTOR, "button[data-action=apply]").click()
-        wait_for("the node's answer in the row",
-                 lambda: row.find_element(By.CSS_SELECTOR, "[data-field=result]").text == "applied")
+        result = lambda: row.find_element(By.CSS_SELECTOR, "[data-field=result]").text  # noqa: E731
+        try:
+            wait_for("the node's answer in the row", lambda: result() == "applied")
+        except AssertionError as error:
+            raise AssertionError(f"{error}; the row says {result()!r}, node 3: {self.rig.nodes_json()[3]}") from None
         wait_for("node 3's status to say threshold 47", lambda: self.rig.nodes_json()[3]["threshold"] == 47)
         self.assertEqual(self.rig.nodes_json()[1]["threshold"], 32)
         self.rig.hub("node", "3", "set", "threshold=32")
