@@ -64,6 +64,22 @@ std::vector<ReceivedMessage> ReadUntil(int fd, int32_t type, size_t want) {
   return got;
 }
 
+// A tcp:// client that sent its cookie and that the server counted as connected; -1 on failure.
+int ConnectedTcpClient(const VrpnServer& server) {
+  const int tcp = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(server.port());
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0 ||
+      send(tcp, Cookie().data(), kCookieSize, 0) != static_cast<ssize_t>(kCookieSize)) {
+    close(tcp);
+    return -1;
+  }
+  WaitUntil([&] { return server.stats().connections >= 1; });
+  return tcp;
+}
+
 SharedFrame Frame(bool tracked) {
   auto f = std::make_shared<pipeline::LiveFrame>();
   f->frame_number = 5;
@@ -148,14 +164,8 @@ TEST(VrpnServer, VelocityFromTheLastTwoFittedPoses) {
   o.listen = "127.0.0.1:0";
   o.velocity = true;
   VrpnServer server(o, {"drone"});
-  const int tcp = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_port = htons(server.port());
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
-  ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
-  WaitUntil([&] { return server.stats().connections >= 1; });
+  const int tcp = ConnectedTcpClient(server);
+  ASSERT_GE(tcp, 0);
   for (int n = 0; n < 2; ++n) {
     auto f = std::make_shared<pipeline::LiveFrame>();
     f->trigger_time_ns = 1'000'000'000ull + static_cast<uint64_t>(n) * 10'000'000ull;  // 10 ms apart
@@ -195,14 +205,8 @@ TEST(VrpnServer, FiftyTrackers) {
     f->bodies.push_back(b);
   }
   VrpnServer server(o, names);
-  const int tcp = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in to{};
-  to.sin_family = AF_INET;
-  to.sin_port = htons(server.port());
-  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
-  ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
-  WaitUntil([&] { return server.stats().connections >= 1; });
+  const int tcp = ConnectedTcpClient(server);
+  ASSERT_GE(tcp, 0);
   server.Publish(f);
   const std::vector<ReceivedMessage> got = ReadUntil(tcp, kPosQuat, 50);
   std::vector<std::string> described;
@@ -224,14 +228,8 @@ TEST(VrpnServer, ReportsArriveCompleteAndInOrderOnEitherPath) {
     o.inline_clients = inline_clients;
     o.queue_frames = 256;
     VrpnServer server(o, {"drone"});
-    const int tcp = socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(server.port());
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ASSERT_EQ(connect(tcp, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
-    ASSERT_EQ(send(tcp, Cookie().data(), kCookieSize, 0), static_cast<ssize_t>(kCookieSize));
-    WaitUntil([&] { return server.stats().connections >= 1; });
+    const int tcp = ConnectedTcpClient(server);
+    ASSERT_GE(tcp, 0);
     constexpr int kFrames = 150;
     for (int n = 0; n < kFrames; ++n) {
       auto f = std::make_shared<pipeline::LiveFrame>();
