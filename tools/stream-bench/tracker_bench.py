@@ -14,8 +14,14 @@ among those published within its span, and serve's own figures from /api/status:
 publish -> handed-to-the-kernel p50/p99/max (ms) on the hub. Figures, no assertions. Root: runs in
 a network namespace of its own (Motive's fixed ports, multicast on its loopback).
 
+Each reader's socket gets an 8 MiB receive buffer and the datagrams its kernel socket still
+dropped are printed beside what it missed: those frames left the hub and the Python reader, not
+serve, fell behind. --protocols runs some of the three alone (each alone: its publish -> kernel
+figure is then its own cost, not the sum of the adapters that send before it on the loop).
+
 usage: tools/stream-bench/tracker_bench.py [--bin build/bin] [--out tracker-bench] [--rate 240]
-                                            [--seconds 60] [--cameras 6] [--render-s 4]"""
+                                            [--seconds 60] [--cameras 6] [--render-s 4]
+                                            [--protocols natnet,vrpn,vmc]"""
 
 import argparse
 import contextlib
@@ -77,6 +83,29 @@ def vrpn_reader(port, frames, stop):
     s.close()
 
 
+READER_BUFFER = 8 << 20
+SO_RCVBUFFORCE = getattr(socket, "SO_RCVBUFFORCE", 33)
+
+
+def enlarge_receive_buffer(sock):
+    """8 MiB (root: past net.core.rmem_max), so a reader's scheduling hiccup does not drop frames."""
+    try:
+        sock.setsockopt(socket.SOL_SOCKET, SO_RCVBUFFORCE, READER_BUFFER)
+    except OSError:
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, READER_BUFFER)
+
+
+def udp_drops(port):
+    """Datagrams the kernel dropped at the UDP sockets bound to PORT (the reader's buffer was full)."""
+    total = 0
+    with open("/proc/net/udp") as f:
+        for line in f.readlines()[1:]:
+            fields = line.split()
+            if int(fields[1].split(":")[1], 16) == port:
+                total += int(fields[-1])
+    return total
+
+
 def missed(got, published):
     if not got:
         return None, 0
@@ -95,7 +124,12 @@ def main():
     p.add_argument("--render-s", type=float, default=4)
     p.add_argument("--realtime-priority", type=int, default=10 if os.geteuid() == 0 else 0,
                    help="serve's frame loop under SCHED_FIFO at this priority, as its unit runs it (0: off)")
+    p.add_argument("--protocols", default="natnet,vrpn,vmc",
+                   help="comma-separated subset of natnet,vrpn,vmc to serve and read")
     args = p.parse_args()
+    protocols = set(args.protocols.split(","))
+    if not protocols or protocols - {"natnet", "vrpn", "vmc"}:
+        p.error(f"--protocols: {args.protocols!r}: a comma-separated subset of natnet,vrpn,vmc")
     in_namespace()
     from live_rig import Rig, wait_for, websocket_messages
     import tracker_scene
@@ -107,19 +141,37 @@ def main():
     os.makedirs(out)
     bin_dir = os.path.abspath(args.bin)
     tracker_scene.make(bin_dir, out, args.rate, int(args.render_s * args.rate), args.cameras)
-    rig = Rig(bin_dir, out, args.rate, serve_args=[
-        "--bodies", os.path.join(out, "bodies.json"), "--natnet", "127.0.0.1:1510", "--vrpn", "127.0.0.1:3883",
-        "--vmc", "127.0.0.1:39539", *(["--realtime-priority", str(args.realtime_priority)] if args.realtime_priority else [])])
+    serve_args = ["--bodies", os.path.join(out, "bodies.json")]
+    serve_args += ["--natnet", "127.0.0.1:1510"] if "natnet" in protocols else []
+    serve_args += ["--vrpn", "127.0.0.1:3883"] if "vrpn" in protocols else []
+    serve_args += ["--vmc", "127.0.0.1:39539"] if "vmc" in protocols else []
+    serve_args += ["--realtime-priority", str(args.realtime_priority)] if args.realtime_priority else []
+    rig = Rig(bin_dir, out, args.rate, serve_args=serve_args)
+    drops = {}
     published, natnet, vrpn, vmc = set(), set(), set(), set()
+    with_bodies = set()  # frames /api/live showed with a tracked body: VRPN reports only those
+
+    def on_live(frame):
+        published.add(frame["frame"])
+        if any(body[1] for body in frame["bodies"]):
+            with_bodies.add(frame["frame"])
+
     stop = threading.Event()
     try:
         rig.start(args.cameras)
-        wait_for("NatNet and VRPN", lambda: "VRPN on" in rig.log())
-        d = dispatcher.Dispatcher()
-        d.map("/VMC/Ext/T", lambda _a, t: vmc.add(round(t * args.rate)))
-        osc = osc_server.ThreadingOSCUDPServer(("127.0.0.1", 39539), d)
-        threading.Thread(target=osc.serve_forever, daemon=True).start()
-        threading.Thread(target=vrpn_reader, args=(3883, vrpn, stop), daemon=True).start()
+        wait_for("the protocols", lambda: all(where in rig.log() for name, where in
+                                               (("natnet", "NatNet on"), ("vrpn", "VRPN on"), ("vmc", "VMC:"))
+                                               if name in protocols))
+        osc = None
+        if "vmc" in protocols:
+            d = dispatcher.Dispatcher()
+            d.map("/VMC/Ext/T", lambda _a, t: vmc.add(round(t * args.rate)))
+            # One reading thread (the threading server starts a thread per datagram).
+            osc = osc_server.BlockingOSCUDPServer(("127.0.0.1", 39539), d)
+            enlarge_receive_buffer(osc.socket)
+            threading.Thread(target=osc.serve_forever, daemon=True).start()
+        if "vrpn" in protocols:
+            threading.Thread(target=vrpn_reader, args=(3883, vrpn, stop), daemon=True).start()
         client = NatNetClient()
         client.set_client_address("0.0.0.0")
         client.set_use_multicast(True)
@@ -128,33 +180,54 @@ def main():
         # Asking for the version it asks Motive for in its connect (4.1) closes that window.
         client._NatNetClient__nat_net_requested_version = [4, 1, 0, 0]
         client.new_frame_listener = lambda data: natnet.add(data["frame_number"])
-        threading.Thread(target=lambda: websocket_messages(rig.api_port, "/api/live", 10**9, timeout=30,
-                                                           on_message=lambda f: published.add(f["frame"])),
-                         daemon=True).start()
+        def read_live():
+            try:
+                websocket_messages(rig.api_port, "/api/live", 10**9, timeout=args.seconds + 30, on_message=on_live)
+            except (AssertionError, OSError):
+                pass  # serve stopped at the end of the run and closed it
+
+        threading.Thread(target=read_live, daemon=True).start()
         with contextlib.redirect_stdout(io.StringIO()):
-            client.run()
+            if "natnet" in protocols:
+                client.run()
+                enlarge_receive_buffer(client.data_socket)
             time.sleep(args.seconds)
             stop.set()
-            client.shutdown()
-        osc.shutdown()
+            drops = {"natnet": udp_drops(1511), "vmc": udp_drops(39539)}
+            if "natnet" in protocols:
+                client.shutdown()
+        if osc:
+            osc.shutdown()
         status = json.loads(rig.hub("status", "--json").stdout)
-        json.dump({k: status.get(k) for k in ("natnet", "vrpn", "vmc")}, open(os.path.join(out, "tracker_status.json"), "w"), indent=1)
+        json.dump({k: status.get(k) for k in ("stream", "natnet", "vrpn", "vmc")}, open(os.path.join(out, "tracker_status.json"), "w"), indent=1)
     finally:
         rig.stop()
     # /api/live gives a reader that falls behind the newest frame: a frame any reader got was published too.
     published |= natnet | vrpn | vmc
+    with_bodies |= vrpn
     print(f"3 rigid bodies, {args.cameras} cameras at {args.rate} Hz, {args.seconds:.0f} s: serve published at least "
           f"{len(published)} frames ({status.get('frame_sets', '?')} frame sets since serve started)")
-    print("%-8s %-34s %10s %10s %8s %8s %8s" % ("protocol", "reading client", "missed", "of", "p50 ms", "p99 ms",
-                                                "max ms"))
-    for name, key, client_name, got in (("NatNet", "natnet", "natnetsdk (multicast)", natnet),
+    print("%-8s %-24s %7s %7s %7s | %-21s | %-21s" % ("", "", "", "", "reader", "publish -> kernel ms",
+                                                       "adds ms"))
+    print("%-8s %-24s %7s %7s %7s | %6s %6s %7s | %6s %6s %7s" % ("protocol", "reading client", "missed", "of", "drops",
+                                                                  "p50", "p99", "max", "p50", "p99", "max"))
+    for name, key, client_name, got in (("NatNet", "natnet", "natnetsdk, multicast", natnet),
                                         ("VRPN", "vrpn", "raw tcp:// reader", vrpn),
                                         ("VMC", "vmc", "python-osc", vmc)):
-        lost, span = missed(got, published)
+        if key not in protocols:
+            continue
+        # VRPN has no frame without a tracked body: its frames are those /api/live showed with one.
+        lost, span = missed(got, with_bodies if key == "vrpn" else published)
         lat = status.get(key, {}).get("publish_to_sent_ms", {})
-        print("%-8s %-34s %10s %10d %8.3f %8.3f %8.3f" % (name, client_name, "-" if lost is None else lost, span,
-                                                          lat.get("p50", 0), lat.get("p99", 0), lat.get("max", 0)))
-    print("(publish -> handed to the kernel, on the hub: /api/status <protocol>.publish_to_sent_ms)")
+        adds = status.get(key, {}).get("adds_ms", {})
+        print("%-8s %-24s %7s %7d %7s | %6.3f %6.3f %7.3f | %6.3f %6.3f %7.3f" % (
+            name, client_name, "-" if lost is None else lost, span, drops.get(key, "-"),
+            lat.get("p50", 0), lat.get("p99", 0), lat.get("max", 0), adds.get("p50", 0), adds.get("p99", 0),
+            adds.get("max", 0)))
+    print("(reader drops: datagrams the reader's own socket buffer dropped (sent by serve, read too late);\n"
+          " publish -> kernel: the 3D result published -> the protocol's last datagram or report handed to the\n"
+          " kernel, on the hub, /api/status <protocol>.publish_to_sent_ms (it includes the adapters that sent\n"
+          " before it on the loop); adds: the protocol's own part of it, <protocol>.adds_ms)")
 
 
 if __name__ == "__main__":

@@ -68,7 +68,7 @@ UdpStreamStats UdpStreamServer::stats() const {
 
 nlohmann::json UdpStreamServer::StatsJson() const {
   const UdpStreamStats s = stats();
-  return {{"port", port()},
+  nlohmann::json out = {{"port", port()},
           {"multicast", options_.multicast},
           {"subscribers", s.subscribers},
           {"frames", s.frames},
@@ -79,13 +79,10 @@ nlohmann::json UdpStreamServer::StatsJson() const {
           {"challenges", s.challenges},
           {"unproven", s.unproven},
           {"rate_limited", s.rate_limited},
-          {"points_dropped", s.points_dropped},
-          {"publish_to_sent_ms", PublishLatencyJson()}};
-}
-
-nlohmann::json UdpStreamServer::PublishLatencyJson() const {
+          {"points_dropped", s.points_dropped}};
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  return PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last datagram handed to the kernel");
+  out.update(latency_.Json("datagram"));
+  return out;
 }
 
 void UdpStreamServer::Publish(SharedFrame frame) {
@@ -150,6 +147,7 @@ void UdpStreamServer::ServeRequests(uint64_t now_ns) {
 }
 
 void UdpStreamServer::Send(const pipeline::LiveFrame& frame) {
+  const uint64_t began_ns = RealtimeNowNs();
   std::map<uint32_t, EncodedFrame> encoded;  // one encoding per distinct set of parts
   auto message = [&](uint32_t parts) -> const EncodedFrame& {
     auto it = encoded.find(parts);
@@ -169,7 +167,7 @@ void UdpStreamServer::Send(const pipeline::LiveFrame& frame) {
   for (const auto& [parts, m] : encoded) points_dropped = std::max(points_dropped, m.points_dropped);
   const uint64_t done_ns = RealtimeNowNs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
+  if (sent) latency_.Add(frame.publish_ns, began_ns, done_ns);
   if (sent) ++stats_.frames;
   stats_.datagrams += sent;
   stats_.send_failures += failed;

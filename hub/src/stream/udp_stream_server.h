@@ -26,7 +26,7 @@
 #include "stream/stream_encoding.h"
 #include "stream/subscriber_table.h"
 #include "stream/subscription_guard.h"
-#include "util/latency_sample.h"
+#include "stream/publish_latency.h"
 
 namespace mocap::stream {
 
@@ -74,7 +74,6 @@ class UdpStreamServer : public StreamSink {
   void Run();
   void ServeRequests(uint64_t now_ns);
   void Send(const pipeline::LiveFrame& frame);
-  nlohmann::json PublishLatencyJson() const;
 
   const UdpStreamOptions options_;
   UdpSocket socket_;
@@ -86,7 +85,7 @@ class UdpStreamServer : public StreamSink {
   SubscriptionGuard guard_;
   mutable std::mutex stats_mutex_;
   UdpStreamStats stats_;
-  LatencySample publish_to_sent_ms_{20000};  // the stream's own cost: published -> last datagram sent
+  PublishLatency latency_;  // under stats_mutex_
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

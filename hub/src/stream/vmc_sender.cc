@@ -105,22 +105,22 @@ VmcStats VmcSender::stats() const {
 
 nlohmann::json VmcSender::StatsJson() const {
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  return {{"target", options_.target},
-          {"up_axis", options_.up_axis},
-          {"bundles", stats_.bundles},
-          {"send_failures", stats_.send_failures},
-          {"publish_to_sent_ms",
-           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its VMC bundle handed to the kernel")}};
+  nlohmann::json out = {{"target", options_.target},
+                        {"up_axis", options_.up_axis},
+                        {"bundles", stats_.bundles},
+                        {"send_failures", stats_.send_failures}};
+  out.update(latency_.Json("VMC bundle"));
+  return out;
 }
 
 void VmcSender::Publish(SharedFrame frame) {
+  const uint64_t began_ns = RealtimeNowNs();
   const bool sent = SerialiseBundle(VmcBundle(*frame, options_), &datagram_) &&
                     socket_.SendTo(target_, datagram_.data(), datagram_.size());
   const uint64_t done_ns = RealtimeNowNs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
   (sent ? stats_.bundles : stats_.send_failures)++;
-  if (sent && done_ns >= frame->publish_ns)
-    publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame->publish_ns) * 1e-6);
+  if (sent) latency_.Add(frame->publish_ns, began_ns, done_ns);
 }
 
 }  // namespace mocap::stream

@@ -30,7 +30,7 @@
 
 #include "ingest/udp_socket.h"
 #include "stream/stream_sink.h"
-#include "util/latency_sample.h"
+#include "stream/publish_latency.h"
 
 namespace mocap::stream {
 
@@ -78,7 +78,7 @@ class VmcSender : public StreamSink {
   std::vector<uint8_t> datagram_;  // the loop's own
   mutable std::mutex stats_mutex_;
   VmcStats stats_;
-  LatencySample publish_to_sent_ms_{20000};
+  PublishLatency latency_;  // under stats_mutex_
 };
 
 }  // namespace mocap::stream

@@ -99,7 +99,7 @@ NatNetStats NatNetServer::stats() const {
 nlohmann::json NatNetServer::StatsJson() const {
   const NatNetStats s = stats();
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  return {{"port", port()},
+  nlohmann::json out = {{"port", port()},
           {"multicast", options_.multicast.empty() ? "" : options_.multicast + ":" + std::to_string(options_.data_port)},
           {"clients", s.clients},
           {"requests", s.requests},
@@ -109,9 +109,9 @@ nlohmann::json NatNetServer::StatsJson() const {
           {"datagrams", s.datagrams},
           {"send_failures", s.send_failures},
           {"frames_dropped", s.frames_dropped},
-          {"points_dropped", s.points_dropped},
-          {"publish_to_sent_ms",
-           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last NatNet datagram handed to the kernel")}};
+          {"points_dropped", s.points_dropped}};
+  out.update(latency_.Json("NatNet datagram"));
+  return out;
 }
 
 void NatNetServer::Run() {
@@ -188,6 +188,7 @@ std::string NatNetServer::EncodeLatest(uint64_t* points_dropped) {
 }
 
 void NatNetServer::Send(const pipeline::LiveFrame& frame, bool on_publish) {
+  const uint64_t began_ns = RealtimeNowNs();
   uint64_t points_dropped = 0;
   const std::string packet = EncodeLatest(&points_dropped);
   const auto* bytes = reinterpret_cast<const uint8_t*>(packet.data());
@@ -198,7 +199,7 @@ void NatNetServer::Send(const pipeline::LiveFrame& frame, bool on_publish) {
     for (const Client& c : clients_) (socket_.SendTo(c.address, bytes, packet.size()) ? sent : failed)++;
   const uint64_t done_ns = RealtimeNowNs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
+  if (sent) latency_.Add(frame.publish_ns, began_ns, done_ns);
   if (sent) ++stats_.frames;
   if (sent && on_publish) ++stats_.frames_on_publish;
   stats_.datagrams += sent;

@@ -31,7 +31,7 @@
 #include "stream/polled_frame_queue.h"
 #include "stream/stream_sink.h"
 #include "stream/natnet/natnet_commands.h"
-#include "util/latency_sample.h"
+#include "stream/publish_latency.h"
 
 namespace mocap::stream::natnet {
 
@@ -98,7 +98,7 @@ class NatNetServer : public StreamSink {
   PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   NatNetStats stats_;
-  LatencySample publish_to_sent_ms_{20000};
+  PublishLatency latency_;  // under stats_mutex_
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -124,7 +124,7 @@ VrpnStats VrpnServer::stats() const {
 nlohmann::json VrpnServer::StatsJson() const {
   const VrpnStats s = stats();
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  return {{"port", port_},
+  nlohmann::json out = {{"port", port_},
           {"trackers", trackers_},
           {"clients", s.clients},
           {"connections", s.connections},
@@ -133,9 +133,9 @@ nlohmann::json VrpnServer::StatsJson() const {
           {"frames", s.frames},
           {"frames_on_publish", s.frames_on_publish},
           {"reports", s.reports},
-          {"frames_dropped", s.frames_dropped},
-          {"publish_to_sent_ms",
-           PublishToSentJson(publish_to_sent_ms_, "3D result published -> its last VRPN report handed to the kernel")}};
+          {"frames_dropped", s.frames_dropped}};
+  out.update(latency_.Json("VRPN report"));
+  return out;
 }
 
 void VrpnServer::Run() {
@@ -327,6 +327,7 @@ void VrpnServer::Flush(Client& c) {
 }
 
 void VrpnServer::SendFrame(const pipeline::LiveFrame& frame, bool on_publish) {
+  const uint64_t began_ns = RealtimeNowNs();
   const uint64_t stamp_ns = frame.trigger_time_ns ? frame.trigger_time_ns : frame.publish_ns;
   const Timestamp time = FromNs(stamp_ns);
   std::string bytes;
@@ -358,7 +359,7 @@ void VrpnServer::SendFrame(const pipeline::LiveFrame& frame, bool on_publish) {
   }
   const uint64_t done_ns = RealtimeNowNs();
   std::lock_guard<std::mutex> lock(stats_mutex_);
-  if (sent && done_ns >= frame.publish_ns) publish_to_sent_ms_.Add(static_cast<double>(done_ns - frame.publish_ns) * 1e-6);
+  if (sent) latency_.Add(frame.publish_ns, began_ns, done_ns);
   ++stats_.frames;
   stats_.frames_on_publish += on_publish;
   stats_.reports += reports * sent;

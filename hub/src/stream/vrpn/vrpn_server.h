@@ -39,7 +39,7 @@
 #include "stream/polled_frame_queue.h"
 #include "stream/stream_sink.h"
 #include "stream/vrpn/vrpn_protocol.h"
-#include "util/latency_sample.h"
+#include "stream/publish_latency.h"
 
 namespace mocap::stream::vrpn {
 
@@ -109,7 +109,7 @@ class VrpnServer : public StreamSink {
   PolledFrameQueue queue_;
   mutable std::mutex stats_mutex_;
   VrpnStats stats_;
-  LatencySample publish_to_sent_ms_{20000};
+  PublishLatency latency_;  // under stats_mutex_
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
