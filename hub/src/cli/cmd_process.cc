@@ -39,6 +39,7 @@ struct ProcessArgs {
   std::vector<std::string> sessions;
   int jobs = 1;
   bool overwrite = false;
+  std::string progress_file;
 };
 
 // The recipe with its relative paths made the recipe file's own.
@@ -86,7 +87,7 @@ std::string CalibrationFor(const pipeline::ProcessingRecipe& recipe, const std::
 }
 
 void ProcessSession(const pipeline::ProcessingRecipe& recipe, const std::string& session, bool overwrite,
-                    bool progress) {
+                    bool progress, const std::string& progress_file) {
   if (!fs::is_regular_file(fs::path(session) / "session.json"))
     throw std::runtime_error(session + ": not a session (no session.json)");
   const fs::path out = fs::path(session) / "processed" / recipe.name;
@@ -109,6 +110,7 @@ void ProcessSession(const pipeline::ProcessingRecipe& recipe, const std::string&
   args.body_smoothing.half_window = recipe.bodies_window;
   args.body_smoothing.degree = recipe.bodies_degree;
   args.progress = progress;
+  args.progress_file = progress_file;
   const std::string started = UtcNow();
   ReconstructSession(args);
   std::vector<std::string> files = {fs::path(args.output).filename().string()};
@@ -131,6 +133,8 @@ void ProcessSession(const pipeline::ProcessingRecipe& recipe, const std::string&
 }
 
 void RunProcess(const ProcessArgs& args) {
+  if (!args.progress_file.empty() && args.sessions.size() != 1)
+    throw UsageError("--progress-file follows one session; " + std::to_string(args.sessions.size()) + " were given");
   const pipeline::ProcessingRecipe recipe = LoadRecipe(args.recipe);
   const size_t jobs = std::min(static_cast<size_t>(args.jobs), args.sessions.size());
   std::atomic<size_t> next{0};
@@ -139,7 +143,7 @@ void RunProcess(const ProcessArgs& args) {
   auto work = [&] {
     for (size_t i = next++; i < args.sessions.size(); i = next++) {
       try {
-        ProcessSession(recipe, args.sessions[i], args.overwrite, jobs == 1);
+        ProcessSession(recipe, args.sessions[i], args.overwrite, jobs == 1, args.progress_file);
       } catch (const std::exception& error) {
         std::lock_guard<std::mutex> lock(report_mutex);
         std::fprintf(stderr, "mocap-hub: error: %s\n", error.what());
@@ -173,6 +177,8 @@ void AddProcessCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_flag("--overwrite", args->overwrite,
                     "Replace results this recipe already wrote (the session's own files are never written)");
+  command->add_option("--progress-file", args->progress_file,
+                      "Keep the progress as JSON {step, done, total} in FILE (one session only)");
   command->callback([args]() { RunProcess(*args); });
 }
 

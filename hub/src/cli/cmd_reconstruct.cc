@@ -174,7 +174,8 @@ void ReconstructSession(ReconstructArgs args) {
   }
   // Sessions processed side by side (`process --jobs`) draw no bar: one line cannot show several.
   std::unique_ptr<ProgressBar> progress;
-  if (args.progress) progress = std::make_unique<ProgressBar>("reconstruct", static_cast<size_t>(info.frame_sets));
+  if (args.progress || !args.progress_file.empty())
+    progress = std::make_unique<ProgressBar>("reconstruct", static_cast<size_t>(info.frame_sets), args.progress_file);
   FrameSet frame_set;
   while (reader.Next(&frame_set)) {
     if (!chain.Add(frame_set)) continue;  // the reader guarantees order

@@ -148,6 +148,11 @@ void RunServe(ServeArgs& args, bool web_root_given) {
   }
   std::vector<api::StaticMount> console = ConsoleOf(args, web_root_given);
   api::HttpServerOptions http_options = HttpOptionsOf(args, std::move(console));
+  // Processing jobs run this very program as `process` (service/processing_jobs.h).
+  std::error_code self_error;
+  args.options.processing_executable = std::filesystem::read_symlink("/proc/self/exe", self_error).string();
+  if (self_error) log::Warn("processing jobs: cannot find this program ({}); the console cannot process sessions",
+                            self_error.message());
   service::HubService hub(args.options);
   hub.Bind();
   api::HttpServer http(hub, http_options);

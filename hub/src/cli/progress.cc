@@ -5,13 +5,18 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 namespace mocap {
 
-ProgressBar::ProgressBar(std::string label, size_t total)
+ProgressBar::ProgressBar(std::string label, size_t total, std::string progress_file)
     : label_(std::move(label)),
       total_(total),
       enabled_(isatty(STDERR_FILENO) == 1),
+      progress_file_(std::move(progress_file)),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_ - std::chrono::seconds(1)) {}
 
@@ -19,11 +24,26 @@ ProgressBar::~ProgressBar() { Finish(); }
 
 void ProgressBar::Update(size_t done) {
   last_done_ = done;
-  if (!enabled_ || finished_) return;
+  if ((!enabled_ && progress_file_.empty()) || finished_) return;
   const auto now = std::chrono::steady_clock::now();
   if (done < total_ && now - last_draw_ < std::chrono::milliseconds(100)) return;
   last_draw_ = now;
-  Draw(done);
+  if (enabled_) Draw(done);
+  WriteFile(done);
+}
+
+// Written beside and renamed over, so a reader never sees half a file; a failure to write is not
+// the work's failure (the file only shows progress).
+void ProgressBar::WriteFile(size_t done) const {
+  if (progress_file_.empty()) return;
+  const std::string partial = progress_file_ + ".partial";
+  {
+    std::ofstream out(partial, std::ios::trunc);
+    out << nlohmann::json{{"step", label_}, {"done", done}, {"total", total_}}.dump() << "\n";
+    if (!out) return;
+  }
+  std::error_code ec;
+  std::filesystem::rename(partial, progress_file_, ec);
 }
 
 void ProgressBar::Draw(size_t done) {
@@ -45,6 +65,7 @@ void ProgressBar::Draw(size_t done) {
 void ProgressBar::Finish() {
   if (finished_) return;
   finished_ = true;
+  WriteFile(last_done_);
   if (!enabled_) return;
   Draw(last_done_);
   std::fputc('\n', stderr);

@@ -1,5 +1,8 @@
 // A one-line progress bar on stderr for long offline work (sim project, reconstruct, eval of
-// long sessions). It draws only when stderr is a terminal, so logs and pipes stay clean.
+// long sessions). It draws only when stderr is a terminal, so logs and pipes stay clean. With a
+// progress file it also keeps {"step", "done", "total"} there (replaced whole, at most ten times a
+// second and at the end), for a program that runs the command and shows its progress (serve's
+// processing jobs).
 #pragma once
 
 #include <chrono>
@@ -10,7 +13,7 @@ namespace mocap {
 
 class ProgressBar {
  public:
-  ProgressBar(std::string label, size_t total);
+  ProgressBar(std::string label, size_t total, std::string progress_file = "");
   ~ProgressBar();
   ProgressBar(const ProgressBar&) = delete;
   ProgressBar& operator=(const ProgressBar&) = delete;
@@ -24,10 +27,12 @@ class ProgressBar {
 
  private:
   void Draw(size_t done);
+  void WriteFile(size_t done) const;
 
   std::string label_;
   size_t total_;
   bool enabled_;
+  std::string progress_file_;
   bool finished_ = false;
   size_t last_done_ = 0;
   std::chrono::steady_clock::time_point start_;

@@ -28,6 +28,7 @@ struct ReconstructArgs {
   std::string labels;  // marker set; empty: anonymous columns
   std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
   bool progress = true;  // a progress bar on stderr when it is a terminal
+  std::string progress_file;  // also the progress as JSON there (cli/progress.h); empty: none
 };
 
 void ReconstructSession(ReconstructArgs args);

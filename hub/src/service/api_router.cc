@@ -167,19 +167,35 @@ std::string FileType(const std::string& file) {
   return "application/octet-stream";
 }
 
-// /api/sessions/NAME[/files/FILE]: names are checked here as the service names sessions, so a
-// path that could leave the sessions directory ("..", "/", a leading dot) never reaches it.
+// /api/sessions/NAME[/files/FILE | /process | /processed/RECIPE/files/FILE]: names are checked
+// here as the service names sessions, so a path that could leave the sessions directory ("..",
+// "/", a leading dot) never reaches it.
 ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
-  RequireMethod(r, "GET");
   const std::string& name = s[2];
   if (!ValidSessionName(name)) throw ApiError(404, "no session '" + name + "'");
+  if (s.size() == 4 && s[3] == "process") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"recipe", "overwrite"});
+    ApiResponse response = Json(api.ProcessSession(name, body));
+    response.status = 202;
+    return response;
+  }
+  RequireMethod(r, "GET");
   if (s.size() == 3) return Json(api.Session(name));
-  if (s.size() != 5 || s[3] != "files") throw ApiError(404, "no such path: " + r.path);
-  const std::string& file = s[4];
-  if (!ValidSessionName(file)) throw ApiError(404, "session '" + name + "' has no file '" + file + "'");
   ApiResponse response;
-  response.file = api.SessionFile(name, file);
-  response.content_type = FileType(file);
+  if (s.size() == 5 && s[3] == "files") {
+    const std::string& file = s[4];
+    if (!ValidSessionName(file)) throw ApiError(404, "session '" + name + "' has no file '" + file + "'");
+    response.file = api.SessionFile(name, file);
+  } else if (s.size() == 7 && s[3] == "processed" && s[5] == "files") {
+    const std::string &recipe = s[4], &file = s[6];
+    if (!ValidSessionName(recipe) || !ValidSessionName(file))
+      throw ApiError(404, "session '" + name + "' has no file '" + file + "' of recipe '" + recipe + "'");
+    response.file = api.ProcessedFile(name, recipe, file);
+  } else {
+    throw ApiError(404, "no such path: " + r.path);
+  }
+  response.content_type = FileType(s.back());
   return response;
 }
 
@@ -309,6 +325,10 @@ ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
     return Json(api.Sessions());
   }
   if (what == "sessions") return RouteSession(api, r, s);
+  if (what == "processing" && s.size() == 2) {
+    RequireMethod(r, "GET");
+    return Json(api.Processing());
+  }
   if (what == "calibration" && s.size() == 2) {
     RequireMethod(r, "GET");
     return Json(api.Calibration());

@@ -16,6 +16,10 @@
 //   GET    /api/sessions                    every session with its state
 //   GET    /api/sessions/NAME               one session with its files
 //   GET    /api/sessions/NAME/files/FILE    one of them (the response names the file to send)
+//   POST   /api/sessions/NAME/process       {"recipe": {recipe fields}, "overwrite": false}: 202 and
+//                                            the queued job (processing_jobs.h)
+//   GET    /api/sessions/NAME/processed/RECIPE/files/FILE   one file of a recipe's results
+//   GET    /api/processing                  every processing job: state, progress, log, outputs
 //   GET    /api/calibration                 the cameras: intrinsics, pose, centre
 //   GET    /api/blobs                       every camera's 2D blobs of the next frame set, masks
 //   POST   /api/calibration/wand/start      {"name", "mode": "wand"|"single-marker", "wand_length_mm",

@@ -136,6 +136,29 @@ TEST(ApiRouter, SessionsCalibrationAndBlobs) {
             "text/tab-separated-values; charset=utf-8");
 }
 
+TEST(ApiRouter, ProcessingASessionAndItsResults) {
+  FakeServiceApi api;
+  const Routed queued = Send(api, "POST", "/api/sessions/walk_01/process", R"({"recipe": {"name": "gait"}})");
+  EXPECT_EQ(queued.response.status, 202);
+  EXPECT_EQ(queued.body["called"], "process");
+  EXPECT_EQ(api.last_name, "walk_01");
+  EXPECT_EQ(api.last_request["recipe"]["name"], "gait");
+  EXPECT_EQ(Send(api, "GET", "/api/processing").body["called"], "processing");
+  const Routed file = Send(api, "GET", "/api/sessions/walk_01/processed/gait/files/markers.c3d");
+  EXPECT_EQ(file.response.status, 200);
+  EXPECT_EQ(file.response.file, "/sessions/walk_01/processed/gait/markers.c3d");
+  EXPECT_EQ(file.response.content_type, "application/octet-stream");
+  // A misspelt field, a wrong method, a name that could leave the directory: refused here.
+  FakeServiceApi other;
+  EXPECT_EQ(Send(other, "POST", "/api/sessions/walk_01/process", R"({"recipes": {}})").response.status, 400);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/process").response.status, 405);
+  EXPECT_EQ(Send(other, "POST", "/api/processing").response.status, 405);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/processed/../files/x").response.status, 404);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/processed/gait/files/.hidden").response.status, 404);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/processed/gait/other/x").response.status, 404);
+  EXPECT_TRUE(other.calls.empty());
+}
+
 TEST(ApiRouter, SessionPathsThatCouldLeaveTheSessionsDirectoryNeverReachTheService) {
   // The HTTP server hands the router decoded paths: "%2e%2e" arrives as "..", "%2f" as "/".
   const char* paths[] = {"/api/sessions/..", "/api/sessions/../files/x", "/api/sessions/a/files/..",

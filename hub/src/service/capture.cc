@@ -377,11 +377,11 @@ fs::path Captures::SessionPath(const std::string& name) const {
   return path;
 }
 
-nlohmann::json Captures::Describe(const std::string& name) const {
-  const fs::path path = SessionPath(name);
+// [{"name", "bytes"}] of the regular files with plain names directly in dir (links left out).
+nlohmann::json Captures::FilesJson(const fs::path& dir) {
   std::vector<std::pair<std::string, uintmax_t>> files;
   std::error_code ec;
-  for (const fs::directory_entry& entry : fs::directory_iterator(path, ec)) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
     const std::string file = entry.path().filename().string();
     std::error_code size_ec;
     if (!ValidSessionName(file) || !fs::is_regular_file(entry.symlink_status(size_ec))) continue;
@@ -389,10 +389,40 @@ nlohmann::json Captures::Describe(const std::string& name) const {
     if (!size_ec) files.emplace_back(file, bytes);
   }
   std::sort(files.begin(), files.end());
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& [file, bytes] : files) list.push_back({{"name", file}, {"bytes", bytes}});
+  return list;
+}
+
+nlohmann::json Captures::Describe(const std::string& name) const {
+  const fs::path path = SessionPath(name);
+  std::error_code ec;
   nlohmann::json item = Summary(path);
-  item["files"] = nlohmann::json::array();
-  for (const auto& [file, bytes] : files) item["files"].push_back({{"name", file}, {"bytes", bytes}});
+  item["files"] = FilesJson(path);
+  // Results of processing recipes (processing_jobs.h), one directory per recipe.
+  item["processed"] = nlohmann::json::array();
+  std::vector<std::string> recipes;
+  for (const fs::directory_entry& entry : fs::directory_iterator(path / "processed", ec)) {
+    const std::string recipe = entry.path().filename().string();
+    std::error_code kind_ec;
+    if (ValidSessionName(recipe) && fs::is_directory(entry.symlink_status(kind_ec))) recipes.push_back(recipe);
+  }
+  std::sort(recipes.begin(), recipes.end());
+  for (const std::string& recipe : recipes)
+    item["processed"].push_back({{"recipe", recipe}, {"files", FilesJson(path / "processed" / recipe)}});
   return item;
+}
+
+std::string Captures::ProcessedFilePath(const std::string& name, const std::string& recipe,
+                                        const std::string& file) const {
+  const fs::path dir = SessionPath(name) / "processed" / recipe;
+  std::error_code ec;
+  if (!ValidSessionName(recipe) || !fs::is_directory(fs::symlink_status(dir, ec)))
+    throw ApiError(404, "session '" + name + "' has no results of recipe '" + recipe + "'");
+  const fs::path path = dir / file;
+  if (!ValidSessionName(file) || !fs::is_regular_file(fs::symlink_status(path, ec)))
+    throw ApiError(404, "session '" + name + "' has no file '" + file + "' in its results of recipe '" + recipe + "'");
+  return path.string();
 }
 
 std::string Captures::FilePath(const std::string& name, const std::string& file) const {

@@ -90,16 +90,20 @@ class Captures {
   nlohmann::json Disk() const;
   nlohmann::json List() const;                    // every session directory with its state
   // One session: its summary as in List() plus "files": [{"name", "bytes"}] (the regular files
-  // directly in its directory, sorted; links and subdirectories are not offered). Throws
+  // directly in its directory, sorted; links and subdirectories are not offered) and
+  // "processed": [{"recipe", "files"}] (its results, SESSION/processed/RECIPE/). Throws
   // ApiError 404 when there is no such session.
   nlohmann::json Describe(const std::string& name) const;
   // The path of one of those files, for download. Throws ApiError 404 unless both names are
   // valid session names (ValidSessionName: no '/', no leading '.', so nothing outside the
   // sessions directory can be named) and the file is a regular file (not a link) there.
   std::string FilePath(const std::string& name, const std::string& file) const;
+  // Likewise one file of the results of a recipe (SESSION/processed/RECIPE/FILE).
+  std::string ProcessedFilePath(const std::string& name, const std::string& recipe, const std::string& file) const;
 
  private:
   nlohmann::json Summary(const std::filesystem::path& path) const;
+  static nlohmann::json FilesJson(const std::filesystem::path& dir);
   std::filesystem::path SessionPath(const std::string& name) const;  // throws ApiError 404
   // The counts since the start into session.json's description.
   void UpdateInfo(const IngestStats& stats);

@@ -20,6 +20,7 @@ class FakeServiceApi : public ServiceApi {
   std::string last_name;
   WandingOptions last_wanding;
   bool last_flag = false;
+  nlohmann::json last_request;
   uint32_t known_node = 1;  // other ids answer 404, as the service does
 
   nlohmann::json Status() override { return Call("status"); }
@@ -82,6 +83,16 @@ class FakeServiceApi : public ServiceApi {
     last_number = camera_id;
     last_flag = save;
     return Call("monitorapply");
+  }
+  nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) override {
+    last_name = name;
+    last_request = request;
+    return Call("process");
+  }
+  nlohmann::json Processing() override { return Call("processing"); }
+  std::string ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) override {
+    calls.push_back("processedfile");
+    return "/sessions/" + name + "/processed/" + recipe + "/" + file;
   }
 
  private:

@@ -44,6 +44,15 @@ HubService::HubService(ServeOptions options)
   if (options_.calibration_monitor)
     calibration_monitor_ = std::make_unique<CalibrationMonitor>(rig_, options_.rate_hz, CalibrationMonitorOptions());
   captures_.Lock();
+  if (!options_.processing_executable.empty()) {
+    ProcessingJobsOptions jobs;
+    jobs.executable = options_.processing_executable;
+    jobs.sessions_dir = options_.sessions_dir;
+    jobs.calibration = options_.calibration;
+    jobs.labels = options_.labels_file;
+    jobs.bodies = options_.bodies_file;
+    processing_ = std::make_unique<ProcessingJobs>(jobs);
+  }
   if (options_.auth.insecure_dev)
     log::Warn("INSECURE WIRE: --insecure-dev-wire is set: datagrams are not authenticated, anyone on the network "
               "can forge frames and steer the nodes; for development only (/api/status says so too)");
@@ -236,6 +245,7 @@ void HubService::Tick(uint64_t now) {
     if (!reason.empty()) FinishWanding(reason, true);
   }
   wanding_.Poll();
+  if (processing_) processing_->Poll();
   if (mask_job_ && mask_job_->TimedOut(now)) FailMaskJob(mask_job_->TimeoutReason(), 504);
 }
 
@@ -552,6 +562,29 @@ nlohmann::json HubService::Session(const std::string& name) {
 
 std::string HubService::SessionFile(const std::string& name, const std::string& file) {
   return OnLoop([this, name, file] { return captures_.FilePath(name, file); });
+}
+
+nlohmann::json HubService::ProcessSession(const std::string& name, const nlohmann::json& request) {
+  if (!processing_) throw ApiError(503, "this serve runs no processing jobs");
+  OnLoop([this, name] {
+    if (captures_.running() && captures_.name() == name)
+      throw ApiError(409, "session '" + name + "' is being captured; stop the capture first");
+    const std::string state = captures_.Describe(name).value("state", "");
+    if (state != "complete") throw ApiError(409, "session '" + name + "' is " + state + ", not complete");
+    return 0;
+  });
+  return processing_->Start(name, request);
+}
+
+nlohmann::json HubService::Processing() {
+  if (!processing_) return {{"jobs", nlohmann::json::array()}, {"available", false}};
+  nlohmann::json out = processing_->Jobs();
+  out["available"] = true;
+  return out;
+}
+
+std::string HubService::ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) {
+  return OnLoop([this, name, recipe, file] { return captures_.ProcessedFilePath(name, recipe, file); });
 }
 
 nlohmann::json HubService::Calibration() {

@@ -43,6 +43,7 @@
 #include "service/live_wanding.h"
 #include "service/node_registry.h"
 #include "service/preview_assembler.h"
+#include "service/processing_jobs.h"
 #include "service/published_statistics.h"
 #include "service/serve_options.h"
 #include "service/service_api.h"
@@ -101,6 +102,10 @@ class HubService : public ServiceApi {
   nlohmann::json ApplyWandCalibration(bool save) override;
   // The monitor's accepted solve of one camera into the live reconstruction (409 without one).
   nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override;
+  // 409 while the session is being captured or is not complete; 503 when serve runs no jobs.
+  nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) override;
+  nlohmann::json Processing() override;
+  std::string ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) override;
 
   // Every published frame, and every capture's start and stop (live_subscribers.h), called on the
   // loop; Unsubscribe takes either's id.
@@ -164,6 +169,7 @@ class HubService : public ServiceApi {
   std::unique_ptr<pipeline::LiveReconstruction> live_;  // made again when the calibration changes
   std::unique_ptr<CalibrationMonitor> calibration_monitor_;  // null when off
   Captures captures_;
+  std::unique_ptr<ProcessingJobs> processing_;  // null without options_.processing_executable
   std::vector<CameraMask> masks_;
 
   // What was published: counts and latencies, their percentiles refreshed from Tick.

@@ -49,6 +49,8 @@ struct ServeOptions {
   bool calibration_monitor = true;        // watch the cameras' residuals (calibration_monitor.h)
   WireAuthOptions auth;                   // the nodes' keys, or the insecure development wire
   CaptureDiskOptions disk;                // the sessions disk's free space (capture.h)
+  // mocap-hub itself, run as `process` for the processing jobs (processing_jobs.h); empty: none.
+  std::string processing_executable;
 
   // Throws std::invalid_argument naming the bad option.
   void Check() const;

@@ -61,6 +61,11 @@ class ServiceApi {
   // The calibration monitor's accepted solve of a moved camera (calibration_monitor.h) applied to
   // the live reconstruction (and saved as serve's calibration); answers the monitor's status.
   virtual nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) = 0;
+  // Processing jobs (processing_jobs.h): a complete session queued for processing by a recipe (the
+  // job's description), every job, and one file of a session's results (SESSION/processed/RECIPE/FILE).
+  virtual nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) = 0;
+  virtual nlohmann::json Processing() = 0;
+  virtual std::string ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) = 0;
 };
 
 }  // namespace mocap::service
