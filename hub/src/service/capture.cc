@@ -159,6 +159,7 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
 }
 
 void Captures::StartDirect(DirectCapture capture, const IngestStats& stats, uint64_t now_ns) {
+  if (capture.dir.empty()) throw ApiError(400, "dir: \"\" must name the session's directory");
   if (writer_) throw ApiError(409, "capture '" + name_ + "' is running; stop it first");
   const fs::path path = fs::path(capture.dir).lexically_normal();
   const fs::path parent = path.has_filename() ? path.parent_path() : path.parent_path().parent_path();

@@ -93,8 +93,9 @@ class Captures {
   // Throws ApiError: 400 bad name, 409 a capture is running or the session exists, 507 the
   // disk has less than start_free_mb, 500 I/O.
   void Start(const std::string& name, const IngestStats& stats, uint64_t now_ns);
-  // The one capture of `record` (see DirectCapture); the same refusals as Start, and 500 with
-  // SessionWriter's "holds a recorded session already" for a directory with a raw log.
+  // The one capture of `record` (see DirectCapture); the same refusals as Start (400 for an
+  // empty dir; 409 when the directory is a sessions directory another serve or record holds),
+  // and 500 with SessionWriter's "holds a recorded session already" for a directory with a raw log.
   void StartDirect(DirectCapture capture, const IngestStats& stats, uint64_t now_ns);
   // Throws ApiError 409 when none is running. Returns the finished session's summary.
   nlohmann::json Stop(const IngestStats& stats, uint64_t now_ns);

@@ -309,6 +309,7 @@ TEST_F(CaptureTest, ADirectCaptureCountsExactlyItsFrameSets) {
   });
   captures.Lock();  // nothing to lock
   EXPECT_EQ(StatusOf([&] { captures.Start("named", IngestStats{}, kSecond); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.StartDirect(DirectCapture{}, IngestStats{}, kSecond); }), 400);
   std::vector<uint64_t> told;
   DirectCapture direct;
   direct.dir = (dir_ / "out" / "rec").string();
