@@ -130,6 +130,28 @@ class LabelsE2e(unittest.TestCase):
         self.assertGreaterEqual(self.report["correct_share"], 0.9)
         self.assertLessEqual(self.report["wrong_share"], 0.05)
 
+    def test_subject_labeller_names_the_synthetic_walker(self):
+        """--labeller subject (a subject model initialised on the take) names the same
+        reconstruction, writes its decisions, and the trial labeller refuses to write a log it has not."""
+        out, log = os.path.join(self.work, "subject.trc"), os.path.join(self.work, "subject.log")
+        calibration = os.path.join(self.session, "calibration.json")
+        marker_set = os.path.join(self.work, "set.json")
+        printed = hub("reconstruct", self.session, "--calibration", calibration, "-o", out, "--labels", marker_set,
+                      "--labeller", "subject", "--labels-explain", log)
+        self.assertIn("initialised at frame", printed)
+        report = json.loads(hub("eval", "--truth", os.path.join(self.session, "truth.trc"), "--result", out, "--json"))
+        print(f"subject labeller, synthetic: {100 * report['correct_share']:.2f} % right, "
+              f"{100 * report['wrong_share']:.2f} % wrong", file=sys.stderr)
+        self.assertGreaterEqual(report["correct_share"], 0.9)
+        self.assertLessEqual(report["wrong_share"], 0.05)
+        with open(log) as f:
+            decisions = f.read().splitlines()
+        self.assertTrue(any(line.startswith("initialisation: ") for line in decisions), decisions[:5])
+        refused = run(BIN, "labels", "apply", out, "--labels", marker_set, "-o", os.path.join(self.work, "x.trc"),
+                      "--explain", log, check=False)
+        self.assertNotEqual(refused.returncode, 0)
+        self.assertIn("--labeller subject", refused.stderr)
+
     def test_named_trc_read_by_opensim_and_named_c3d_by_ezc3d(self):
         # The opensim wheel on PyPI is built without its C3D adapter (no C3DFileAdapter), so the
         # named C3D is read by ezc3d (the library OpenSim's C3D adapter is built on).

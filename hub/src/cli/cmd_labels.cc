@@ -1,7 +1,8 @@
 // `labels learn`: a marker set (labelling template) from labelled trials, and `labels apply`: names
 // for an anonymous marker file from a marker set (what reconstruct --labels does to its output).
 //   labels learn TRIAL.trc|.c3d... -o SET.json [--rigid-sd-mm S] [--up x|y|z|auto]
-//   labels apply IN.trc|.c3d --labels SET.json -o OUT.trc|.c3d [--up x|y|z|auto]
+//   labels apply IN.trc|.c3d --labels SET.json -o OUT.trc|.c3d [--up x|y|z|auto] [--labeller trial|subject]
+//                [--explain LOG]
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -42,6 +43,7 @@ void RunLabelsLearn(const LabelsLearnArgs& args) {
 struct LabelsApplyArgs {
   std::string input, labels, output;
   int up_axis = -1;
+  LabellerChoice labeller;
 };
 
 void RunLabelsApply(const LabelsApplyArgs& args) {
@@ -51,7 +53,7 @@ void RunLabelsApply(const LabelsApplyArgs& args) {
     throw UsageError(error.what());
   }
   MarkerTrajectories markers = ReadTrajectories(args.input);
-  const std::string report = NameTakeFromFile(args.labels, args.up_axis, &markers);
+  const std::string report = NameTakeFromFile(args.labels, args.up_axis, &markers, args.labeller);
   WriteTrajectories(markers, args.output);
   std::printf("%s: %s\n", args.output.c_str(), report.c_str());
 }
@@ -80,6 +82,7 @@ void AddLabelsCommands(CLI::App& app) {
     command->add_option("--labels", args->labels, "Marker set (labels learn)")->required()->check(CLI::ExistingFile);
     command->add_option("-o,--output", args->output, "Named marker file: .trc or .c3d")->required();
     AddUpAxisOption(*command, &args->up_axis, true, "Vertical axis of the data: x, y, z or auto (detected)");
+    AddLabellerOptions(*command, &args->labeller, "--explain");
     command->callback([args] { RunLabelsApply(*args); });
   }
 }

@@ -37,7 +37,7 @@ void FinishTake(const ReconstructArgs& args, bool live_bodies) {
   if (args.labels.empty() && !fit_bodies) return;
   MarkerTrajectories markers = ReadTrajectories(args.output);
   if (!args.labels.empty()) {
-    const std::string report = NameTakeFromFile(args.labels, -1, &markers);
+    const std::string report = NameTakeFromFile(args.labels, -1, &markers, args.labeller);
     std::printf("%s: %s\n", args.output.c_str(), report.c_str());
   }
   if (fit_bodies) {
@@ -251,6 +251,7 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_option("--labels", args->labels,
                       "Marker set (labels learn): named columns for the markers it places, M001... for the rest")
       ->check(CLI::ExistingFile);
+  AddLabellerOptions(*command, &args->labeller, "--labels-explain");
   command->add_option("--known-correspondences", args->known_correspondences,
                       "Simulated session's truth TRC: triangulate each true marker from its own unmerged blobs "
                       "instead (the known-correspondence floor for eval)")

@@ -140,6 +140,7 @@ api::HttpServerOptions HttpOptionsOf(const ServeArgs& args, std::vector<api::Sta
 }
 
 void RunServe(ServeArgs& args, bool web_root_given) {
+  if (args.options.sessions_dir.empty()) throw UsageError("--sessions-dir must name a directory");
   CheckOptions(args.options);
   try {
     args.streams.Check(args.options);

@@ -9,6 +9,7 @@
 
 #include "bodies/body_live_filter.h"
 #include "bodies/body_smoothing.h"
+#include "cli/labels_helpers.h"
 #include "pipeline/offline_reconstruction.h"
 
 namespace mocap {
@@ -26,6 +27,7 @@ struct ReconstructArgs {
   bool bodies_live = false;  // the live (causal) body path instead of the offline one
   BodyLiveFilterOptions body_filter;
   std::string labels;  // marker set; empty: anonymous columns
+  LabellerChoice labeller;  // which whole-take labeller names, and its decision log
   std::string known_correspondences;  // truth TRC: write the known-correspondence floor instead
   bool progress = true;  // a progress bar on stderr when it is a terminal
   std::string progress_file;  // also the progress as JSON there (cli/progress.h); empty: none

@@ -1,4 +1,4 @@
-// For tests of the frame path (wire codec, session log, live recorder): a camera's frame of
+// For tests of the frame path (wire codec, session log, live ingest): a camera's frame of
 // `blobs` blobs whose values follow from the camera and the frame number, so a test can make the
 // same frame again to compare with what came back. The positions have sub-pixel parts (x in
 // quarters, y in eighths of a pixel) that the wire's 1/256 px grid holds exactly.

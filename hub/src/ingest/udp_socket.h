@@ -62,7 +62,7 @@ class UdpSocket {
   // system call (recvmmsg), at most max_datagrams, so that a flood still leaves the loop its
   // other work; each goes to `handle` (valid during the call). Returns how many came.
   size_t Drain(int first_wait_ms, size_t max_datagrams, const std::function<void(const Datagram&)>& handle);
-  static constexpr size_t kDrainMax = 4096;  // the loops' bound
+  static constexpr size_t kDrainMax = 4096;  // the hub loop's bound
   static constexpr size_t kBatch = 32;
   // The receive buffer Bind asks for (granted up to net.core.rmem_max without CAP_NET_ADMIN).
   static constexpr int kReceiveBuffer = 64 * 1024 * 1024;

@@ -5,31 +5,57 @@
 
 #include <fmt/format.h>
 
+#include "labels/subject_labeller.h"
 #include "labels/trial_labeller.h"
 
 namespace mocap::pipeline {
 
 std::string TakeNaming::Describe() const {
-  return fmt::format("{} of {} names placed, {:.2f}% of points named ({} runs of {}; {} points unnamed in frames "
+  const std::string init = labeller == TakeLabeller::kSubject
+                               ? fmt::format("initialised at frame {} with {} names; ", init_frame, init_names)
+                               : std::string();
+  return fmt::format("{} of {} names placed, {:.2f}% of points named ({} runs of {}; {}{} points unnamed in frames "
                      "that broke their distances)",
                      names_placed, set_markers,
                      points ? 100.0 * static_cast<double>(named_points) / static_cast<double>(points) : 0.0,
-                     named_runs, runs, frame_names_dropped);
+                     named_runs, runs, init, frame_names_dropped);
 }
 
-TakeNaming NameTake(const MarkerSet& set, int up_axis, MarkerTrajectories* markers) {
-  LabellerOptions options;
-  options.up_axis = up_axis >= 0 ? up_axis : DetectUpAxis(*markers);
-  TrialLabelling result = LabelTrajectories(*markers, set, options);
-  *markers = std::move(result.named);
+namespace {
+
+template <typename Labelling>
+TakeNaming Counts(const MarkerSet& set, Labelling* result, MarkerTrajectories* markers) {
+  *markers = std::move(result->named);
   TakeNaming naming;
-  naming.names_placed = result.names_placed;
+  naming.names_placed = result->names_placed;
   naming.set_markers = set.NumMarkers();
-  naming.named_points = result.named_points;
-  naming.points = result.points;
-  naming.named_runs = result.named_runs;
-  naming.runs = result.runs;
-  naming.frame_names_dropped = result.frame_names_dropped;
+  naming.named_points = result->named_points;
+  naming.points = result->points;
+  naming.named_runs = result->named_runs;
+  naming.runs = result->runs;
+  naming.frame_names_dropped = result->frame_names_dropped;
+  return naming;
+}
+
+}  // namespace
+
+TakeNaming NameTake(const MarkerSet& set, int up_axis, MarkerTrajectories* markers, TakeLabeller labeller) {
+  const int up = up_axis >= 0 ? up_axis : DetectUpAxis(*markers);
+  if (labeller == TakeLabeller::kTrial) {
+    LabellerOptions options;
+    options.up_axis = up;
+    TrialLabelling result = LabelTrajectories(*markers, set, options);
+    return Counts(set, &result, markers);
+  }
+  SubjectLabellerOptions options;
+  options.up_axis = up;
+  SubjectLabelling result = LabelSubject(*markers, set, options);
+  TakeNaming naming = Counts(set, &result, markers);
+  naming.labeller = TakeLabeller::kSubject;
+  naming.init_frame = result.init_frame;
+  naming.init_names = result.init_names;
+  naming.decisions_made = result.decisions_made;
+  naming.decisions = std::move(result.decisions);
   return naming;
 }
 

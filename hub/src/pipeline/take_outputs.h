@@ -18,19 +18,33 @@
 
 namespace mocap::pipeline {
 
+// Which whole-take labeller names: the frame-by-frame pass refined by distances
+// (labels/trial_labeller.h, the default) or a subject model initialised on the take itself
+// (labels/subject_labeller.h: no wrong name where it can leave one unnamed, but below the default
+// on some takes; docs/labels.md).
+enum class TakeLabeller { kTrial, kSubject };
+
 // What naming did, as `reconstruct` and `labels apply` print it.
 struct TakeNaming {
+  TakeLabeller labeller = TakeLabeller::kTrial;
   size_t names_placed = 0, set_markers = 0;
   size_t named_points = 0, points = 0;
   size_t named_runs = 0, runs = 0;
   size_t frame_names_dropped = 0;
+  // The subject model's alone: its initialisation (first frame index, -1: none; names given) and
+  // every decision it made (`decisions` holds the first ones, one line each).
+  long init_frame = -1;
+  size_t init_names = 0;
+  size_t decisions_made = 0;
+  std::vector<std::string> decisions;
   std::string Describe() const;
 };
 
 // Names the take's columns in place from `set` (columns it cannot place keep their names).
 // up_axis 0-2, or -1 to detect it from the markers. Throws std::invalid_argument when the set
-// cannot label (labels/trial_labeller.h).
-TakeNaming NameTake(const MarkerSet& set, int up_axis, MarkerTrajectories* markers);
+// cannot label (labels/trial_labeller.h, labels/subject_labeller.h).
+TakeNaming NameTake(const MarkerSet& set, int up_axis, MarkerTrajectories* markers,
+                    TakeLabeller labeller = TakeLabeller::kTrial);
 
 // The bodies' poses over the take (one row per frame) and what the smoothing did per body.
 struct TakeBodies {

@@ -63,24 +63,32 @@ TEST(TakeOutputs, NameTakeNamesAnotherPartOfTheMotion) {
   first.frame_numbers.resize(200);
   first.points.resize(200 * motion.NumMarkers());
   const MarkerSet set = LearnMarkerSet({first}, {"first half"});
-  for (int up_axis : {2, -1}) {
-    MarkerTrajectories take = AnonymousPart(motion, 200, 400);
-    const TakeNaming naming = NameTake(set, up_axis, &take);
-    EXPECT_EQ(take.NumFrames(), 200u);
-    EXPECT_EQ(naming.set_markers, motion.NumMarkers());
-    EXPECT_GE(naming.names_placed, 18u) << "up axis " << up_axis;
-    EXPECT_EQ(naming.points, 200u * motion.NumMarkers());
-    const auto [right, named] = RightNames(take, motion, 200);
-    EXPECT_EQ(named, naming.named_points);
-    EXPECT_GE(static_cast<double>(right), 0.9 * static_cast<double>(named)) << "up axis " << up_axis;
-    EXPECT_NE(naming.Describe().find(std::to_string(naming.names_placed) + " of 20 names placed"), std::string::npos)
-        << naming.Describe();
+  for (const TakeLabeller labeller : {TakeLabeller::kTrial, TakeLabeller::kSubject}) {
+    for (int up_axis : {2, -1}) {
+      SCOPED_TRACE(labeller == TakeLabeller::kTrial ? "trial labeller" : "subject labeller");
+      MarkerTrajectories take = AnonymousPart(motion, 200, 400);
+      const TakeNaming naming = NameTake(set, up_axis, &take, labeller);
+      EXPECT_EQ(take.NumFrames(), 200u);
+      EXPECT_EQ(naming.set_markers, motion.NumMarkers());
+      EXPECT_GE(naming.names_placed, 18u) << "up axis " << up_axis;
+      EXPECT_EQ(naming.points, 200u * motion.NumMarkers());
+      const auto [right, named] = RightNames(take, motion, 200);
+      EXPECT_EQ(named, naming.named_points);
+      EXPECT_GE(static_cast<double>(right), 0.9 * static_cast<double>(named)) << "up axis " << up_axis;
+      EXPECT_NE(naming.Describe().find(std::to_string(naming.names_placed) + " of 20 names placed"), std::string::npos)
+          << naming.Describe();
+      // Only the subject model initialises and logs its decisions.
+      EXPECT_EQ(naming.Describe().find("initialised at frame") != std::string::npos, labeller == TakeLabeller::kSubject);
+      EXPECT_EQ(naming.decisions.empty(), labeller == TakeLabeller::kTrial);
+      EXPECT_EQ(naming.init_frame >= 0, labeller == TakeLabeller::kSubject);
+    }
   }
 }
 
 TEST(TakeOutputs, NameTakeRefusesASetThatCannotLabel) {
   MarkerTrajectories take = AnonymousPart(NamedMotion(50), 0, 50);
   EXPECT_THROW(NameTake(MarkerSet{}, 2, &take), std::invalid_argument);
+  EXPECT_THROW(NameTake(MarkerSet{}, 2, &take, TakeLabeller::kSubject), std::invalid_argument);
 }
 
 TEST(TakeOutputs, FitTakeBodiesFollowsARigidBodyAndAddsItsPivot) {

@@ -95,13 +95,19 @@ Captures::Captures(std::string sessions_dir, std::string calibration_file, Sessi
 
 Captures::~Captures() {
   if (lock_fd_ >= 0) ::close(lock_fd_);
+  if (direct_lock_fd_ >= 0) ::close(direct_lock_fd_);
 }
 
 void Captures::Lock() {
+  if (dir_.empty()) return;  // record's hub: no sessions directory
   std::error_code ec;
   fs::create_directories(dir_, ec);
   if (ec) throw std::runtime_error(dir_ + ": cannot create: " + ec.message());
-  const std::string path = (fs::path(dir_) / kLockFile).string();
+  lock_fd_ = LockDirectory(dir_);
+}
+
+int Captures::LockDirectory(const std::string& dir) {
+  const std::string path = (fs::path(dir) / kLockFile).string();
   const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
@@ -110,15 +116,15 @@ void Captures::Lock() {
     const ssize_t n = ::pread(fd, holder, sizeof holder - 1, 0);
     ::close(fd);
     if (error == EWOULDBLOCK)
-      throw std::runtime_error("sessions directory " + dir_ + " is in use by another serve (pid " +
+      throw std::runtime_error("sessions directory " + dir + " is in use by another serve or record (pid " +
                                std::string(holder, n > 0 ? static_cast<size_t>(n) : 0) +
-                               "): one serve per sessions directory; stop it or give --sessions-dir another one");
+                               "): one at a time; stop it or give --sessions-dir (record: -o) another one");
     throw std::runtime_error(path + ": cannot lock: " + std::strerror(error));
   }
   const std::string pid = std::to_string(::getpid());
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size()))
     log::Warn("{}: cannot write the pid: {}", path, std::strerror(errno));
-  lock_fd_ = fd;
+  return fd;
 }
 
 std::vector<std::string> Captures::RecoverInterrupted() {
@@ -145,19 +151,53 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   if (!ValidSessionName(name))
     throw ApiError(400, "session name '" + name + "': use 1-64 letters, digits, '.', '-' or '_', not starting with '.'");
   if (writer_) throw ApiError(409, "capture '" + name_ + "' is running; stop it first");
+  if (dir_.empty()) throw ApiError(409, "this hub has no sessions directory");
   const fs::path path = fs::path(dir_) / name;
   std::error_code ec;
   if (fs::exists(path, ec)) throw ApiError(409, "session '" + name + "' exists already in " + dir_);
+  Begin(path, name, "serve", stats, now_ns);
+}
+
+void Captures::StartDirect(DirectCapture capture, const IngestStats& stats, uint64_t now_ns) {
+  if (capture.dir.empty()) throw ApiError(400, "dir: \"\" must name the session's directory");
+  if (writer_) throw ApiError(409, "capture '" + name_ + "' is running; stop it first");
+  const fs::path path = fs::path(capture.dir).lexically_normal();
+  const fs::path parent = path.has_filename() ? path.parent_path() : path.parent_path().parent_path();
+  std::error_code ec;
+  // A serve's sessions directory is locked as that serve would, so neither relabels the other's session.
+  if (!parent.empty() && fs::exists(parent / kLockFile, ec)) {
+    try {
+      direct_lock_fd_ = LockDirectory(parent.string());
+    } catch (const std::exception& e) {
+      throw ApiError(409, e.what());
+    }
+  }
+  fs::create_directories(path, ec);  // SessionWriter::Create says why, if this failed
   try {
-    free_ = free_bytes_(dir_);
+    Begin(path, path.filename().empty() ? path.parent_path().filename().string() : path.filename().string(),
+          capture.source, stats, now_ns);
+  } catch (const ApiError&) {
+    if (direct_lock_fd_ >= 0) ::close(direct_lock_fd_);
+    direct_lock_fd_ = -1;
+    throw;
+  }
+  direct_ = std::move(capture);
+}
+
+void Captures::Begin(const fs::path& path, const std::string& name, const std::string& source,
+                     const IngestStats& stats, uint64_t now_ns) {
+  const std::string disk = dir_.empty() ? path.string() : dir_;
+  std::error_code ec;
+  try {
+    free_ = free_bytes_(disk);
   } catch (const std::exception& e) {
     throw ApiError(500, e.what());
   }
   if (free_ < Mb(disk_.start_free_mb))
-    throw ApiError(507, "sessions disk " + dir_ + ": " + MbText(free_) + " free, a capture needs at least " +
+    throw ApiError(507, "sessions disk " + disk + ": " + MbText(free_) + " free, a capture needs at least " +
                             MbText(Mb(disk_.start_free_mb)) + " (start_free_mb)");
   SessionInfo info = base_;
-  info.source = "serve";
+  info.source = source;
   info.extra["capture_state"] = "capturing";
   info.extra["started_ns"] = now_ns;
   auto writer = std::make_unique<SessionWriter>();
@@ -178,12 +218,26 @@ void Captures::Start(const std::string& name, const IngestStats& stats, uint64_t
   live_ << LivePointsHeader(base_.rate_hz);
   writer_ = std::move(writer);
   name_ = name;
+  path_ = path.string();
   started_ns_ = now_ns;
   last_flush_ns_ = now_ns;
   last_check_ns_ = now_ns;
   last_info_ns_ = now_ns;
   frame_sets_ = 0;
   at_start_ = stats;
+  direct_ = DirectCapture{};
+  last_datagram_ns_ = 0;
+  limit_reached_ = false;
+}
+
+SessionWriter* Captures::WriterFor(uint64_t receive_time_ns) {
+  if (!writer_) return nullptr;
+  last_datagram_ns_ = std::max(last_datagram_ns_, receive_time_ns);
+  if (direct_.end_receive_ns && receive_time_ns >= direct_.end_receive_ns) {
+    limit_reached_ = true;
+    return nullptr;
+  }
+  return writer_.get();
 }
 
 void Captures::UpdateInfo(const IngestStats& stats) {
@@ -200,7 +254,15 @@ void Captures::UpdateInfo(const IngestStats& stats) {
 
 void Captures::RemoveReserve() {
   std::error_code ec;
-  fs::remove(fs::path(dir_) / name_ / kReserveFile, ec);
+  fs::remove(fs::path(path_) / kReserveFile, ec);
+}
+
+void Captures::Ended() {
+  writer_.reset();
+  limit_reached_ = false;
+  direct_ = DirectCapture{};
+  if (direct_lock_fd_ >= 0) ::close(direct_lock_fd_);
+  direct_lock_fd_ = -1;
 }
 
 nlohmann::json Captures::Fail(const std::string& reason, const IngestStats& stats, uint64_t now_ns) {
@@ -226,7 +288,7 @@ nlohmann::json Captures::Fail(const std::string& reason, const IngestStats& stat
       log::Error("capture {}: session.json not updated: {}", name_, again.what());
     }
   }
-  writer_.reset();
+  Ended();
   last_ = summary;
   return summary;
 }
@@ -249,10 +311,10 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
   try {
     writer_->Finish();
   } catch (const std::exception& e) {
-    writer_.reset();
+    Ended();
     throw ApiError(500, e.what());
   }
-  writer_.reset();
+  Ended();
   last_ = summary;
   return summary;
 }
@@ -260,7 +322,7 @@ nlohmann::json Captures::Stop(const IngestStats& stats, uint64_t now_ns) {
 bool Captures::CheckSpace(uint64_t now_ns) {
   last_check_ns_ = now_ns;
   try {
-    free_ = free_bytes_(dir_);
+    free_ = free_bytes_(DiskPath());
   } catch (const std::exception& e) {
     log::Warn("{}", e.what());
     return true;
@@ -268,7 +330,7 @@ bool Captures::CheckSpace(uint64_t now_ns) {
   if (free_ < Mb(disk_.stop_free_mb)) return false;
   const bool low = free_ < Mb(disk_.warn_free_mb);
   if (low && !warned_)
-    log::Warn("sessions disk {}: {} free (warn_free_mb {}); a capture stops below {}", dir_, MbText(free_),
+    log::Warn("sessions disk {}: {} free (warn_free_mb {}); a capture stops below {}", DiskPath(), MbText(free_),
               disk_.warn_free_mb, MbText(Mb(disk_.stop_free_mb)));
   warned_ = low;
   return true;
@@ -277,7 +339,7 @@ bool Captures::CheckSpace(uint64_t now_ns) {
 std::string Captures::ReasonFor(const std::string& error) {
   // A write that failed on a disk with less than a block or two left failed for that.
   try {
-    free_ = free_bytes_(dir_);
+    free_ = free_bytes_(DiskPath());
   } catch (const std::exception&) {
     return error;
   }
@@ -287,9 +349,12 @@ std::string Captures::ReasonFor(const std::string& error) {
 nlohmann::json Captures::Tick(const IngestStats& stats, uint64_t now_ns) {
   const bool check = now_ns >= last_check_ns_ + static_cast<uint64_t>(disk_.check_every_s * 1e9);
   if (!writer_) {
-    if (check) CheckSpace(now_ns);
+    if (check && !dir_.empty()) CheckSpace(now_ns);
     return nullptr;
   }
+  if ((direct_.end_receive_ns && now_ns >= direct_.end_receive_ns) ||
+      (direct_.idle_ns && last_datagram_ns_ && now_ns > last_datagram_ns_ + direct_.idle_ns))
+    limit_reached_ = true;
   if (now_ns >= last_flush_ns_ + kFlushEveryNs) {
     writer_->Flush();
     live_.flush();
@@ -320,8 +385,12 @@ nlohmann::json Captures::Disk() const {
           {"stop_free_mb", disk_.stop_free_mb}};
 }
 
-void Captures::AddPublished(const pipeline::LiveFrame& frame) {
+void Captures::AddPublished(const pipeline::LiveFrame& frame, const FrameSet& set) {
+  if (direct_.max_frame_sets && frame_sets_ >= direct_.max_frame_sets) return;
+  if (direct_.end_receive_ns && frame.last_receive_ns >= direct_.end_receive_ns) return;
   ++frame_sets_;
+  if (direct_.max_frame_sets && frame_sets_ == direct_.max_frame_sets) limit_reached_ = true;
+  if (direct_.on_frame) direct_.on_frame(set, frame);
   for (const pipeline::LivePoint& p : frame.points) {
     const long long id = p.id ? static_cast<long long>(p.id) : -1;
     const std::string& name = p.label >= 0 && frame.label_names ? (*frame.label_names)[p.label] : kUnnamed;
@@ -333,7 +402,7 @@ void Captures::AddPublished(const pipeline::LiveFrame& frame) {
 nlohmann::json Captures::Current(uint64_t now_ns) const {
   if (!writer_) return nullptr;
   return {{"name", name_},
-          {"path", (fs::path(dir_) / name_).string()},
+          {"path", path_},
           {"state", "capturing"},
           {"frame_sets", frame_sets_},
           {"seconds", static_cast<double>(now_ns - started_ns_) * 1e-9}};
@@ -371,7 +440,7 @@ nlohmann::json Captures::List() const {
 fs::path Captures::SessionPath(const std::string& name) const {
   std::error_code ec;
   const fs::path path = fs::path(dir_) / name;
-  if (!ValidSessionName(name) || !fs::is_directory(fs::symlink_status(path, ec)) ||
+  if (dir_.empty() || !ValidSessionName(name) || !fs::is_directory(fs::symlink_status(path, ec)) ||
       !fs::exists(path / "session.json", ec))
     throw ApiError(404, "no session '" + name + "'");
   return path;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -255,6 +256,152 @@ TEST_F(CaptureTest, AFailedWriteEndsTheCaptureWithItsReason) {
   EXPECT_EQ(LoadSessionInfo((dir_ / "sessions" / "big").string()).extra["capture_state"], "failed");
 }
 
+// What `record` refused before it was serve's loop ("holds a recorded session already"), and serve
+// too: a capture never overwrites a session. A named capture under an existing name is a
+// conflict; a direct capture into a directory holding a raw log is refused with SessionWriter's
+// words; either way the session's log and session.json stay as they were.
+TEST_F(CaptureTest, AnExistingSessionIsNeverOverwritten) {
+  Captures captures = Make();
+  captures.Start("take", IngestStats{}, kSecond);
+  const uint8_t datagram[] = {1, 2, 3, 4};
+  captures.writer()->AppendDatagram(datagram, sizeof(datagram), 5);
+  captures.Stop(IngestStats{}, 2 * kSecond);
+  const fs::path session = dir_ / "sessions" / "take";
+  const auto log_size = fs::file_size(session / "raw.mlog");
+  const auto json_time = fs::last_write_time(session / "session.json");
+  try {
+    captures.Start("take", IngestStats{}, 3 * kSecond);
+    ADD_FAILURE() << "a capture was started over an existing session";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.status, 409);
+    EXPECT_NE(std::string(e.what()).find("session 'take' exists already"), std::string::npos) << e.what();
+  }
+  DirectCapture direct;
+  direct.dir = session.string();
+  try {
+    captures.StartDirect(direct, IngestStats{}, 3 * kSecond);
+    ADD_FAILURE() << "a direct capture was started over an existing session";
+  } catch (const ApiError& e) {
+    EXPECT_NE(std::string(e.what()).find("holds a recorded session already"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(captures.writer(), nullptr);
+  EXPECT_EQ(fs::file_size(session / "raw.mlog"), log_size);
+  EXPECT_EQ(fs::last_write_time(session / "session.json"), json_time);
+  EXPECT_EQ(LoadSessionInfo(session.string()).extra["capture_state"], "complete");
+  // Any entry of that name counts for a named capture, not only a finished session.
+  fs::create_directories(dir_ / "sessions" / "stray");
+  EXPECT_EQ(StatusOf([&] { captures.Start("stray", IngestStats{}, 4 * kSecond); }), 409);
+  EXPECT_FALSE(fs::exists(dir_ / "sessions" / "stray" / "session.json"));
+}
+
+pipeline::LiveFrame FrameReceivedAt(uint64_t number, uint64_t last_receive_ns) {
+  pipeline::LiveFrame frame;
+  frame.frame_number = number;
+  frame.last_receive_ns = last_receive_ns;
+  return frame;
+}
+
+// record --frames N on a hub without sessions directory: exactly N frame sets counted and told,
+// however many are published, and the limit reached at the Nth.
+TEST_F(CaptureTest, ADirectCaptureCountsExactlyItsFrameSets) {
+  Captures captures(std::string(), (dir_ / "cal.json").string(), base_, disk_, [this](const std::string&) {
+    return free_;
+  });
+  captures.Lock();  // nothing to lock
+  EXPECT_EQ(StatusOf([&] { captures.Start("named", IngestStats{}, kSecond); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.StartDirect(DirectCapture{}, IngestStats{}, kSecond); }), 400);
+  std::vector<uint64_t> told;
+  DirectCapture direct;
+  direct.dir = (dir_ / "out" / "rec").string();
+  direct.max_frame_sets = 3;
+  direct.on_frame = [&told](const FrameSet& set, const pipeline::LiveFrame& frame) {
+    EXPECT_EQ(set.frame_number, frame.frame_number);
+    told.push_back(frame.frame_number);
+  };
+  captures.StartDirect(direct, IngestStats{}, kSecond);
+  ASSERT_NE(captures.WriterFor(kSecond), nullptr);
+  for (uint64_t n = 0; n < 5; ++n) {
+    EXPECT_EQ(captures.limit_reached(), n >= 3) << n;
+    FrameSet set;
+    set.frame_number = n;
+    captures.AddPublished(FrameReceivedAt(n, kSecond + n), set);
+  }
+  EXPECT_EQ(told, (std::vector<uint64_t>{0, 1, 2}));
+  const nlohmann::json summary = captures.Stop(IngestStats{}, 2 * kSecond);
+  EXPECT_EQ(summary["frame_sets"], 3);
+  EXPECT_EQ(summary["name"], "rec");
+  const SessionInfo info = LoadSessionInfo(direct.dir);
+  EXPECT_EQ(info.frame_sets, 3u);
+  EXPECT_EQ(info.source, "record");
+  EXPECT_EQ(info.extra["capture_state"], "complete");
+  EXPECT_TRUE(fs::exists(fs::path(direct.dir) / "calibration.json"));
+  EXPECT_FALSE(fs::exists(fs::path(direct.dir) / ".reserve"));
+  EXPECT_FALSE(captures.limit_reached());  // the next capture starts afresh
+}
+
+// record --duration S: datagrams the kernel received from the end on are not logged, sets whose
+// last datagram came then not counted, and the end reached by the clock without any datagram too;
+// record --idle-timeout: silence after data ends it.
+TEST_F(CaptureTest, ADirectCaptureEndsAtItsReceiveTimeAndAfterSilence) {
+  Captures captures = Make();
+  DirectCapture direct;
+  direct.dir = (dir_ / "timed").string();
+  direct.end_receive_ns = 5 * kSecond;
+  captures.StartDirect(direct, IngestStats{}, kSecond);
+  EXPECT_NE(captures.WriterFor(5 * kSecond - 1), nullptr);
+  captures.AddPublished(FrameReceivedAt(0, 5 * kSecond - 1));
+  EXPECT_FALSE(captures.limit_reached());
+  EXPECT_EQ(captures.WriterFor(5 * kSecond), nullptr);
+  EXPECT_TRUE(captures.limit_reached());
+  captures.AddPublished(FrameReceivedAt(1, 5 * kSecond));
+  EXPECT_EQ(captures.Stop(IngestStats{}, 6 * kSecond)["frame_sets"], 1);
+
+  direct.dir = (dir_ / "quiet").string();
+  captures.StartDirect(direct, IngestStats{}, kSecond);
+  captures.Tick(IngestStats{}, 5 * kSecond - 1);
+  EXPECT_FALSE(captures.limit_reached());
+  captures.Tick(IngestStats{}, 5 * kSecond);
+  EXPECT_TRUE(captures.limit_reached());
+  captures.Stop(IngestStats{}, 6 * kSecond);
+
+  direct.dir = (dir_ / "idle").string();
+  direct.end_receive_ns = 0;
+  direct.idle_ns = kSecond;
+  captures.StartDirect(direct, IngestStats{}, kSecond);
+  captures.Tick(IngestStats{}, 10 * kSecond);
+  EXPECT_FALSE(captures.limit_reached()) << "silence before any datagram is waiting, not idling";
+  ASSERT_NE(captures.WriterFor(10 * kSecond), nullptr);
+  captures.Tick(IngestStats{}, 11 * kSecond);
+  EXPECT_FALSE(captures.limit_reached());
+  captures.Tick(IngestStats{}, 11 * kSecond + 1);
+  EXPECT_TRUE(captures.limit_reached());
+}
+
+// A record into a serve's sessions directory takes that directory's lock: refused while a serve
+// holds it, and a serve started meanwhile is refused (neither relabels the other's session).
+TEST_F(CaptureTest, ADirectCaptureIntoAServesSessionsDirectoryTakesItsLock) {
+  std::optional<Captures> serve;
+  serve.emplace((dir_ / "sessions").string(), (dir_ / "cal.json").string(), base_, disk_,
+                [this](const std::string&) { return free_; });
+  serve->Lock();
+  Captures record(std::string(), (dir_ / "cal.json").string(), base_, disk_, [this](const std::string&) {
+    return free_;
+  });
+  DirectCapture direct;
+  direct.dir = (dir_ / "sessions" / "rec").string();
+  EXPECT_EQ(StatusOf([&] { record.StartDirect(direct, IngestStats{}, kSecond); }), 409);
+  EXPECT_FALSE(fs::exists(dir_ / "sessions" / "rec"));
+  EXPECT_EQ(record.writer(), nullptr);
+
+  Captures later = Make();  // a serve started while the record runs
+  serve.reset();             // the first serve has gone
+  record.StartDirect(direct, IngestStats{}, kSecond);
+  EXPECT_THROW(later.Lock(), std::runtime_error);
+  record.Stop(IngestStats{}, 2 * kSecond);
+  EXPECT_NO_THROW(later.Lock());
+  EXPECT_EQ(LoadSessionInfo(direct.dir).extra["capture_state"], "complete");
+}
+
 // The probe: a second serve on the same sessions directory relabelled the first's running
 // capture "interrupted". The directory is now locked by the first.
 TEST_F(CaptureTest, ASecondServiceOnTheSessionsDirectoryIsRefused) {
@@ -266,7 +413,7 @@ TEST_F(CaptureTest, ASecondServiceOnTheSessionsDirectoryIsRefused) {
     second.Lock();
     ADD_FAILURE() << "a second lock was granted";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("is in use by another serve (pid " + std::to_string(getpid()) + ")"),
+    EXPECT_NE(std::string(e.what()).find("is in use by another serve or record (pid " + std::to_string(getpid()) + ")"),
               std::string::npos)
         << e.what();
   }

@@ -106,7 +106,7 @@ void HubService::Run(const std::atomic<bool>& stop, const std::function<void(uin
     std::lock_guard<std::mutex> lock(tasks_mutex_);
     running_ = true;
   }
-  while (!stop.load()) {
+  while (!stop.load() && !captures_.limit_reached()) {
     RunTasks();
     // Wait briefly for the first datagram (not at all while a frame set is arriving and the busy
     // poll lasts), then drain what is queued (bounded, so that tasks and ticks are served under a
@@ -152,7 +152,7 @@ void HubService::RunTasks() {
 
 void HubService::HandleDatagram(const Datagram& d) {
   last_receive_ns_ = std::max(last_receive_ns_, d.receive_time_ns);
-  const wire::DecodeResult& decoded = ingest_.Add(d, captures_.writer());
+  const wire::DecodeResult& decoded = ingest_.Add(d, captures_.WriterFor(d.receive_time_ns));
   const std::string& source = source_text_.Of(d.from);
   if (!decoded.ok) {
     if (ingest_.last_outcome() == IngestOutcome::kUnauthentic)
@@ -219,7 +219,7 @@ void HubService::Publish(const FrameSet& set) {
   // The streams first: the bookkeeping below and the capture's live_points.tsv can wait.
   subscribers_.Publish(frame);
   published_.Add(set, frame, rig_.cameras.size(), start_ns);
-  if (captures_.running()) captures_.AddPublished(frame);
+  if (captures_.running()) captures_.AddPublished(frame, set);
   if (calibration_monitor_) calibration_monitor_->Add(set, live_->reconstructor());
 }
 

@@ -64,9 +64,21 @@ class HubService : public ServiceApi {
   // Binds the UDP socket (so callers learn the port before nodes start).
   void Bind();
   uint16_t port() const { return socket_.port(); }
-  // The loop: runs until stop turns true; a capture still running is finished. on_turn (if
-  // set) is called once per loop turn with the time (a watchdog proves the loop is alive).
+  // The loop: runs until stop turns true or a DirectCapture reaches its limits; a capture still
+  // running is finished. on_turn (if set) is called once per loop turn with the time (a
+  // watchdog proves the loop is alive).
   void Run(const std::atomic<bool>& stop, const std::function<void(uint64_t)>& on_turn = nullptr);
+
+  // `record`: this loop run headless with one capture into a directory it names, started before
+  // Run (the loop owns the captures once it runs) and ending the loop at its limits. Throws
+  // ApiError as StartCapture does.
+  void StartDirectCapture(DirectCapture capture) {
+    captures_.StartDirect(std::move(capture), ingest_.stats(), RealtimeNowNs());
+  }
+  // Before Run or after it returned (the loop's thread owns them meanwhile): the ingest's
+  // counts, and the last capture that ended (summary with "state" and "frame_sets").
+  const FrameIngest& ingest() const { return ingest_; }
+  const nlohmann::json& last_capture() const { return captures_.last(); }
 
   // ---- requests from other threads (each waits for the loop) ----
   nlohmann::json Status() override;

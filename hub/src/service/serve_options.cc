@@ -85,7 +85,6 @@ void ServeOptions::Check() const {
     throw std::invalid_argument("request timeout must be within [0.05, 60] s");
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
-  if (sessions_dir.empty()) throw std::invalid_argument("a sessions directory is needed");
   recon.Check();
   tracker.Check();
   body_filter.Check();

@@ -22,7 +22,7 @@ namespace mocap::service {
 struct ServeOptions {
   std::string listen = "0.0.0.0:30000";   // UDP from the nodes
   std::string calibration;                // calibration JSON: the cameras and their geometry
-  std::string sessions_dir = "sessions";  // captures go to sessions_dir/NAME
+  std::string sessions_dir = "sessions";  // captures go to sessions_dir/NAME; "": none (record's hub)
   std::string masks_file;                 // the installation's masks (JSON); empty: none kept
   std::string bodies_file;                // rigid bodies (bodies/body_definition.h); empty: none
   BodyLiveFilterOptions body_filter;      // their orientations refined from past frames
