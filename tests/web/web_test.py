@@ -522,6 +522,46 @@ class WebConsoleTest(unittest.TestCase):
         self.page.find_element(By.ID, "play").click()
         self.shot("sessions")
 
+    def test_7b_a_session_processed_from_the_page(self):
+        # The take test_7 captured, processed by a recipe from its details.
+        self.go("nodes")
+        self.go("sessions")
+        wait_for("a click on the session's files", lambda: self.click_fresh(
+            "tr[data-session='web_take'] button[data-action=files]"))
+        wait_for("the processing form", lambda: self.page.find_elements(By.ID, "process-start"))
+        name = self.page.find_element(By.ID, "process-name")
+        name.clear()
+        name.send_keys("console")
+        self.page.find_element(By.ID, "process-c3d").click()
+        self.page.find_element(By.ID, "process-start").click()
+        # Read in the page in one go: the rows are drawn again each second while a job runs.
+        state, text = wait_for("the job to finish", lambda: self.js(
+            "const r = [...document.querySelectorAll('#processing-jobs tr[data-state]')]"
+            ".find((r) => r.dataset.state === 'done' || r.dataset.state === 'failed');"
+            "return r ? [r.dataset.state, r.textContent] : null"), timeout=STUCK_S)
+        self.assertEqual(state, "done", text)
+        self.assertIn("100 %", text)
+        # Its results appear in the details (shown again when the job ended), downloadable as written.
+        links = dict(wait_for("the results", lambda: self.js(
+            "return [...document.querySelectorAll(\"#processed-results div[data-recipe='console'] a\")]"
+            ".map((a) => [a.getAttribute('download'), a.getAttribute('href')])")))
+        self.assertTrue({"markers.trc", "markers.c3d", "process.json"} <= set(links), links)
+        results = os.path.join(WORK, "sessions", "web_take", "processed", "console")
+        for file in ("markers.trc", "markers.c3d"):
+            status, body = http(self.rig.api_port, "GET", links[file])
+            self.assertEqual(status, 200)
+            with open(os.path.join(results, file), "rb") as f:
+                self.assertEqual(body, f.read(), file)
+        # It plays like the session's own TRC.
+        self.page.find_element(By.CSS_SELECTOR, "#processed-results div[data-recipe='console'] "
+                                                "button[data-action=play-result]").click()
+        wait_for("the processed TRC playing", lambda: "markers.trc" in self.page.find_element(By.ID, "play-title").text
+                 and self.js("return mocapConsole.pages.sessions.player.recording.markers.length") > 0)
+        self.page.find_element(By.ID, "play").click()
+        # The same recipe again is refused in the page: the results are kept unless replaced.
+        self.page.find_element(By.ID, "process-start").click()
+        wait_for("the refusal", lambda: "overwrite" in self.page.find_element(By.ID, "process-message").text)
+
     def test_8_a_second_browser_and_a_serve_restart(self):
         other = browser()
         self.drivers.append(other)

@@ -2,11 +2,13 @@
 // playback of a marker file (a reconstructed TRC, the capture's live_points.tsv: what serve
 // published, or a .mca archive decoded in a Web Worker as it streams in) in a 3D view with a
 // timeline: play, pause, scrub, speed. A mesh binding (.mdb) plays the session's markers (its
-// first .mca, else markers.trc) with the mesh they drive, deformed in the page frame by frame.
+// first .mca, else markers.trc) with the mesh they drive, deformed in the page frame by frame. A
+// session is processed by a recipe from its details (processing_panel.js).
 import { el, getBytes, getJson, getText, postJson } from './api.js';
 import { openArchive } from './archive_recording.js';
 import { parseMarkerFile } from './marker_files.js';
 import { MeshDriver, parseMeshBinding } from './mesh_binding.js';
+import { ProcessingPanel } from './processing_panel.js';
 import { Scene3D } from './scene3d.js';
 
 function defaultName() {
@@ -140,6 +142,11 @@ export class SessionsPage {
     this.captureMessage = el('span', { class: 'message', id: 'capture-message' });
     this.list = el('tbody');
     this.details = el('div', { class: 'session-details', id: 'session-details' });
+    this.shown = null;  // the session whose details are shown
+    this.processing = new ProcessingPanel(
+      (session, recipe, file) => this.play(session, file,
+        `/api/sessions/${encodeURIComponent(session)}/processed/${encodeURIComponent(recipe)}/files/${encodeURIComponent(file)}`),
+      (session) => { if (this.shown === session) this.open(session); });
     const view = el('div', { class: 'view3d short', id: 'player-view' });
     const player = el('div', { class: 'player' });
     const left = el('div', { class: 'column' });
@@ -174,6 +181,7 @@ export class SessionsPage {
     this.active = false;
     this.scene.hide();
     this.player.pause();
+    this.processing.stop();
   }
 
   showCapture(status) {
@@ -227,6 +235,7 @@ export class SessionsPage {
       this.details.textContent = `${name}: ${e.message}`;
       return;
     }
+    this.shown = name;
     const base = `/api/sessions/${encodeURIComponent(name)}/files/`;
     this.details.replaceChildren(el('h3', { text: `${name} (${session.state})` }),
       el('table', { class: 'files' }, el('tbody', {}, ...session.files.map((f) => el('tr', { 'data-file': f.name },
@@ -234,14 +243,15 @@ export class SessionsPage {
         el('td', { text: kilobytes(f.bytes) }),
         el('td', {}, playable(f.name) ? el('button', { text: 'Play', 'data-action': 'play',
           onclick: () => this.play(name, f.name) }) : ''))))),
-      session.files.some((f) => f.name.endsWith('.trc')) ? '' : el('p', { class: 'hint',
-        text: 'No TRC yet: `mocap-hub reconstruct SESSION --calibration CAL.json -o SESSION/markers.trc` ' +
-          '(or .c3d) makes one; live_points.tsv plays what serve published.' }));
+      (session.processed || []).length ? '' : el('p', { class: 'hint', text: 'Not processed yet: Process below ' +
+        'reconstructs it into processed/RECIPE/ (live_points.tsv plays what serve published).' }),
+      this.processing.element);
+    this.processing.showFor(name, session.processed);
   }
 
-  async play(session, file) {
+  // url: where the file is (default: the session's own files).
+  async play(session, file, url = `/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(file)}`) {
     this.player.title.textContent = `loading ${file}…`;
-    const url = `/api/sessions/${encodeURIComponent(session)}/files/${encodeURIComponent(file)}`;
     try {
       if (file.endsWith('.mdb')) {
         await this.playMesh(session, file, url);
