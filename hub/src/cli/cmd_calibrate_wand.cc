@@ -262,7 +262,9 @@ void AddCalibrateWorldCommand(CLI::App& app) {
       ->required();
   command->add_option("-o,--output", args->output, "Calibration JSON to write")->required();
   command->add_option("--lframe", args->lframe,
-                      "L-frame markers in the new world, mm, 'x,y,z;x,y,z;...' (default: 4-marker L on the floor)");
+                      "L-frame markers in the new world, mm, 'x,y,z;x,y,z;...' (default: a 4-marker L on the floor: "
+                      "the origin, 200 and 500 mm along one arm, 350 mm along the other; arms along x and y with "
+                      "z up, z and x with y up)");
   AddUpAxisOption(*command, &args->up_axis, false, "Vertical axis of the new world: x, y or z");
   command->add_flag("--floor", args->floor,
                     "Level on floor markers instead (origin at their centroid, heading kept)");

@@ -61,6 +61,8 @@ const GroupEntry kGroups[] = {
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
     {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT, Tsai, merging and seed-format imports"},
+    {"body", "Rigid bodies: define one from a capture's markers, list a bodies file"},
+    {"tokens", "API tokens for serve's HTTP API and console: issue (or rotate), revoke, list"},
 };
 
 }  // namespace
@@ -74,6 +76,8 @@ CLI::App& CommandGroup(CLI::App& app, const std::string& name) {
   std::string description;
   for (const GroupEntry& group : kGroups)
     if (name == group.name) description = group.description;
+  // Every group says what it is for in `mocap-hub --help` (a new one is named above).
+  if (description.empty()) throw std::logic_error("command group '" + name + "' has no description in kGroups");
   CLI::App* group = app.add_subcommand(name, description);
   group->require_subcommand(1);
   return *group;

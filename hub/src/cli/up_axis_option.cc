@@ -10,8 +10,10 @@ namespace mocap {
 CLI::Option* AddUpAxisOption(CLI::App& command, int* axis, bool allow_auto, const std::string& help) {
   std::map<std::string, int> names{{"x", 0}, {"y", 1}, {"z", 2}};
   if (allow_auto) names["auto"] = -1;
+  // The help names the values (not CLI11's "INT:value in {x->0,...}"); the refusal still lists them.
   return command.add_option("--up", *axis, help)
-      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case))
+      ->transform(CLI::CheckedTransformer(names, CLI::ignore_case).description(""))
+      ->type_name(allow_auto ? "x|y|z|auto" : "x|y|z")
       ->default_str(UpAxisName(*axis));
 }
 

@@ -376,8 +376,11 @@ std::string MarkerEvalReport::ToText() const {
                      result_frames, unaligned_result_frames);
   out << fmt::format("matched           {} of {} truth points ({} output points, gate {} mm)\n", matched,
                      truth_points, result_points, gate_mm);
-  out << fmt::format("rmse_mm           {:.4f}   (mean {:.4f}, p95 {:.4f}, max {:.4f})\n", rmse_mm, mean_error_mm,
-                     p95_error_mm, max_error_mm);
+  if (matched == 0)
+    out << "rmse_mm           n/a      (no output point matched the truth)\n";
+  else
+    out << fmt::format("rmse_mm           {:.4f}   (mean {:.4f}, p95 {:.4f}, max {:.4f})\n", rmse_mm, mean_error_mm,
+                       p95_error_mm, max_error_mm);
   out << fmt::format("ghosts_per_frame  {:.4f}   ({} ghosts)\n", ghosts_per_frame, ghosts);
   out << fmt::format("missing_per_frame {:.4f}   ({} of {} expected points{})\n", missing_per_frame, missing,
                      expected_points, visibility_used ? ", seen by >= 2 cameras" : ", all present truth counted");

@@ -38,6 +38,18 @@ TEST(MarkerAccuracyTest, PerfectResult) {
   EXPECT_EQ(report.swaps, 0u);
 }
 
+TEST(MarkerAccuracyTest, NothingMatchedHasNoErrorFigure) {
+  const MarkerTrajectories truth = Truth(2, 5);
+  MarkerTrajectories far = truth;
+  for (size_t f = 0; f < 5; ++f)
+    for (size_t m = 0; m < 2; ++m) far.At(f, m) += Eigen::Vector3d(0, 0, 500.0);  // beyond any gate
+  const MarkerEvalReport report = EvaluateMarkers(truth, far, nullptr);
+  EXPECT_EQ(report.matched, 0u);
+  const std::string text = report.ToText();
+  EXPECT_NE(text.find("rmse_mm           n/a"), std::string::npos) << text;  // not 0.0000
+  EXPECT_NE(EvaluateMarkers(truth, truth, nullptr).ToText().find("rmse_mm           0.0000"), std::string::npos);
+}
+
 TEST(MarkerAccuracyTest, ErrorsGhostsAndMissing) {
   const MarkerTrajectories truth = Truth(2, 20);
   MarkerTrajectories result = truth;
