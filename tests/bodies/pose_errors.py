@@ -20,7 +20,8 @@ def read_poses(path):
             c = line.rstrip("\n").split("\t")
             if len(c) < 12:
                 continue
-            poses[(c[2], int(c[0]))] = (c[3] == "1" or c[4] == "1", (float(c[11]), float(c[8]), float(c[9]), float(c[10])))
+            posed = c[3] == "1" or c[4] == "1"  # a row without a pose has empty cells
+            poses[(c[2], int(c[0]))] = (posed, (float(c[11]), float(c[8]), float(c[9]), float(c[10])) if posed else None)
     return poses
 
 
@@ -60,10 +61,10 @@ def errors(truth_path, result_path):
     truth, result = read_poses(truth_path), read_poses(result_path)
     out = {}
     for body in sorted({b for b, _ in truth}):
-        frames = sorted(f for b, f in truth if b == body)
+        frames = sorted(f for b, f in truth if b == body and truth[(b, f)][0])
         # World-frame angular velocity per frame step, and its change.
         velocity = {f: rotation_vector(multiply(truth[(body, f + 1)][1], conjugate(truth[(body, f)][1])))
-                    for f in frames if (body, f + 1) in truth}
+                    for f in frames if truth.get((body, f + 1), (False,))[0]}
         acceleration = {f: math.sqrt(sum((a - b) ** 2 for a, b in zip(velocity[f], velocity[f - 1])))
                         for f in frames if f in velocity and f - 1 in velocity}
         threshold = percentile(list(acceleration.values()), 0.95)

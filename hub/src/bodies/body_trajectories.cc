@@ -1,6 +1,7 @@
 // Rigid bodies over a whole recording (see body_trajectories.h).
 #include "bodies/body_trajectories.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -74,10 +75,15 @@ void WriteBodyPoses(const std::string& path, const std::vector<RigidBodyDefiniti
     for (size_t b = 0; b < bodies.size(); ++b) {
       const BodyPose& p = row.poses[b];
       const Eigen::Quaterniond& q = p.orientation;
-      std::fprintf(file.get(), "%llu\t%.6f\t%s\t%d\t%d\t%.3f\t%.3f\t%.3f\t%.6f\t%.6f\t%.6f\t%.6f\t%.3f\t%zu\n",
-                   static_cast<unsigned long long>(row.frame_number + 1), static_cast<double>(row.frame_number) / rate_hz,
-                   bodies[b].name.c_str(), p.tracked ? 1 : 0, p.predicted ? 1 : 0, p.pivot.x(), p.pivot.y(), p.pivot.z(),
-                   q.x(), q.y(), q.z(), q.w(), p.mean_error_mm, p.markers);
+      std::fprintf(file.get(), "%llu\t%.6f\t%s\t%d\t%d\t", static_cast<unsigned long long>(row.frame_number + 1),
+                   static_cast<double>(row.frame_number) / rate_hz, bodies[b].name.c_str(), p.tracked ? 1 : 0,
+                   p.predicted ? 1 : 0);
+      // A frame without a pose leaves its cells empty (no zeros and identity a reader could take for one).
+      if (p.tracked || p.predicted)
+        std::fprintf(file.get(), "%.3f\t%.3f\t%.3f\t%.6f\t%.6f\t%.6f\t%.6f\t%.3f\t%zu\n", p.pivot.x(), p.pivot.y(),
+                     p.pivot.z(), q.x(), q.y(), q.z(), q.w(), p.mean_error_mm, p.markers);
+      else
+        std::fprintf(file.get(), "\t\t\t\t\t\t\t\t%zu\n", p.markers);
     }
   if (std::fflush(file.get()) != 0 || std::ferror(file.get())) throw std::runtime_error(path + ": write failed (disk full?)");
 }
@@ -117,7 +123,8 @@ std::vector<BodyPoseRecord> ParseBodyPoses(const std::string& text, const std::s
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used != cells[i].size() || !std::isfinite(v)) fail("column " + std::to_string(i + 1) + ": not a number");
+      if (cells[i].empty() || used != cells[i].size() || !std::isfinite(v))
+        fail("column " + std::to_string(i + 1) + ": not a number");
       return v;
     };
     BodyPoseRecord r;
@@ -129,14 +136,19 @@ std::vector<BodyPoseRecord> ParseBodyPoses(const std::string& text, const std::s
     const double tracked = number_at(3), predicted = number_at(4);
     if ((tracked != 0.0 && tracked != 1.0) || (predicted != 0.0 && predicted != 1.0)) fail("tracked/predicted must be 0 or 1");
     r.tracked = tracked == 1.0, r.predicted = predicted == 1.0;
-    r.pivot = Eigen::Vector3d(number_at(5), number_at(6), number_at(7));
-    Eigen::Quaterniond q(number_at(11), number_at(8), number_at(9), number_at(10));
-    if (r.tracked || r.predicted) {
-      if (!(std::abs(q.norm() - 1.0) < 1e-3)) fail("orientation is not a unit quaternion");
-      q.normalize();
+    // A row without a pose has empty cells (older files: numbers, read and ignored as before).
+    const bool empty = !r.tracked && !r.predicted &&
+                       std::all_of(cells.begin() + 5, cells.begin() + 13, [](const std::string& c) { return c.empty(); });
+    if (!empty) {
+      r.pivot = Eigen::Vector3d(number_at(5), number_at(6), number_at(7));
+      Eigen::Quaterniond q(number_at(11), number_at(8), number_at(9), number_at(10));
+      if (r.tracked || r.predicted) {
+        if (!(std::abs(q.norm() - 1.0) < 1e-3)) fail("orientation is not a unit quaternion");
+        q.normalize();
+      }
+      r.orientation = q;
+      r.mean_error_mm = number_at(12);
     }
-    r.orientation = q;
-    r.mean_error_mm = number_at(12);
     const double markers = number_at(13);
     if (markers < 0.0 || markers > 1e6 || markers != std::floor(markers)) fail("markers must be a whole number >= 0");
     r.markers = static_cast<size_t>(markers);

@@ -39,6 +39,30 @@ TEST(BodyPoses, RoundTrip) {
   EXPECT_EQ(read[0].markers, 3u);
 }
 
+TEST(BodyPoses, AFrameWithoutAPoseHasEmptyCells) {
+  RigidBodyDefinition body;
+  body.name = "drone";
+  BodyPoseRow row;
+  row.frame_number = 7;
+  BodyPose lost;  // neither fitted nor predicted
+  lost.markers = 1;
+  row.poses = {lost};
+  const testing::TemporaryDirectory temp("body_trajectories_test");
+  const std::string path = temp.File("body_poses_lost.tsv");
+  WriteBodyPoses(path, {body}, {row}, 100.0);
+  std::FILE* f = std::fopen(path.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  char line[256];
+  ASSERT_NE(std::fgets(line, sizeof line, f), nullptr);  // the header
+  ASSERT_NE(std::fgets(line, sizeof line, f), nullptr);
+  std::fclose(f);
+  EXPECT_STREQ(line, "8\t0.070000\tdrone\t0\t0\t\t\t\t\t\t\t\t\t1\n");  // no zeros, no identity quaternion
+  const std::vector<BodyPoseRecord> read = ReadBodyPoses(path);
+  ASSERT_EQ(read.size(), 1u);
+  EXPECT_FALSE(read[0].tracked || read[0].predicted);
+  EXPECT_EQ(read[0].markers, 1u);
+}
+
 TEST(BodyPoses, RefusesOtherFilesWithTheLine) {
   const std::string header = "frame\ttime_s\tbody\ttracked\tpredicted\tx\ty\tz\tqx\tqy\tqz\tqw\tmean_error_mm\tmarkers\n";
   auto reason = [](const std::string& text) {
@@ -55,7 +79,10 @@ TEST(BodyPoses, RefusesOtherFilesWithTheLine) {
   EXPECT_NE(reason(header + "1\t0\tw\t1\t0\t1\t2\t3\t0\t0\t0\t2\t0\t3\n").find("unit quaternion"), std::string::npos);
   EXPECT_NE(reason(header + "1\t0\tw\t2\t0\t1\t2\t3\t0\t0\t0\t1\t0\t3\n").find("0 or 1"), std::string::npos);
   EXPECT_NE(reason("").find("empty"), std::string::npos);
-  EXPECT_EQ(reason(header + "1\t0\tw\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\n"), "accepted");  // an untracked row
+  EXPECT_EQ(reason(header + "1\t0\tw\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\t0\n"), "accepted");  // an untracked row (older files)
+  EXPECT_EQ(reason(header + "1\t0\tw\t0\t0\t\t\t\t\t\t\t\t\t0\n"), "accepted");  // one without a pose
+  // Empty cells are no pose: a fitted row needs its numbers.
+  EXPECT_NE(reason(header + "1\t0\tw\t1\t0\t\t\t\t\t\t\t\t\t0\n").find(": not a number"), std::string::npos);
 }
 
 // A pose file is read whole: a FIFO was waited on (and /dev/zero grew without end: not tried
