@@ -109,6 +109,35 @@ void BodyDefinitionOptions::Check() const {
   if (!(min_marker_distance_mm >= 0.0)) throw std::invalid_argument("min marker distance must be >= 0");
   if (!(distance_tolerance_mm > 0.0)) throw std::invalid_argument("distance tolerance must be > 0");
   if (start_markers < 3) throw std::invalid_argument("identity needs at least 3 markers");
+  if (!(rigidity_tolerance_mm > 0.0)) throw std::invalid_argument("rigidity tolerance must be > 0");
+}
+
+std::string RigidityProblem(const std::vector<std::vector<Eigen::Vector3d>>& frames,
+                            const std::vector<std::string>& names, const BodyDefinitionOptions& options) {
+  options.Check();
+  const size_t n = names.size();
+  double worst = 0.0;
+  size_t worst_a = 0, worst_b = 0;
+  std::vector<double> distances;
+  for (size_t a = 0; a < n; ++a)
+    for (size_t b = a + 1; b < n; ++b) {
+      distances.clear();
+      for (const std::vector<Eigen::Vector3d>& frame : frames)
+        if (frame.size() == n && frame[a].allFinite() && frame[b].allFinite())
+          distances.push_back((frame[a] - frame[b]).norm());
+      if (distances.size() < 2) continue;
+      std::sort(distances.begin(), distances.end());
+      const auto at = [&](double q) { return distances[static_cast<size_t>(q * static_cast<double>(distances.size() - 1))]; };
+      const double spread = at(0.95) - at(0.05);
+      if (spread > worst) worst = spread, worst_a = a, worst_b = b;
+    }
+  if (worst <= options.rigidity_tolerance_mm) return "";
+  char text[64];
+  std::snprintf(text, sizeof text, "%.1f mm", worst);
+  return "not rigid: the distance between " + names[worst_a] + " and " + names[worst_b] + " varies by " + text +
+         " over the frames (5th to 95th percentile; a rigid body's within " +
+         std::to_string(static_cast<int>(options.rigidity_tolerance_mm)) +
+         " mm): define it from its own markers (--markers) in frames where it moves as one piece";
 }
 
 RigidBodyDefinition DefineBody(const std::string& name, const std::vector<Eigen::Vector3d>& world_markers,

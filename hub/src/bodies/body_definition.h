@@ -27,6 +27,9 @@ struct BodyDefinitionOptions {
   double min_marker_distance_mm = 10.0;  // closer markers merge in the cameras
   double distance_tolerance_mm = 3.0;    // as the tracker's: distances this close are equal
   size_t start_markers = 4;              // the fewest markers identity is decided from (the tracker's)
+  // Markers defined together keep every distance between them within this (5th to 95th percentile
+  // over the frames they are defined from): skin moves more, a rigid body within the noise.
+  double rigidity_tolerance_mm = 6.0;
   void Check() const;                    // throws std::invalid_argument
 };
 
@@ -34,6 +37,12 @@ struct BodyDefinitionOptions {
 // min_marker_distance_mm). Throws std::invalid_argument naming the problem.
 RigidBodyDefinition DefineBody(const std::string& name, const std::vector<Eigen::Vector3d>& world_markers,
                                const BodyDefinitionOptions& options = {});
+
+// Why markers seen over several frames are not one rigid body, or empty when they are: the pair
+// whose distance varies most, when its spread (5th to 95th percentile over the frames that see both)
+// exceeds options.rigidity_tolerance_mm. frames[f][m]: marker m in frame f, NaN when not seen.
+std::string RigidityProblem(const std::vector<std::vector<Eigen::Vector3d>>& frames,
+                            const std::vector<std::string>& names, const BodyDefinitionOptions& options = {});
 
 // Empty when `a` and `b` can be told apart; else which of their distances (mm) coincide.
 std::string Ambiguity(const RigidBodyDefinition& a, const RigidBodyDefinition& b,

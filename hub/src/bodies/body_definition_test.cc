@@ -1,8 +1,11 @@
 // Body definitions: centred frames, refusals with reasons, the ambiguity check, the bodies file.
 #include "bodies/body_definition.h"
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -35,6 +38,31 @@ TEST(BodyDefinition, CentredAndChecked) {
     EXPECT_NE(std::string(e.what()).find("5.0 mm apart"), std::string::npos) << e.what();
   }
   EXPECT_THROW(DefineBody("", kWand), std::invalid_argument);
+}
+
+TEST(BodyDefinition, MarkersThatDoNotMoveAsOnePieceAreNoRigidBody) {
+  // A triangle turning and moving, with 1 mm of noise: rigid. The same with its third marker on
+  // a limb swinging 40 mm towards the others: not, and the pair is named.
+  std::vector<std::vector<Eigen::Vector3d>> rigid, skin;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int f = 0; f < 200; ++f) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(0.01 * f, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Vector3d t(2.0 * f, 0, 1000), noise(0.5 * std::sin(f), 0.5 * std::cos(3.0 * f), 0);
+    const Eigen::Vector3d a = t + r * Eigen::Vector3d(0, 0, 0), b = t + r * Eigen::Vector3d(120, 0, 0) + noise;
+    rigid.push_back({a, b, t + r * Eigen::Vector3d(0, 90, 0)});
+    skin.push_back({a, b, t + r * Eigen::Vector3d(0, 90 - 40.0 * (0.5 + 0.5 * std::sin(0.1 * f)), 0)});
+  }
+  rigid[7][2] = Eigen::Vector3d::Constant(nan);  // a marker not seen in a frame is left out
+  const std::vector<std::string> names = {"A", "B", "C"};
+  EXPECT_EQ(RigidityProblem(rigid, names), "");
+  const std::string problem = RigidityProblem(skin, names);
+  EXPECT_NE(problem.find("not rigid"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("between A and C"), std::string::npos) << problem;  // A-C changes most
+  BodyDefinitionOptions loose;
+  loose.rigidity_tolerance_mm = 100.0;
+  EXPECT_EQ(RigidityProblem(skin, names, loose), "");
+  loose.rigidity_tolerance_mm = 0.0;
+  EXPECT_THROW(RigidityProblem(skin, names, loose), std::invalid_argument);
 }
 
 TEST(BodyDefinition, AmbiguousBodiesAreRefusedWithTheirDistances) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -89,6 +90,16 @@ void RunBodyDefine(const BodyDefineArgs& args) {
       chosen.push_back(m);
     }
   }
+  // The chosen markers must move as one piece over the frames (a walking subject's do not).
+  std::vector<std::vector<Eigen::Vector3d>> seen(rows.size());
+  std::vector<std::string> names;
+  for (size_t m : chosen) names.push_back(t.names[m]);
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t m : chosen)
+      seen[i].push_back(t.Has(rows[i], m) ? t.At(rows[i], m)
+                                         : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  if (const std::string problem = RigidityProblem(seen, names); !problem.empty())
+    throw std::runtime_error(path + ": these " + std::to_string(chosen.size()) + " markers are " + problem);
   std::vector<Eigen::Vector3d> positions;
   for (size_t m : chosen) {
     std::vector<Eigen::Vector3d> samples;
