@@ -218,6 +218,12 @@ void AddSessionOptions(CLI::App* command, service::ServeOptions& o) {
       ->check(CLI::ExistingFile);
   command->add_option("--bodies", o.bodies_file, "Rigid bodies file (JSON, `mocap-hub body define`)")
       ->check(CLI::ExistingFile);
+  command->add_option("--skeleton", o.skeleton_file,
+                      "A calibrated subject (JSON, `mocap-hub skeleton calibrate`) solved on every frame's named "
+                      "markers (needs --labels): bones in /api/live and the streams")
+      ->check(CLI::ExistingFile);
+  command->add_option("--skeleton-up", o.skeleton_up, "The calibration's up axis for --skeleton: x, y, z, -x, -y, -z")
+      ->capture_default_str();
   command->add_option("--bodies-window", o.body_filter.past_frames,
                       "Rigid bodies: each orientation refitted over this frame and up to this many before it, "
                       "fewer where the motion disagrees with the model (0: each frame alone)")
