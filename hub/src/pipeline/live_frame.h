@@ -43,6 +43,7 @@ struct LiveSkeletonModel {
   std::string name;                    // the subject (the skeleton file's name without .json)
   std::vector<std::string> bones;      // segment names, parents before children
   std::vector<int> parents;            // per bone: its parent's index, -1 for the root
+  std::vector<Eigen::Vector3d> offsets;  // per bone: its joint centre in its parent's frame, mm
 };
 
 // One segment's pose in one frame: its joint centre and its frame's orientation. The segment's

@@ -24,17 +24,18 @@ Eigen::Matrix3d WorldFromSkeletonUp(int up_axis) {
   return WorldFromSkeletonSpace(-up_axis - 1) * Eigen::Vector3d(1, -1, -1).asDiagonal();
 }
 
-namespace {
-
-std::shared_ptr<const LiveSkeletonModel> ModelOf(const Skeleton& skeleton, const std::string& name) {
+std::shared_ptr<const LiveSkeletonModel> LiveSkeletonModelOf(const Skeleton& skeleton, const std::string& name) {
   auto model = std::make_shared<LiveSkeletonModel>();
   model->name = name;
   for (const SkeletonSegment& segment : skeleton.segments) {
     model->bones.push_back(segment.name);
     model->parents.push_back(segment.parent);
+    model->offsets.push_back(segment.offset);
   }
   return model;
 }
+
+namespace {
 
 Skeleton Checked(Skeleton skeleton) {
   skeleton.Check();
@@ -49,7 +50,7 @@ LiveSkeletonStage::LiveSkeletonStage(Skeleton skeleton, const std::vector<std::s
   options_.Check();
   world_from_skeleton_ = WorldFromSkeletonUp(options_.up_axis);
   skeleton_from_world_ = world_from_skeleton_.transpose();
-  model_ = ModelOf(skeleton_, options_.name);
+  model_ = LiveSkeletonModelOf(skeleton_, options_.name);
   marker_of_label_.assign(label_names.size(), -1);
   for (size_t l = 0; l < label_names.size(); ++l) {
     marker_of_label_[l] = skeleton_.FindMarker(label_names[l]);

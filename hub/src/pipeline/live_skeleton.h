@@ -34,6 +34,10 @@ struct LiveSkeletonOptions {
 // World from skeleton space (+y up) for a signed up axis (LiveSkeletonOptions::up_axis).
 Eigen::Matrix3d WorldFromSkeletonUp(int up_axis);
 
+// The names, tree and offsets of `skeleton` as every frame (and a stream's model description)
+// shares them.
+std::shared_ptr<const LiveSkeletonModel> LiveSkeletonModelOf(const Skeleton& skeleton, const std::string& name);
+
 class LiveSkeletonStage : public LiveStage {
  public:
   // label_names: the marker set's names (LivePoint::label indexes them).

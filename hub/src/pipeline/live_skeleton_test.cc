@@ -82,6 +82,7 @@ void ExpectTruePose(const SkeletonSimulation& sim, int up_axis) {
     EXPECT_EQ(s.model->name, "subject");
     EXPECT_EQ(s.model->bones[0], sim.subject.segments[0].name);
     EXPECT_EQ(s.model->parents[1], sim.subject.segments[1].parent);
+    EXPECT_TRUE(s.model->offsets[1].isApprox(sim.subject.segments[1].offset));
     ForwardKinematics(sim.subject, sim.motion.poses[f].data(), nullptr, &truth);
     ASSERT_EQ(s.bones.size(), sim.subject.segments.size());
     for (size_t b = 0; b < s.bones.size(); ++b) {
