@@ -4,6 +4,7 @@
 // point (an evaluation callback) shared by all markers.
 #include "skeleton/skeleton_solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -113,7 +114,7 @@ void SkeletonSolveOptions::Check() const {
     throw std::invalid_argument("loss_scale_mm: " + std::to_string(loss_scale_mm) + " not in (0, 1000]");
   if (max_iterations < 1 || max_iterations > 1000)
     throw std::invalid_argument("max_iterations: " + std::to_string(max_iterations) + " not in 1..1000");
-  if (!(restart_rms_mm > 0.0)) throw std::invalid_argument("restart_rms_mm: must be > 0");
+  if (!(restart_median_mm > 0.0)) throw std::invalid_argument("restart_median_mm: must be > 0");
   if (min_markers < 3) throw std::invalid_argument("min_markers: " + std::to_string(min_markers) + " is below 3");
 }
 
@@ -167,6 +168,7 @@ struct SkeletonSolver::Impl {
   ceres::LossFunctionWrapper* loss = nullptr;  // owned by the problem
   ceres::Solver::Options solver_options;
   SkeletonPoseState state;
+  std::vector<double> seen;  // scratch: the residuals of the markers seen
 
   Impl(const Skeleton& s, const SkeletonSolveOptions& o)
       : skeleton(s), options(o), observed(s.markers.size(), Eigen::Vector3d::Constant(NAN)),
@@ -240,6 +242,13 @@ void SkeletonSolver::RunSolver(SkeletonFrameFit* fit) {
     fit->max_mm = std::max(fit->max_mm, d);
   }
   fit->rms_mm = fit->markers > 0 ? std::sqrt(sum / fit->markers) : 0.0;
+  s.seen.clear();
+  for (double r : fit->residual_mm)
+    if (std::isfinite(r)) s.seen.push_back(r);
+  if (!s.seen.empty()) {
+    std::nth_element(s.seen.begin(), s.seen.begin() + static_cast<long>(s.seen.size() / 2), s.seen.end());
+    fit->median_mm = s.seen[s.seen.size() / 2];
+  }
   fit->solved = summary.IsSolutionUsable();
 }
 
@@ -265,14 +274,14 @@ SkeletonFrameFit SkeletonSolver::Solve(const std::vector<Eigen::Vector3d>& obser
   }
   const std::vector<double> start = s.pose;
   RunSolver(&fit);
-  if (warm && (!fit.solved || fit.rms_mm > s.options.restart_rms_mm)) {
+  if (warm && (!fit.solved || fit.median_mm > s.options.restart_median_mm)) {
     SkeletonFrameFit fresh;
     fresh.markers = fit.markers;
     fresh.iterations = fit.iterations;
     if (FreshStart()) {
       RunSolver(&fresh);
       fresh.restarted = true;
-      if (fresh.solved && (!fit.solved || fresh.rms_mm < fit.rms_mm)) fit = fresh;
+      if (fresh.solved && (!fit.solved || fresh.median_mm < fit.median_mm)) fit = fresh;
     }
     s.pose = fit.pose;
   }
