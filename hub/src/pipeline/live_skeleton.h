@@ -27,8 +27,16 @@ namespace mocap::pipeline {
 struct LiveSkeletonOptions {
   std::string name;                 // the subject's name in the frame (LiveSkeletonModel::name)
   int up_axis = 2;                  // the world's up axis: 0, 1, 2 for +x, +y, +z; -1, -2, -3 for -x, -y, -z
-  SkeletonSolveOptions solve;
+  // The solve's options; live, a frame's iterations are bounded lower than offline (a warm start
+  // converges in 3-5; frames with misnamed markers would otherwise take up to 30 on the loop).
+  SkeletonSolveOptions solve = LiveSolveOptions();
   void Check() const;
+
+  static SkeletonSolveOptions LiveSolveOptions() {
+    SkeletonSolveOptions o;
+    o.max_iterations = 10;
+    return o;
+  }
 };
 
 // World from skeleton space (+y up) for a signed up axis (LiveSkeletonOptions::up_axis).
