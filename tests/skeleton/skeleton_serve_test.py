@@ -196,6 +196,9 @@ class SkeletonServeTest(unittest.TestCase):
             checked += 1
         residuals.sort()
         rms_values.sort()
+        solve_ms = sorted(f["skeletons"][0]["solve_ms"] for f in frames)
+        print(f"\nthe live solve on the hub's loop: p50 {solve_ms[len(solve_ms) // 2]:.3f} ms, p99 "
+              f"{solve_ms[99 * len(solve_ms) // 100]:.3f} ms, max {solve_ms[-1]:.3f} ms", file=sys.stderr)
         median = residuals[len(residuals) // 2]
         print(f"\n/api/live: {solved} of {len(frames)} frames solved; bones put the named markers where the "
               f"hub's residual says (worst RMS difference {worst_rms_difference:.4f} mm), segment lengths kept "

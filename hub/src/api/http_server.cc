@@ -148,8 +148,9 @@ std::string FrameMessage(const LiveFrame& frame) {
     const pipeline::LiveSkeleton& s = frame.skeletons[i];
     out += std::string(i ? "," : "") + "{\"name\":\"" + JsonEscaped(s.model ? s.model->name : "") + "\",\"state\":\"" +
            s.state + "\"";
-    std::snprintf(buffer, sizeof(buffer), ",\"solved\":%s,\"markers\":%d,\"rms_mm\":%.3f,\"max_mm\":%.3f,\"bones\":[",
-                  s.solved ? "true" : "false", s.markers, s.rms_mm, s.max_mm);
+    std::snprintf(buffer, sizeof(buffer),
+                  ",\"solved\":%s,\"markers\":%d,\"rms_mm\":%.3f,\"max_mm\":%.3f,\"solve_ms\":%.3f,\"bones\":[",
+                  s.solved ? "true" : "false", s.markers, s.rms_mm, s.max_mm, s.solve_ms);
     out += buffer;
     // Only a solved frame has bones: [name, parent index, x, y, z, qx, qy, qz, qw].
     for (size_t b = 0; s.model && b < s.bones.size() && b < s.model->bones.size(); ++b) {

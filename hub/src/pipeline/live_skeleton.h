@@ -27,14 +27,15 @@ namespace mocap::pipeline {
 struct LiveSkeletonOptions {
   std::string name;                 // the subject's name in the frame (LiveSkeletonModel::name)
   int up_axis = 2;                  // the world's up axis: 0, 1, 2 for +x, +y, +z; -1, -2, -3 for -x, -y, -z
-  // The solve's options; live, a frame's iterations are bounded lower than offline (a warm start
-  // converges in 3-5; frames with misnamed markers would otherwise take up to 30 on the loop).
+  // The solve's options; live, a warm-started frame's iterations are bounded lower than offline (a
+  // warm start converges in 3-5; frames with misnamed markers would otherwise take up to 30 on
+  // the loop); a fresh start keeps its 30.
   SkeletonSolveOptions solve = LiveSolveOptions();
   void Check() const;
 
   static SkeletonSolveOptions LiveSolveOptions() {
     SkeletonSolveOptions o;
-    o.max_iterations = 10;
+    o.warm_iterations = 10;
     return o;
   }
 };

@@ -114,6 +114,9 @@ void SkeletonSolveOptions::Check() const {
     throw std::invalid_argument("loss_scale_mm: " + std::to_string(loss_scale_mm) + " not in (0, 1000]");
   if (max_iterations < 1 || max_iterations > 1000)
     throw std::invalid_argument("max_iterations: " + std::to_string(max_iterations) + " not in 1..1000");
+  if (warm_iterations < 1 || warm_iterations > max_iterations)
+    throw std::invalid_argument("warm_iterations: " + std::to_string(warm_iterations) + " not in 1..max_iterations (" +
+                                std::to_string(max_iterations) + ")");
   if (!(restart_median_mm > 0.0)) throw std::invalid_argument("restart_median_mm: must be > 0");
   if (min_markers < 3) throw std::invalid_argument("min_markers: " + std::to_string(min_markers) + " is below 3");
 }
@@ -273,7 +276,9 @@ SkeletonFrameFit SkeletonSolver::Solve(const std::vector<Eigen::Vector3d>& obser
     return fit;
   }
   const std::vector<double> start = s.pose;
+  s.solver_options.max_num_iterations = warm ? s.options.warm_iterations : s.options.max_iterations;
   RunSolver(&fit);
+  s.solver_options.max_num_iterations = s.options.max_iterations;
   if (warm && (!fit.solved || fit.median_mm > s.options.restart_median_mm)) {
     SkeletonFrameFit fresh;
     fresh.markers = fit.markers;

@@ -19,7 +19,8 @@ namespace mocap {
 
 struct SkeletonSolveOptions {
   double loss_scale_mm = 10.0;  // Cauchy: markers much further off than this count little
-  int max_iterations = 30;
+  int max_iterations = 30;  // a fresh start's solves
+  int warm_iterations = 30;  // a warm-started solve (live: fewer, its cost bounded on the loop)
   // A warm start whose median marker residual ends above this is tried again from a fresh start
   // (the median: a few misnamed markers, far off under the robust loss, do not call for one).
   double restart_median_mm = 30.0;
