@@ -2,6 +2,7 @@
 #include "pipeline/live_skeleton.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 

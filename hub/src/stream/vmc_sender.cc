@@ -4,6 +4,7 @@
 
 #include <lo/lo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
