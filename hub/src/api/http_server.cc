@@ -143,6 +143,26 @@ std::string FrameMessage(const LiveFrame& frame) {
                   q.z(), q.w(), b.mean_error_mm, b.markers);
     out += buffer;
   }
+  out += "],\"skeletons\":[";
+  for (size_t i = 0; i < frame.skeletons.size(); ++i) {
+    const pipeline::LiveSkeleton& s = frame.skeletons[i];
+    out += std::string(i ? "," : "") + "{\"name\":\"" + JsonEscaped(s.model ? s.model->name : "") + "\",\"state\":\"" +
+           s.state + "\"";
+    std::snprintf(buffer, sizeof(buffer),
+                  ",\"solved\":%s,\"markers\":%d,\"rms_mm\":%.3f,\"max_mm\":%.3f,\"solve_ms\":%.3f,\"bones\":[",
+                  s.solved ? "true" : "false", s.markers, s.rms_mm, s.max_mm, s.solve_ms);
+    out += buffer;
+    // Only a solved frame has bones: [name, parent index, x, y, z, qx, qy, qz, qw].
+    for (size_t b = 0; s.model && b < s.bones.size() && b < s.model->bones.size(); ++b) {
+      const pipeline::LiveBone& bone = s.bones[b];
+      const Eigen::Quaterniond& q = bone.orientation;
+      out += std::string(b ? "," : "") + "[\"" + JsonEscaped(s.model->bones[b]) + "\"";
+      std::snprintf(buffer, sizeof(buffer), ",%d,%.3f,%.3f,%.3f,%.6f,%.6f,%.6f,%.6f]", s.model->parents[b],
+                    bone.position.x(), bone.position.y(), bone.position.z(), q.x(), q.y(), q.z(), q.w());
+      out += buffer;
+    }
+    out += "]}";
+  }
   out += "]}";
   return out;
 }

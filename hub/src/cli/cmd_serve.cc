@@ -224,6 +224,12 @@ void AddSessionOptions(CLI::App* command, service::ServeOptions& o) {
       ->check(CLI::ExistingFile);
   command->add_option("--bodies", o.bodies_file, "Rigid bodies file (JSON, `mocap-hub body define`)")
       ->check(CLI::ExistingFile);
+  command->add_option("--skeleton", o.skeleton_file,
+                      "A calibrated subject (JSON, `mocap-hub skeleton calibrate`) solved on every frame's named "
+                      "markers (needs --labels): bones in /api/live and the streams")
+      ->check(CLI::ExistingFile);
+  command->add_option("--skeleton-up", o.skeleton_up, "The calibration's up axis for --skeleton: x, y, z, -x, -y, -z")
+      ->capture_default_str();
   command->add_option("--bodies-window", o.body_filter.past_frames,
                       "Rigid bodies: each orientation refitted over this frame and up to this many before it, "
                       "fewer where the motion disagrees with the model (0: each frame alone)")
@@ -294,10 +300,10 @@ CLI::Option* AddStreamOptions(CLI::App* command, service::StreamsOptions& s) {
   command->add_option("--stream-multicast", s.stream.multicast,
                       "Also send every frame to this multicast GROUP:PORT (e.g. 239.255.42.1:7803)");
   command->add_option("--stream-multicast-parts", s.stream_multicast_parts,
-                      "Parts of the multicast frames: points,bodies,labels")
+                      "Parts of the multicast frames: points,bodies,labels,bones")
       ->capture_default_str();
   command->add_option("--osc", s.osc_targets, "Send OSC bundles per frame to HOST:PORT[,HOST:PORT...]");
-  command->add_option("--osc-parts", s.osc_parts, "Parts of the OSC bundles: points,bodies")
+  command->add_option("--osc-parts", s.osc_parts, "Parts of the OSC bundles: points,bodies,bones")
       ->capture_default_str();
   command->add_option("--qtm-rt", s.qtm_rt,
                       "HOST:PORT of a Qualisys-RT-compatible server (little-endian port; 0: any free); default off");
@@ -317,7 +323,7 @@ CLI::Option* AddStreamOptions(CLI::App* command, service::StreamsOptions& s) {
                       "HOST:PORT of a VRPN tracker server, one tracker per rigid body (VRPN's port is 3883; TCP and "
                       "the UDP lookup); default off");
   command->add_flag("--vrpn-velocity", s.vrpn.velocity, "VRPN: also vrpn_Tracker Velocity reports");
-  command->add_option("--vmc", s.vmc, "Send rigid bodies as VMC trackers (OSC) to HOST:PORT (receivers: 39539)");
+  command->add_option("--vmc", s.vmc, "Send rigid bodies as VMC trackers and the --skeleton as VMC bones (OSC) to HOST:PORT (receivers: 39539)");
   return stream;
 }
 

@@ -1,6 +1,7 @@
 // One frame's 3D result as every consumer sees it: each point with its residual, views and
-// identity, the confirmed samples for writers of labelled files, the rigid bodies' poses. Made by
-// LiveReconstruction (live_reconstruction.h); carried out by stream/ and api/, written by capture.
+// identity, the confirmed samples for writers of labelled files, the rigid bodies' poses, the
+// skeletons' bones. Made by LiveReconstruction (live_reconstruction.h) and its stages
+// (live_skeleton.h); carried out by stream/ and api/, written by capture.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,35 @@ struct LiveBody {
   int markers = 0;                     // markers fitted
 };
 
+// A live skeleton's segments (serve --skeleton), shared by every frame: names and tree.
+struct LiveSkeletonModel {
+  std::string name;                    // the subject (the skeleton file's name without .json)
+  std::vector<std::string> bones;      // segment names, parents before children
+  std::vector<int> parents;            // per bone: its parent's index, -1 for the root
+  std::vector<Eigen::Vector3d> offsets;  // per bone: its joint centre in its parent's frame, mm
+};
+
+// One segment's pose in one frame: its joint centre and its frame's orientation. The segment's
+// frame is skeleton space at rest (+y up, +z the subject's forward, +x its left;
+// skeleton/skeleton.h), so a subject standing at rest facing world +z with +y up has identity
+// orientations.
+struct LiveBone {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               // world, mm
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // segment -> world
+};
+
+// The skeleton's fit in one frame. Bones are present only when `solved`; otherwise `state` says
+// why not and no pose is given (a client never sees a stale pose as current).
+struct LiveSkeleton {
+  std::shared_ptr<const LiveSkeletonModel> model;
+  bool solved = false;
+  const char* state = "";              // "solved", "too few markers", "not solved"
+  int markers = 0;                     // named markers of the skeleton seen in the frame
+  double rms_mm = 0.0, max_mm = 0.0;   // the fit's marker residuals (when solved)
+  double solve_ms = 0.0;               // the solve's own time on the hub
+  std::vector<LiveBone> bones;         // per model bone when solved, else empty
+};
+
 struct LiveFrame {
   uint64_t frame_number = 0;
   uint64_t trigger_time_ns = 0;        // earliest camera trigger time (session clock), 0 if none
@@ -46,6 +76,7 @@ struct LiveFrame {
   std::vector<LivePoint> points;
   std::vector<TrackSample> samples;    // confirmed markers' samples (may reach back in time)
   std::vector<LiveBody> bodies;        // one per defined rigid body, in the bodies file's order
+  std::vector<LiveSkeleton> skeletons; // serve --skeleton: one per subject (none without)
   // The marker set's names (serve --labels), shared by every frame; null without a marker set.
   std::shared_ptr<const std::vector<std::string>> label_names;
 };

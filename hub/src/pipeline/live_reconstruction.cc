@@ -60,10 +60,14 @@ void LiveReconstruction::Run(const FrameSet& set) {
     const std::vector<int>& labels = labeller_->Update(positions_, tracks_);
     for (size_t i = 0; i < points_.size(); ++i) frame_.points[i].label = labels[i];
   }
-  if (bodies_.bodies().empty()) return;
+  if (!bodies_.bodies().empty()) FitBodies(set.frame_number);
+  for (const std::unique_ptr<LiveStage>& stage : stages_) stage->Run(&frame_);
+}
+
+void LiveReconstruction::FitBodies(uint64_t frame_number) {
   positions_.resize(points_.size());
   for (size_t i = 0; i < points_.size(); ++i) positions_[i] = points_[i].point_in_world;
-  const std::vector<BodyPose>& poses = bodies_.Update(set.frame_number, positions_);
+  const std::vector<BodyPose>& poses = bodies_.Update(frame_number, positions_);
   frame_.bodies.resize(poses.size());
   for (size_t b = 0; b < poses.size(); ++b) {
     LiveBody& out = frame_.bodies[b];

@@ -25,6 +25,15 @@
 
 namespace mocap::pipeline {
 
+// A step after reconstruction, tracking, naming and rigid bodies, run on every frame before it is
+// published (the live skeleton: live_skeleton.h, a library of its own so that the stream adapters
+// linking this layer stay free of Ceres). Runs on the hub's loop: it must be quick.
+class LiveStage {
+ public:
+  virtual ~LiveStage() = default;
+  virtual void Run(LiveFrame* frame) = 0;
+};
+
 class LiveReconstruction {
  public:
   // The rig must outlive this object. Throws std::invalid_argument on bad options.
@@ -40,11 +49,14 @@ class LiveReconstruction {
     frame_.publish_ns = now_ns();
     return frame_;
   }
+  // Runs `stage` on every frame from now on, after the stages added before it.
+  void AddStage(std::unique_ptr<LiveStage> stage) { stages_.push_back(std::move(stage)); }
   const Tracker& tracker() const { return tracker_; }
   const Reconstructor& reconstructor() const { return reconstructor_; }
 
  private:
   void Run(const FrameSet& set);
+  void FitBodies(uint64_t frame_number);
 
   Reconstructor reconstructor_;
   Tracker tracker_;
@@ -54,6 +66,7 @@ class LiveReconstruction {
   std::vector<ReconstructedPoint> points_;
   std::vector<Eigen::Vector3d> positions_;
   LiveFrame frame_;
+  std::vector<std::unique_ptr<LiveStage>> stages_;
 };
 
 }  // namespace mocap::pipeline

@@ -36,6 +36,7 @@ HubService::HubService(ServeOptions options)
       controls_(ControlsOf(options_, start_ns_)),
       bodies_(options_.bodies_file.empty() ? std::vector<RigidBodyDefinition>{} : ReadBodiesFile(options_.bodies_file)),
       labels_(options_.labels_file.empty() ? std::optional<MarkerSet>{} : ReadMarkerSetFile(options_.labels_file)),
+      skeleton_(options_.skeleton_file.empty() ? std::optional<Skeleton>{} : ReadSkeletonFile(options_.skeleton_file)),
       live_(MakeLive()),
       captures_(options_.sessions_dir, options_.calibration, SessionBase(options_, rig_, EpochOf(options_)),
                 options_.disk),
@@ -69,8 +70,15 @@ HubService::HubService(ServeOptions options)
 HubService::~HubService() = default;
 
 std::unique_ptr<pipeline::LiveReconstruction> HubService::MakeLive() const {
-  return std::make_unique<pipeline::LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
-                                                        options_.body_filter, options_.tracker);
+  auto live = std::make_unique<pipeline::LiveReconstruction>(rig_, options_.rate_hz, options_.recon, bodies_, labels_,
+                                                             options_.body_filter, options_.tracker);
+  if (skeleton_) {
+    pipeline::LiveSkeletonOptions o;
+    o.name = std::filesystem::path(options_.skeleton_file).stem().string();
+    o.up_axis = SkeletonUpAxis(options_.skeleton_up);
+    live->AddStage(std::make_unique<pipeline::LiveSkeletonStage>(*skeleton_, labels_->names, o));
+  }
+  return live;
 }
 
 void HubService::WarnAboutMissingKeys() const {

@@ -33,6 +33,7 @@
 #include "ingest/frame_ingest.h"
 #include "ingest/udp_socket.h"
 #include "pipeline/live_reconstruction.h"
+#include "pipeline/live_skeleton.h"
 #include "service/api_error.h"
 #include "service/auto_mask.h"
 #include "service/auto_mask_job.h"
@@ -178,6 +179,7 @@ class HubService : public ServiceApi {
   PreviewAssembler previews_;
   std::vector<RigidBodyDefinition> bodies_;
   std::optional<MarkerSet> labels_;
+  std::optional<Skeleton> skeleton_;  // --skeleton: solved live (pipeline/live_skeleton.h)
   std::unique_ptr<pipeline::LiveReconstruction> live_;  // made again when the calibration changes
   std::unique_ptr<CalibrationMonitor> calibration_monitor_;  // null when off
   Captures captures_;

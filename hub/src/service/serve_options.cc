@@ -70,6 +70,13 @@ SessionInfo SessionBase(const ServeOptions& o, const Rig& rig, uint64_t epoch_ns
 
 uint64_t EpochOf(const ServeOptions& o) { return o.epoch_ns ? o.epoch_ns : RealtimeNowNs(); }
 
+int SkeletonUpAxis(const std::string& text) {
+  static const char* const kNames[] = {"x", "y", "z", "-x", "-y", "-z"};
+  for (int i = 0; i < 6; ++i)
+    if (text == kNames[i]) return i < 3 ? i : -(i - 3) - 1;
+  throw std::invalid_argument("skeleton up axis '" + text + "' is not x, y, z, -x, -y or -z");
+}
+
 void ServeOptions::Check() const {
   ParseHostPort(listen);
   if (!announce.empty()) ParseHostPort(announce);
@@ -85,6 +92,9 @@ void ServeOptions::Check() const {
     throw std::invalid_argument("request timeout must be within [0.05, 60] s");
   if (auto_mask_max_frames < 10 || auto_mask_max_frames > 100000)
     throw std::invalid_argument("auto-mask frames limit must be within [10, 100000]");
+  if (!skeleton_file.empty() && labels_file.empty())
+    throw std::invalid_argument("skeleton " + skeleton_file + " needs a marker set (--labels): it is solved from named markers");
+  SkeletonUpAxis(skeleton_up);
   recon.Check();
   tracker.Check();
   body_filter.Check();

@@ -27,6 +27,10 @@ struct ServeOptions {
   std::string bodies_file;                // rigid bodies (bodies/body_definition.h); empty: none
   BodyLiveFilterOptions body_filter;      // their orientations refined from past frames
   std::string labels_file;                // marker set (labels/marker_set.h); empty: unnamed points
+  // A calibrated subject (skeleton/skeleton.h) solved on every frame's named points (needs
+  // labels_file): pipeline/live_skeleton.h. Empty: none.
+  std::string skeleton_file;
+  std::string skeleton_up = "z";          // the calibration's up axis: x, y, z, -x, -y or -z
   double rate_hz = 240.0;
   uint64_t epoch_ns = 0;                  // time of frame 0; 0 = the service's start
   std::string announce;                   // broadcast HOST:PORT for HubAnnounce; empty = none
@@ -55,6 +59,10 @@ struct ServeOptions {
   // Throws std::invalid_argument naming the bad option.
   void Check() const;
 };
+
+// "x", "y", "z", "-x", "-y", "-z" -> LiveSkeletonOptions::up_axis (0, 1, 2, -1, -2, -3); throws
+// std::invalid_argument for anything else.
+int SkeletonUpAxis(const std::string& text);
 
 // The calibration serve runs with; throws std::invalid_argument without one or with fewer than
 // two cameras (std::runtime_error from the reader for a file it refuses).

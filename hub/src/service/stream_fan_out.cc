@@ -1,5 +1,6 @@
 #include "service/stream_fan_out.h"
 
+#include <filesystem>
 #include <sstream>
 #include <utility>
 
@@ -7,6 +8,7 @@
 #include "ingest/udp_socket.h"
 #include "io/calibration_json.h"
 #include "labels/marker_set.h"
+#include "pipeline/live_skeleton.h"
 #include "stream/osc_sender.h"
 #include "stream/qtm/qtm_rt_server.h"
 #include "stream/qtm/rt_parameters.h"
@@ -114,6 +116,9 @@ void StreamFanOut::AddTrackers(const ServeOptions& serve) {
     model.rate_hz = serve.rate_hz;
     model.bodies = bodies;
     if (!serve.labels_file.empty()) model.label_names = ReadMarkerSetFile(serve.labels_file).names;
+    if (!serve.skeleton_file.empty())
+      model.skeletons = {pipeline::LiveSkeletonModelOf(ReadSkeletonFile(serve.skeleton_file),
+                                                       std::filesystem::path(serve.skeleton_file).stem().string())};
     const stream::natnet::NatNetOptions o = NatNetOf(options_);
     auto natnet = std::make_unique<stream::natnet::NatNetServer>(o, std::move(model));
     std::string where = fmt::format("NatNet on {}:{}, frames {}", ParseHostPort(o.listen).host, natnet->port(),

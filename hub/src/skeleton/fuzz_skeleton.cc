@@ -25,6 +25,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (const auto& m : skeleton.markers) points.push_back(mocap::MarkerInSkeleton(state, m.segment, m.offset));
     mocap::SkeletonSolveOptions options;
     options.max_iterations = 5;
+    options.warm_iterations = 5;
     mocap::SkeletonSolver solver(skeleton, options);
     solver.Solve(points);
   } catch (const std::runtime_error&) {

@@ -1,8 +1,10 @@
-// Per-frame solve: one pose parameter block, one residual block per marker with an analytic
-// Jacobian (a rotation moves a point by axis x (point - centre)), forward kinematics shared by
-// all markers of one evaluation through a cache keyed on the pose's values.
+// Per-frame solve: one parameter block per segment (its angles; the root's with its translation),
+// one residual block per marker over the blocks of its chain with an analytic Jacobian (a
+// rotation moves a point by axis x (point - centre)), forward kinematics once per evaluation
+// point (an evaluation callback) shared by all markers.
 #include "skeleton/skeleton_solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -18,53 +20,73 @@ namespace {
 
 constexpr double kFreshStartLossScaleMm = 100.0;
 
-// Forward kinematics of the last pose seen: Ceres evaluates every marker at the same pose.
-class PoseCache {
+// Forward kinematics once per evaluation point, shared by every marker: with an evaluation
+// callback Ceres writes the point into the pose vector (the user's parameter memory) before it
+// calls PrepareForEvaluation and then the cost functions.
+class PoseKinematics : public ceres::EvaluationCallback {
  public:
-  explicit PoseCache(const Skeleton* skeleton) : skeleton_(skeleton), last_(skeleton->NumPoseParameters(), NAN) {}
-  const SkeletonPoseState& At(const double* pose) {
-    if (std::memcmp(pose, last_.data(), last_.size() * sizeof(double)) != 0) {
-      ForwardKinematics(*skeleton_, pose, nullptr, &state_);
-      std::memcpy(last_.data(), pose, last_.size() * sizeof(double));
-    }
-    return state_;
+  PoseKinematics(const Skeleton* skeleton, const double* pose) : skeleton_(skeleton), pose_(pose) {}
+  void PrepareForEvaluation(bool /*evaluate_jacobians*/, bool new_evaluation_point) override {
+    if (new_evaluation_point || !ready_) ForwardKinematics(*skeleton_, pose_, nullptr, &state_);
+    ready_ = true;
   }
+  const SkeletonPoseState& state() const { return state_; }
 
  private:
   const Skeleton* skeleton_;
-  std::vector<double> last_;
+  const double* pose_;
+  bool ready_ = false;
   SkeletonPoseState state_;
 };
 
+// The pose parameters of segment g as one parameter block: the root's translation and angles,
+// every other segment's angles (so a marker's Jacobian holds only the blocks of its chain).
+size_t BlockStart(const Skeleton& skeleton, size_t g) { return g == 0 ? 0 : skeleton.FirstDof(g); }
+size_t BlockSize(const Skeleton& skeleton, size_t g) {
+  return skeleton.segments[g].dofs.size() + (g == 0 ? skeleton.FirstDof(0) : 0);
+}
+
+// One marker: its residual (the weighted offset from its observation) with the analytic Jacobian
+// for each segment of its chain, root first.
 class MarkerPoseCost : public ceres::CostFunction {
  public:
-  MarkerPoseCost(const Skeleton* skeleton, int marker, std::vector<int> chain_dofs, PoseCache* cache,
+  MarkerPoseCost(const Skeleton* skeleton, int marker, std::vector<int> chain, const PoseKinematics* kinematics,
                  const Eigen::Vector3d* observed)
-      : skeleton_(skeleton), marker_(marker), chain_dofs_(std::move(chain_dofs)), cache_(cache), observed_(observed),
+      : skeleton_(skeleton), marker_(marker), chain_(std::move(chain)), kinematics_(kinematics), observed_(observed),
         scale_(std::sqrt(skeleton->markers[marker].weight)) {
     set_num_residuals(3);
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(skeleton->NumPoseParameters()));
+    for (int g : chain_) mutable_parameter_block_sizes()->push_back(static_cast<int>(BlockSize(*skeleton, g)));
   }
 
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    const int n = parameter_block_sizes()[0];
+  bool Evaluate(double const* const* /*parameters*/, double* residuals, double** jacobians) const override {
     if (!observed_->allFinite()) {
       residuals[0] = residuals[1] = residuals[2] = 0.0;
-      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + 3 * n, 0.0);
+      if (jacobians)
+        for (size_t i = 0; i < chain_.size(); ++i)
+          if (jacobians[i]) std::fill(jacobians[i], jacobians[i] + 3 * parameter_block_sizes()[i], 0.0);
       return true;
     }
-    const SkeletonPoseState& state = cache_->At(parameters[0]);
+    const SkeletonPoseState& state = kinematics_->state();
     const SkeletonMarker& m = skeleton_->markers[marker_];
     const Eigen::Vector3d p = MarkerInSkeleton(state, m.segment, m.offset);
     Eigen::Map<Eigen::Vector3d> residual(residuals);
     residual = scale_ * (p - *observed_);
-    if (jacobians && jacobians[0]) {
-      double* j = jacobians[0];
-      std::fill(j, j + 3 * n, 0.0);
-      for (int r = 0; r < 3; ++r) j[r * n + r] = scale_;
-      for (int k : chain_dofs_) {
+    if (!jacobians) return true;
+    for (size_t i = 0; i < chain_.size(); ++i) {
+      double* j = jacobians[i];
+      if (!j) continue;
+      const size_t g = static_cast<size_t>(chain_[i]);
+      const int cols = parameter_block_sizes()[i];
+      const size_t start = BlockStart(*skeleton_, g);
+      int c = 0;
+      if (g == 0) {  // the root's translation
+        std::fill(j, j + 3 * cols, 0.0);
+        for (; c < 3; ++c) j[c * cols + c] = scale_;
+      }
+      for (; c < cols; ++c) {
+        const size_t k = start + static_cast<size_t>(c);
         const Eigen::Vector3d d = scale_ * state.axis[k].cross(p - state.origin[state.dof_segment[k]]);
-        for (int r = 0; r < 3; ++r) j[r * n + k] = d[r];
+        for (int r = 0; r < 3; ++r) j[r * cols + c] = d[r];
       }
     }
     return true;
@@ -73,11 +95,17 @@ class MarkerPoseCost : public ceres::CostFunction {
  private:
   const Skeleton* skeleton_;
   int marker_;
-  std::vector<int> chain_dofs_;
-  PoseCache* cache_;
+  std::vector<int> chain_;
+  const PoseKinematics* kinematics_;
   const Eigen::Vector3d* observed_;
   double scale_;
 };
+
+ceres::Problem::Options ProblemOptions(ceres::EvaluationCallback* callback) {
+  ceres::Problem::Options o;
+  o.evaluation_callback = callback;
+  return o;
+}
 
 }  // namespace
 
@@ -86,7 +114,10 @@ void SkeletonSolveOptions::Check() const {
     throw std::invalid_argument("loss_scale_mm: " + std::to_string(loss_scale_mm) + " not in (0, 1000]");
   if (max_iterations < 1 || max_iterations > 1000)
     throw std::invalid_argument("max_iterations: " + std::to_string(max_iterations) + " not in 1..1000");
-  if (!(restart_rms_mm > 0.0)) throw std::invalid_argument("restart_rms_mm: must be > 0");
+  if (warm_iterations < 1 || warm_iterations > max_iterations)
+    throw std::invalid_argument("warm_iterations: " + std::to_string(warm_iterations) + " not in 1..max_iterations (" +
+                                std::to_string(max_iterations) + ")");
+  if (!(restart_median_mm > 0.0)) throw std::invalid_argument("restart_median_mm: must be > 0");
   if (min_markers < 3) throw std::invalid_argument("min_markers: " + std::to_string(min_markers) + " is below 3");
 }
 
@@ -135,15 +166,16 @@ struct SkeletonSolver::Impl {
   SkeletonSolveOptions options;
   std::vector<Eigen::Vector3d> observed;
   std::vector<double> pose;
-  PoseCache cache;
+  PoseKinematics kinematics;
   ceres::Problem problem;
   ceres::LossFunctionWrapper* loss = nullptr;  // owned by the problem
   ceres::Solver::Options solver_options;
   SkeletonPoseState state;
+  std::vector<double> seen;  // scratch: the residuals of the markers seen
 
   Impl(const Skeleton& s, const SkeletonSolveOptions& o)
       : skeleton(s), options(o), observed(s.markers.size(), Eigen::Vector3d::Constant(NAN)),
-        pose(s.NumPoseParameters(), 0.0), cache(&skeleton) {}
+        pose(s.NumPoseParameters(), 0.0), kinematics(&skeleton, pose.data()), problem(ProblemOptions(&kinematics)) {}
 };
 
 SkeletonSolver::SkeletonSolver(const Skeleton& skeleton, const SkeletonSolveOptions& options)
@@ -152,25 +184,25 @@ SkeletonSolver::SkeletonSolver(const Skeleton& skeleton, const SkeletonSolveOpti
   skeleton.Check();
   Impl& s = *impl_;
   const auto chains = SegmentChains(s.skeleton);
-  std::vector<std::vector<int>> segment_dofs(s.skeleton.NumSegments());
-  for (size_t g = 0; g < s.skeleton.NumSegments(); ++g) {
-    const size_t first = s.skeleton.FirstDof(g);
-    for (size_t k = 0; k < s.skeleton.segments[g].dofs.size(); ++k) segment_dofs[g].push_back(static_cast<int>(first + k));
-  }
-  s.problem.AddParameterBlock(s.pose.data(), static_cast<int>(s.pose.size()));
+  for (size_t g = 0; g < s.skeleton.NumSegments(); ++g)
+    s.problem.AddParameterBlock(s.pose.data() + BlockStart(s.skeleton, g), static_cast<int>(BlockSize(s.skeleton, g)));
   s.loss = new ceres::LossFunctionWrapper(new ceres::CauchyLoss(options.loss_scale_mm), ceres::TAKE_OWNERSHIP);
   for (size_t m = 0; m < s.skeleton.markers.size(); ++m) {
-    std::vector<int> dofs;
-    for (int g : chains[s.skeleton.markers[m].segment])
-      dofs.insert(dofs.end(), segment_dofs[g].begin(), segment_dofs[g].end());
-    s.problem.AddResidualBlock(new MarkerPoseCost(&s.skeleton, static_cast<int>(m), dofs, &s.cache, &s.observed[m]),
-                               s.loss, s.pose.data());
+    const std::vector<int>& chain = chains[s.skeleton.markers[m].segment];
+    std::vector<double*> blocks;
+    for (int g : chain) blocks.push_back(s.pose.data() + BlockStart(s.skeleton, static_cast<size_t>(g)));
+    s.problem.AddResidualBlock(new MarkerPoseCost(&s.skeleton, static_cast<int>(m), chain, &s.kinematics, &s.observed[m]),
+                               s.loss, blocks);
   }
   std::vector<double> lower, upper;
   PoseBounds(s.skeleton, &lower, &upper);
-  for (size_t k = 0; k < lower.size(); ++k) {
-    if (std::isfinite(lower[k])) s.problem.SetParameterLowerBound(s.pose.data(), static_cast<int>(k), lower[k]);
-    if (std::isfinite(upper[k])) s.problem.SetParameterUpperBound(s.pose.data(), static_cast<int>(k), upper[k]);
+  for (size_t g = 0; g < s.skeleton.NumSegments(); ++g) {
+    const size_t start = BlockStart(s.skeleton, g);
+    double* block = s.pose.data() + start;
+    for (size_t c = 0; c < BlockSize(s.skeleton, g); ++c) {
+      if (std::isfinite(lower[start + c])) s.problem.SetParameterLowerBound(block, static_cast<int>(c), lower[start + c]);
+      if (std::isfinite(upper[start + c])) s.problem.SetParameterUpperBound(block, static_cast<int>(c), upper[start + c]);
+    }
   }
   s.solver_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   s.solver_options.max_num_iterations = options.max_iterations;
@@ -213,6 +245,13 @@ void SkeletonSolver::RunSolver(SkeletonFrameFit* fit) {
     fit->max_mm = std::max(fit->max_mm, d);
   }
   fit->rms_mm = fit->markers > 0 ? std::sqrt(sum / fit->markers) : 0.0;
+  s.seen.clear();
+  for (double r : fit->residual_mm)
+    if (std::isfinite(r)) s.seen.push_back(r);
+  if (!s.seen.empty()) {
+    std::nth_element(s.seen.begin(), s.seen.begin() + static_cast<long>(s.seen.size() / 2), s.seen.end());
+    fit->median_mm = s.seen[s.seen.size() / 2];
+  }
   fit->solved = summary.IsSolutionUsable();
 }
 
@@ -237,15 +276,17 @@ SkeletonFrameFit SkeletonSolver::Solve(const std::vector<Eigen::Vector3d>& obser
     return fit;
   }
   const std::vector<double> start = s.pose;
+  s.solver_options.max_num_iterations = warm ? s.options.warm_iterations : s.options.max_iterations;
   RunSolver(&fit);
-  if (warm && (!fit.solved || fit.rms_mm > s.options.restart_rms_mm)) {
+  s.solver_options.max_num_iterations = s.options.max_iterations;
+  if (warm && (!fit.solved || fit.median_mm > s.options.restart_median_mm)) {
     SkeletonFrameFit fresh;
     fresh.markers = fit.markers;
     fresh.iterations = fit.iterations;
     if (FreshStart()) {
       RunSolver(&fresh);
       fresh.restarted = true;
-      if (fresh.solved && (!fit.solved || fresh.rms_mm < fit.rms_mm)) fit = fresh;
+      if (fresh.solved && (!fit.solved || fresh.median_mm < fit.median_mm)) fit = fresh;
     }
     s.pose = fit.pose;
   }

@@ -3,7 +3,7 @@
 // marker's distance so that one mislabelled or stray marker cannot drag the pose), warm-started
 // from the previous frame and started afresh (the root's markers by Kabsch, joints at rest, a
 // first solve under a convex Huber loss) on the first frame, after a frame that could not be
-// solved, or when the warm start ends far off.
+// solved, or when the warm start ends far off (its median marker residual).
 // Missing markers (NaN) simply add nothing. Markers are in skeleton space (skeleton.h).
 // Errors: options and mis-sized inputs throw std::invalid_argument.
 #pragma once
@@ -19,9 +19,11 @@ namespace mocap {
 
 struct SkeletonSolveOptions {
   double loss_scale_mm = 10.0;  // Cauchy: markers much further off than this count little
-  int max_iterations = 30;
-  // A warm start whose marker RMS ends above this is tried again from a fresh start.
-  double restart_rms_mm = 30.0;
+  int max_iterations = 30;  // a fresh start's solves
+  int warm_iterations = 30;  // a warm-started solve (live: fewer, its cost bounded on the loop)
+  // A warm start whose median marker residual ends above this is tried again from a fresh start
+  // (the median: a few misnamed markers, far off under the robust loss, do not call for one).
+  double restart_median_mm = 30.0;
   // Fewer visible markers than this: the frame is not solved.
   int min_markers = 4;
   void Check() const;
@@ -31,7 +33,7 @@ struct SkeletonFrameFit {
   bool solved = false;
   std::vector<double> pose;         // Skeleton::NumPoseParameters(); angles in radians
   std::vector<double> residual_mm;  // per skeleton marker: distance to its observation, NaN when absent
-  double rms_mm = 0.0, max_mm = 0.0;
+  double rms_mm = 0.0, max_mm = 0.0, median_mm = 0.0;
   int markers = 0;  // visible markers used
   int iterations = 0;
   bool restarted = false;

@@ -29,6 +29,12 @@ void VisitFrame(const pipeline::LiveFrame& frame, uint32_t parts, uint64_t* poin
   if (bodies)
     for (const pipeline::LiveBody& b : frame.bodies)
       if (b.tracked) sink.Body(b);
+  if (parts & kPartBones)
+    for (const pipeline::LiveSkeleton& s : frame.skeletons) {
+      if (!s.model) continue;
+      sink.Skeleton(s);
+      for (size_t b = 0; b < s.bones.size() && b < s.model->bones.size(); ++b) sink.Bone(s, b);
+    }
 }
 
 struct ShapeSink {
@@ -40,6 +46,8 @@ struct ShapeSink {
     out->push_back(shape);
   }
   void Body(const pipeline::LiveBody&) { out->push_back({"/mocap/rigidbody", "sffffffff"}); }
+  void Skeleton(const pipeline::LiveSkeleton&) { out->push_back({"/mocap/skeleton", "sisiff"}); }
+  void Bone(const pipeline::LiveSkeleton&, size_t) { out->push_back({"/mocap/bone", "ssifffffff"}); }
 };
 
 struct BundleSink {
@@ -79,6 +87,27 @@ struct BundleSink {
       lo_message_add_float(m, static_cast<float>(v));
     Add("/mocap/rigidbody", m);
   }
+  void Skeleton(const pipeline::LiveSkeleton& s) {
+    lo_message m = lo_message_new();
+    lo_message_add_string(m, s.model->name.c_str());
+    lo_message_add_int32(m, s.solved ? 1 : 0);
+    lo_message_add_string(m, s.state);
+    lo_message_add_int32(m, s.markers);
+    lo_message_add_float(m, static_cast<float>(s.rms_mm));
+    lo_message_add_float(m, static_cast<float>(s.max_mm));
+    Add("/mocap/skeleton", m);
+  }
+  void Bone(const pipeline::LiveSkeleton& s, size_t b) {
+    const pipeline::LiveBone& bone = s.bones[b];
+    lo_message m = lo_message_new();
+    lo_message_add_string(m, s.model->name.c_str());
+    lo_message_add_string(m, s.model->bones[b].c_str());
+    lo_message_add_int32(m, s.model->parents[b]);
+    for (double v : {bone.position.x(), bone.position.y(), bone.position.z(), bone.orientation.x(),
+                     bone.orientation.y(), bone.orientation.z(), bone.orientation.w()})
+      lo_message_add_float(m, static_cast<float>(v));
+    Add("/mocap/bone", m);
+  }
 };
 
 }  // namespace
@@ -96,8 +125,8 @@ void OscOptions::Check() const {
     const HostPort hp = ParseHostPort(t);
     if (hp.host.empty() || hp.port == 0) throw std::invalid_argument("OSC target '" + t + "' must be HOST:PORT");
   }
-  if (parts == 0 || (parts & ~(kPartPoints | kPartBodies)))
-    throw std::invalid_argument("OSC parts must be points and/or bodies");
+  if (parts == 0 || (parts & ~(kPartPoints | kPartBodies | kPartBones)))
+    throw std::invalid_argument("OSC parts must be points, bodies and/or bones");
   if (ttl < 1 || ttl > 255) throw std::invalid_argument("OSC TTL must be 1-255");
   if (queue_frames == 0) throw std::invalid_argument("OSC queue must hold at least one frame");
 }

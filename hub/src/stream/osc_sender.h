@@ -7,6 +7,10 @@
 // track: the track's id (the stream's id), the same number from its first frame as a point to
 // its frames as a confirmed marker (an id past 2^31 - 1 wraps to 1 in /mocap/marker's int32).
 //   /mocap/rigidbody  s:name f:x f:y f:z f:qx f:qy f:qz f:qw f:mean_error_mm   (tracked bodies)
+// With the part bones (serve --skeleton), per skeleton and then per bone when solved:
+//   /mocap/skeleton   s:name i:solved s:state i:markers f:rms_mm f:max_mm
+//   /mocap/bone       s:skeleton s:bone i:parent f:x f:y f:z f:qx f:qy f:qz f:qw   (joint centre,
+//                     segment -> world; parent: the bone's index in the skeleton, -1 for the root)
 // /mocap/frame comes first in its bundle. A bundle holds at most kMaxOscPoints points (the
 // rest are counted as dropped: one UDP datagram per frame). Its own thread builds and sends, so
 // the hub's loop only queues a shared frame.
@@ -34,7 +38,7 @@ constexpr size_t kMaxOscPoints = 1000;
 
 struct OscOptions {
   std::vector<std::string> targets;   // HOST:PORT each (unicast, broadcast or multicast)
-  uint32_t parts = kDefaultParts;     // points and/or bodies
+  uint32_t parts = kDefaultParts;     // points, bodies and/or bones
   int ttl = 1;                        // for multicast targets
   size_t queue_frames = 64;           // frames between the hub's loop and the sending thread
 

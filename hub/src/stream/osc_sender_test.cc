@@ -59,6 +59,27 @@ TEST(OscSender, AddressSpace) {
   const auto named_shape = OscBundleShape(named, kPartPoints);
   EXPECT_EQ(named_shape[1].types, "iffffis");
   EXPECT_EQ(named_shape[2].types, "hffffis");
+  // Bones only with their part: a skeleton message each, a bone message per bone when solved.
+  pipeline::LiveFrame skeletal = Frame();
+  auto model = std::make_shared<pipeline::LiveSkeletonModel>();
+  model->bones = {"Hips", "Spine"};
+  model->parents = {-1, 0};
+  pipeline::LiveSkeleton solved;
+  solved.model = model;
+  solved.solved = true;
+  solved.bones.resize(2);
+  pipeline::LiveSkeleton unsolved;
+  unsolved.model = model;
+  skeletal.skeletons = {solved, unsolved};
+  EXPECT_EQ(OscBundleShape(skeletal, kPartBodies).size(), 2u);
+  const auto bones = OscBundleShape(skeletal, kPartBones);
+  ASSERT_EQ(bones.size(), 5u);
+  EXPECT_EQ(bones[1].path, "/mocap/skeleton");
+  EXPECT_EQ(bones[1].types, "sisiff");
+  EXPECT_EQ(bones[2].path, "/mocap/bone");
+  EXPECT_EQ(bones[2].types, "ssifffffff");
+  EXPECT_EQ(bones[3].path, "/mocap/bone");
+  EXPECT_EQ(bones[4].path, "/mocap/skeleton");  // unsolved: no bones
   pipeline::LiveFrame many;
   many.points.resize(kMaxOscPoints + 10);
   EXPECT_EQ(OscBundleShape(many, kPartPoints).size(), 1 + kMaxOscPoints);

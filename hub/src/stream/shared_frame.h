@@ -20,6 +20,7 @@ inline SharedFrame ShareFrame(const pipeline::LiveFrame& frame) {
   copy->cameras = frame.cameras;
   copy->points = frame.points;
   copy->bodies = frame.bodies;
+  copy->skeletons = frame.skeletons;
   copy->label_names = frame.label_names;
   return copy;
 }

@@ -39,6 +39,27 @@ void FillBody(const pipeline::LiveBody& in, v1::RigidBody* out) {
   out->set_mean_error_mm(static_cast<float>(in.mean_error_mm));
 }
 
+void FillSkeleton(const pipeline::LiveSkeleton& in, v1::Skeleton* out) {
+  if (in.model) out->set_name(in.model->name.substr(0, 63));
+  out->set_solved(in.solved);
+  out->set_state(in.state);
+  out->set_markers(static_cast<uint32_t>(in.markers));
+  out->set_rms_mm(static_cast<float>(in.rms_mm));
+  out->set_max_mm(static_cast<float>(in.max_mm));
+  for (size_t b = 0; in.model && b < in.bones.size() && b < in.model->bones.size(); ++b) {
+    v1::Bone* bone = out->add_bones();
+    bone->set_name(in.model->bones[b].substr(0, 63));  // the field's nanopb limit
+    bone->set_parent(in.model->parents[b]);
+    bone->set_x(static_cast<float>(in.bones[b].position.x()));
+    bone->set_y(static_cast<float>(in.bones[b].position.y()));
+    bone->set_z(static_cast<float>(in.bones[b].position.z()));
+    bone->set_qx(static_cast<float>(in.bones[b].orientation.x()));
+    bone->set_qy(static_cast<float>(in.bones[b].orientation.y()));
+    bone->set_qz(static_cast<float>(in.bones[b].orientation.z()));
+    bone->set_qw(static_cast<float>(in.bones[b].orientation.w()));
+  }
+}
+
 }  // namespace
 
 EncodedFrame EncodeStreamFrame(const pipeline::LiveFrame& frame, uint32_t parts, size_t max_bytes) {
@@ -50,6 +71,8 @@ EncodedFrame EncodeStreamFrame(const pipeline::LiveFrame& frame, uint32_t parts,
   out.set_parts(parts & kAllParts);
   if (parts & kPartBodies)
     for (const pipeline::LiveBody& body : frame.bodies) FillBody(body, out.add_bodies());
+  if (parts & kPartBones)
+    for (const pipeline::LiveSkeleton& skeleton : frame.skeletons) FillSkeleton(skeleton, out.add_skeletons());
   if (parts & kPartPoints) {
     // Points are added while they fit: each one's size is known before it is added, so the
     // message never grows past the limit (a varint length prefix and tag: at most 3 bytes more).
@@ -147,9 +170,10 @@ uint32_t ParseParts(const std::string& text) {
     if (part == "points") parts |= kPartPoints;
     else if (part == "bodies") parts |= kPartBodies;
     else if (part == "labels") parts |= kPartLabels;
-    else throw std::invalid_argument("unknown stream part '" + part + "' (points, bodies, labels)");
+    else if (part == "bones") parts |= kPartBones;
+    else throw std::invalid_argument("unknown stream part '" + part + "' (points, bodies, labels, bones)");
   }
-  if (!parts) throw std::invalid_argument("no stream parts given (points, bodies, labels)");
+  if (!parts) throw std::invalid_argument("no stream parts given (points, bodies, labels, bones)");
   return parts;
 }
 

@@ -15,7 +15,8 @@ namespace mocap::stream {
 constexpr uint32_t kPartPoints = 1;
 constexpr uint32_t kPartBodies = 2;
 constexpr uint32_t kPartLabels = 4;
-constexpr uint32_t kAllParts = kPartPoints | kPartBodies | kPartLabels;
+constexpr uint32_t kPartBones = 8;
+constexpr uint32_t kAllParts = kPartPoints | kPartBodies | kPartLabels | kPartBones;
 constexpr uint32_t kDefaultParts = kPartPoints | kPartBodies;
 
 constexpr uint32_t kStreamVersion = 1;
@@ -55,7 +56,7 @@ std::string EncodeUnsubscribe(const std::string& cookie = "");
 // The hub's challenge: a StreamFrame holding only subscribe_cookie.
 std::string EncodeChallenge(const std::string& cookie);
 
-// "points,bodies,labels" -> Part bits; throws std::invalid_argument naming an unknown part.
+// "points,bodies,labels,bones" -> Part bits; throws std::invalid_argument naming an unknown part.
 uint32_t ParseParts(const std::string& text);
 
 }  // namespace mocap::stream

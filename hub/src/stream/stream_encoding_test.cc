@@ -107,6 +107,51 @@ TEST(StreamEncoding, OnlyThePartsAskedFor) {
   EXPECT_EQ(bodies.frame_number(), f.frame_number);
 }
 
+TEST(StreamEncoding, BonesOnlyWithTheBonesPartAndOnlyWhenSolved) {
+  pipeline::LiveFrame f = Frame(2);
+  auto model = std::make_shared<pipeline::LiveSkeletonModel>();
+  model->name = "anna";
+  model->bones = {"Hips", "LeftUpLeg"};
+  model->parents = {-1, 0};
+  pipeline::LiveSkeleton solved;
+  solved.model = model;
+  solved.solved = true;
+  solved.state = "solved";
+  solved.markers = 30;
+  solved.rms_mm = 4.5;
+  solved.max_mm = 12.25;
+  solved.bones.resize(2);
+  solved.bones[1].position = {90.0, 900.0, -15.5};
+  solved.bones[1].orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()));
+  pipeline::LiveSkeleton lost;
+  lost.model = model;
+  lost.state = "too few markers";
+  lost.markers = 2;
+  f.skeletons = {solved, lost};
+  const v1::StreamFrame m = Parse(EncodeStreamFrame(f, kPartBones));
+  EXPECT_EQ(m.points_size(), 0);
+  ASSERT_EQ(m.skeletons_size(), 2);
+  const v1::Skeleton& s = m.skeletons(0);
+  EXPECT_EQ(s.name(), "anna");
+  EXPECT_TRUE(s.solved());
+  EXPECT_EQ(s.state(), "solved");
+  EXPECT_EQ(s.markers(), 30u);
+  EXPECT_FLOAT_EQ(s.rms_mm(), 4.5f);
+  EXPECT_FLOAT_EQ(s.max_mm(), 12.25f);
+  ASSERT_EQ(s.bones_size(), 2);
+  EXPECT_EQ(s.bones(0).name(), "Hips");
+  EXPECT_EQ(s.bones(0).parent(), -1);
+  EXPECT_EQ(s.bones(1).name(), "LeftUpLeg");
+  EXPECT_EQ(s.bones(1).parent(), 0);
+  EXPECT_FLOAT_EQ(s.bones(1).z(), -15.5f);
+  EXPECT_NEAR(s.bones(1).qx(), std::sin(0.25), 1e-6);
+  EXPECT_NEAR(s.bones(1).qw(), std::cos(0.25), 1e-6);
+  EXPECT_FALSE(m.skeletons(1).solved());
+  EXPECT_EQ(m.skeletons(1).state(), "too few markers");
+  EXPECT_EQ(m.skeletons(1).bones_size(), 0);
+  EXPECT_EQ(Parse(EncodeStreamFrame(f, kPartPoints | kPartBodies)).skeletons_size(), 0);
+}
+
 TEST(StreamEncoding, PointsBeyondTheLimitAreDroppedAndCounted) {
   const pipeline::LiveFrame f = Frame(4000);
   const EncodedFrame whole = EncodeStreamFrame(f, kPartPoints, 1'000'000);
@@ -144,6 +189,9 @@ TEST(StreamEncoding, RequestsDecodedOrRefusedWithAReason) {
   r = decode(future.SerializeAsString());
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("version 2"), std::string::npos) << r.reason;
+  r = decode(EncodeSubscribe(kPartBones));
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_EQ(r.parts, kPartBones);
   r = decode(EncodeSubscribe(64));
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.reason.find("unknown part"), std::string::npos) << r.reason;
@@ -159,7 +207,8 @@ TEST(StreamEncoding, RequestsDecodedOrRefusedWithAReason) {
 
 TEST(StreamEncoding, PartLists) {
   EXPECT_EQ(ParseParts("points"), kPartPoints);
-  EXPECT_EQ(ParseParts("bodies,points,labels"), kAllParts);
+  EXPECT_EQ(ParseParts("bodies,points,labels,bones"), kAllParts);
+  EXPECT_EQ(ParseParts("bones"), kPartBones);
   EXPECT_THROW(ParseParts("points,skeletons"), std::invalid_argument);
   EXPECT_THROW(ParseParts(""), std::invalid_argument);
 }

@@ -4,6 +4,8 @@
 
 #include <lo/lo.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -22,7 +24,92 @@ Eigen::Vector3d AxisOf(const std::string& up) {
   return axis;
 }
 
+// Our segments (skeleton/skeleton_template.h's names) -> Unity's HumanBodyBones.
+constexpr const char* kHumanoidBones[][2] = {
+    {"Hips", "Hips"},
+    {"Spine", "Spine"},
+    {"Chest", "Chest"},
+    {"Neck", "Neck"},
+    {"Head", "Head"},
+    {"LeftShoulder", "LeftShoulder"},
+    {"LeftArm", "LeftUpperArm"},
+    {"LeftForeArm", "LeftLowerArm"},
+    {"LeftHand", "LeftHand"},
+    {"RightShoulder", "RightShoulder"},
+    {"RightArm", "RightUpperArm"},
+    {"RightForeArm", "RightLowerArm"},
+    {"RightHand", "RightHand"},
+    {"LeftUpLeg", "LeftUpperLeg"},
+    {"LeftLeg", "LeftLowerLeg"},
+    {"LeftFoot", "LeftFoot"},
+    {"LeftToeBase", "LeftToes"},
+    {"RightUpLeg", "RightUpperLeg"},
+    {"RightLeg", "RightLowerLeg"},
+    {"RightFoot", "RightFoot"},
+    {"RightToeBase", "RightToes"},
+};
+
+// The rest-pose difference on a humanoid bone, in its Unity frame: a T-pose's arm (out to the
+// side) turned into ours (hanging, thumbs forward), about the avatar's forward axis.
+Eigen::Matrix3d RestCorrection(const std::string& humanoid) {
+  const bool arm = humanoid.find("UpperArm") != std::string::npos || humanoid.find("LowerArm") != std::string::npos ||
+                   humanoid == "LeftHand" || humanoid == "RightHand";
+  if (!arm) return Eigen::Matrix3d::Identity();
+  const double angle = humanoid.rfind("Left", 0) == 0 ? M_PI / 2 : -M_PI / 2;
+  return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+void AddPose(const char* path, const std::string& name, const Eigen::Vector3d& p, const Eigen::Matrix3d& r,
+             std::vector<VmcMessage>* out) {
+  const Eigen::Quaterniond q(r);
+  out->push_back({path,
+                  "sfffffff",
+                  {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()),
+                   static_cast<float>(q.x()), static_cast<float>(q.y()), static_cast<float>(q.z()),
+                   static_cast<float>(q.w())},
+                  {},
+                  name});
+}
+
+// Root and bones of a solved skeleton (see vmc_sender.h).
+void AddSkeleton(const pipeline::LiveSkeleton& skeleton, const Eigen::Matrix3d& m, std::vector<VmcMessage>* out) {
+  const pipeline::LiveSkeletonModel& model = *skeleton.model;
+  const size_t n = std::min(model.bones.size(), skeleton.bones.size());
+  // Skeleton space (+x the subject's left) -> Unity's avatar axes (+x its right).
+  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  std::vector<const char*> humanoid(n, nullptr);
+  std::vector<Eigen::Matrix3d> unity(n);
+  for (size_t b = 0; b < n; ++b) {
+    for (const auto& pair : kHumanoidBones)
+      if (model.bones[b] == pair[0]) humanoid[b] = pair[1];
+    unity[b] = m * skeleton.bones[b].orientation.normalized().toRotationMatrix() * flip *
+               (humanoid[b] ? RestCorrection(humanoid[b]) : Eigen::Matrix3d::Identity());
+  }
+  if (n == 0) return;
+  AddPose("/VMC/Ext/Root/Pos", "root", m * skeleton.bones[0].position * kMetresPerMm, unity[0], out);
+  for (size_t b = 0; b < n; ++b) {
+    if (!humanoid[b]) continue;
+    if (b == 0) {
+      AddPose("/VMC/Ext/Bone/Pos", humanoid[b], Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), out);
+      continue;
+    }
+    // Relative to the nearest ancestor with a humanoid name.
+    int parent = model.parents[b];
+    while (parent > 0 && !humanoid[static_cast<size_t>(parent)]) parent = model.parents[static_cast<size_t>(parent)];
+    if (parent < 0) continue;
+    const size_t a = static_cast<size_t>(parent);
+    const Eigen::Vector3d offset = m * (skeleton.bones[b].position - skeleton.bones[a].position) * kMetresPerMm;
+    AddPose("/VMC/Ext/Bone/Pos", humanoid[b], unity[a].transpose() * offset, unity[a].transpose() * unity[b], out);
+  }
+}
+
 }  // namespace
+
+const char* VmcHumanoidBone(const std::string& segment) {
+  for (const auto& pair : kHumanoidBones)
+    if (segment == pair[0]) return pair[1];
+  return nullptr;
+}
 
 Eigen::Matrix3d VmcAxes(const std::string& up_axis) {
   const Eigen::Vector3d u = AxisOf(up_axis);
@@ -46,6 +133,9 @@ std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOpt
   const Eigen::Matrix3d m = VmcAxes(options.up_axis);
   int tracked = 0;
   for (const pipeline::LiveBody& b : frame.bodies) tracked += b.tracked;
+  const pipeline::LiveSkeleton* skeleton =
+      !frame.skeletons.empty() && frame.skeletons[0].solved && frame.skeletons[0].model ? &frame.skeletons[0] : nullptr;
+  tracked += skeleton != nullptr;
   std::vector<VmcMessage> out;
   out.push_back({"/VMC/Ext/OK", "iiii", {}, {1, 3, 0, tracked > 0 ? 1 : 0}, ""});
   out.push_back({"/VMC/Ext/T", "f", {static_cast<float>(static_cast<double>(frame.frame_number) / options.rate_hz)}, {}, ""});
@@ -61,6 +151,7 @@ std::vector<VmcMessage> VmcBundle(const pipeline::LiveFrame& frame, const VmcOpt
                    {},
                    b.name});
   }
+  if (skeleton) AddSkeleton(*skeleton, m, &out);
   return out;
 }
 

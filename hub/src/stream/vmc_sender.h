@@ -2,14 +2,23 @@
 // Unity/Blender tools) from `mocap-hub serve --vmc HOST:PORT`: every published frame as one OSC
 // bundle (liblo) of
 //   /VMC/Ext/OK       i:1 (loaded) i:3 (calibrated) i:0 (normal calibration) i:tracking
-//                     (1 when a rigid body is fitted in the frame, else 0)
+//                     (1 when a rigid body is fitted or the skeleton solved in the frame, else 0)
 //   /VMC/Ext/T        f:the frame's capture time, s since the session epoch (frame number / rate)
 //   /VMC/Ext/Tra/Pos  s:body name f:x f:y f:z f:qx f:qy f:qz f:qw     (each fitted rigid body)
 // in Unity's frame as VMC defines it: metres, left-handed, Y up. The hub's world (right-handed,
 // its up axis read from the cameras as for Qualisys RT) maps onto it by a reflection: Unity X
 // is world +X (+Y when up is ±X), Unity Y is world up, Unity Z = -(X × Y) in world terms;
-// rotations are conjugated by the same map (vmc_axes in the .cc). Skeleton bones (/VMC/Ext/Bone/Pos,
-// /VMC/Ext/Root/Pos) follow once the hub has skeletons.
+// rotations are conjugated by the same map (vmc_axes in the .cc).
+// With serve --skeleton, in frames where it is solved (the first skeleton):
+//   /VMC/Ext/Root/Pos s:"root" f:x f:y f:z f:qx f:qy f:qz f:qw   the root segment's (Hips) pose
+//   /VMC/Ext/Bone/Pos s:bone   f:x f:y f:z f:qx f:qy f:qz f:qw   per segment with a humanoid name
+// Bones are Unity's HumanBodyBones names mapped from our segments (VmcHumanoidBone; segments
+// without one are left out, their children taken from the nearest named ancestor), each with
+// its local position and rotation against that ancestor (Hips: zero and identity, the root
+// carries its pose). Rotations are those of a humanoid whose rest pose (identity) is the T-pose
+// VMC avatars use: each bone's frame is the segment's in Unity's avatar axes (x flipped: the
+// avatar's +x is its right), the arms' turned by 90 deg about the forward axis (our rest pose
+// has them hanging, thumbs forward).
 //
 // Threads: none of its own. Publish() (the hub's loop) builds the bundle (liblo) and hands it to
 // the kernel at once from a non-blocking socket (a few microseconds: one target, one datagram,
@@ -41,6 +50,9 @@ struct VmcOptions {
 
   void Check() const;  // throws std::invalid_argument
 };
+
+// Unity's HumanBodyBones name of one of our segments (skeleton templates' names), or null.
+const char* VmcHumanoidBone(const std::string& segment);
 
 // The world -> Unity map of an up axis (a reflection: determinant -1).
 Eigen::Matrix3d VmcAxes(const std::string& up_axis);

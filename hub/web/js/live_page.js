@@ -1,5 +1,5 @@
-// Live 3D: every published frame's markers (confirmed green, provisional orange, ids on demand)
-// and rigid bodies (axes) over the calibrated cameras and the floor. Frames come from
+// Live 3D: every published frame's markers (confirmed green, provisional orange, ids on demand),
+// rigid bodies (axes) and skeletons (bones) over the calibrated cameras and the floor. Frames come from
 // /api/live?max_fps=60 while the page is shown; the view draws the newest at the screen's rate.
 import { el } from './api.js';
 import { LiveSocket } from './live_socket.js';
@@ -42,6 +42,7 @@ export class LivePage {
     this.frames += 1;
     this.scene.setPoints(frame.points);
     this.scene.setBodies(frame.bodies || []);
+    this.scene.setSkeletons(frame.skeletons || []);
     const now = performance.now();
     this.rate.frames += 1;
     if (now - this.rate.start >= 1000) {
@@ -55,9 +56,11 @@ export class LivePage {
     const f = this.frame;
     const provisional = f ? f.points.filter((p) => p[4]).length : 0;
     const bodies = f && f.bodies ? f.bodies.filter((b) => b[1]).length : 0;
+    const skeletons = (f && f.skeletons ? f.skeletons : []).map((s) =>
+      ` · ${s.name}: ${s.solved ? `${s.bones.length} bones, ${s.rms_mm.toFixed(1)} mm` : s.state}`).join('');
     const rates = `${this.rate.fps.toFixed(0)} frames/s received · ${this.scene.fps.toFixed(0)} fps drawn`;
     this.info.textContent = this.socket.state !== 'open' ? `live: ${this.socket.state}…` :
-      f ? `frame ${f.frame} · ${f.points.length} markers (${provisional} provisional) · ${bodies} bodies · ${rates}`
+      f ? `frame ${f.frame} · ${f.points.length} markers (${provisional} provisional) · ${bodies} bodies${skeletons} · ${rates}`
         : 'waiting for frames';
   }
 

@@ -1,6 +1,7 @@
 // A 3D view of the capture volume (three.js from Debian's libjs-three, r111): floor grid,
 // cameras with view cones from the calibration, markers (confirmed and provisional, with ids on
-// demand), rigid bodies with their axes; orbit, pan and zoom with the mouse. Millimetres, the
+// demand), rigid bodies with their axes, skeletons' bones (serve --skeleton) as lines from each
+// joint centre to its parent's; orbit, pan and zoom with the mouse. Millimetres, the
 // calibration's world frame, its up axis guessed from the cameras (they hang upright).
 //
 // It renders only while shown; `drawnMarkers` is the number of markers the last render drew,
@@ -77,6 +78,11 @@ export class Scene3D {
     this.points = [];
     this.bodies = [];
     this.bodyAxes = [];
+    this.boneLines = new THREE.LineSegments(new THREE.BufferGeometry(),
+                                            new THREE.LineBasicMaterial({ color: 0x7fb4ff }));
+    this.boneLines.frustumCulled = false;
+    this.scene.add(this.boneLines);
+    this.drawnBones = 0;    // bones the last setSkeletons drew (the web test reads it)
     this.showIds = false;
     this.names = null;      // marker names by id (playback of a TRC)
 
@@ -216,6 +222,21 @@ export class Scene3D {
       axes.position.set(b[3], b[4], b[5]);
       axes.quaternion.set(b[6], b[7], b[8], b[9]);
     });
+  }
+
+  // skeletons: /api/live's [{name, solved, bones: [[name, parent, x, y, z, qx, qy, qz, qw], ...]}];
+  // a skeleton not solved in this frame has no bones and draws nothing.
+  setSkeletons(skeletons) {
+    const positions = [];
+    for (const s of skeletons) {
+      for (const b of s.solved ? s.bones : []) {
+        if (b[1] < 0 || !s.bones[b[1]]) continue;
+        const p = s.bones[b[1]];
+        positions.push(p[2], p[3], p[4], b[2], b[3], b[4]);
+      }
+    }
+    this.boneLines.geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+    this.drawnBones = positions.length / 6;
   }
 
   show() {

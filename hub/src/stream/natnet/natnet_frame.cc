@@ -11,6 +11,7 @@ namespace {
 constexpr double kMetresPerMm = 1e-3;
 constexpr int32_t kDatasetMarkerSet = 0;
 constexpr int32_t kDatasetRigidBody = 1;
+constexpr int32_t kDatasetSkeleton = 2;
 constexpr int16_t kRigidBodyTracked = 0x01;
 constexpr int16_t kMarkerPointCloudSolved = 0x02;
 constexpr int16_t kMarkerHasModel = 0x08;
@@ -65,6 +66,19 @@ void RigidBodyDescription(Writer& w, const Version& v, const RigidBodyDefinition
   for (size_t i = 0; i < body.markers.size(); ++i) w.I32(0);  // active labels: passive markers
   if (v.major >= 4)
     for (size_t i = 0; i < body.markers.size(); ++i) w.Str(MarkerName(i));
+}
+
+void SkeletonDescription(Writer& w, const pipeline::LiveSkeletonModel& skeleton, int32_t id) {
+  w.Str(skeleton.name);
+  w.I32(id);
+  w.I32(static_cast<int32_t>(skeleton.bones.size()));
+  for (size_t b = 0; b < skeleton.bones.size(); ++b) {
+    w.Str(skeleton.bones[b]);
+    w.I32(static_cast<int32_t>(b + 1));
+    w.I32(skeleton.parents[b] + 1);  // 0: the root
+    Vec(w, b < skeleton.offsets.size() ? skeleton.offsets[b] : Eigen::Vector3d::Zero());
+    w.I32(0);  // markers: none (3.0 and later describe them here)
+  }
 }
 
 // A dataset of the model definitions: type, (4.1) its byte size, the description.
@@ -138,7 +152,34 @@ std::string Encode(const pipeline::LiveFrame& frame, const Model& model, const V
       w.I16(b.tracked ? kRigidBodyTracked : 0);
     }
   }
-  { Section s(w, v, 0); }  // skeletons
+  {  // skeletons: each model skeleton, solved or not
+    Section s(w, v, static_cast<int32_t>(model.skeletons.size()));
+    for (size_t k = 0; k < model.skeletons.size(); ++k) {
+      const int32_t id = static_cast<int32_t>(model.bodies.size() + 1 + k);
+      const pipeline::LiveSkeletonModel& bones = *model.skeletons[k];
+      const pipeline::LiveSkeleton* live = k < frame.skeletons.size() ? &frame.skeletons[k] : nullptr;
+      const bool solved = live && live->solved && live->bones.size() == bones.bones.size();
+      w.I32(id);
+      w.I32(static_cast<int32_t>(bones.bones.size()));
+      for (size_t b = 0; b < bones.bones.size(); ++b) {
+        w.I32(static_cast<int32_t>((static_cast<uint32_t>(id) << 16) | static_cast<uint32_t>(b + 1)));
+        if (solved) {
+          Vec(w, live->bones[b].position);
+          const Eigen::Quaterniond q = live->bones[b].orientation.normalized();
+          w.F32(static_cast<float>(q.x()));
+          w.F32(static_cast<float>(q.y()));
+          w.F32(static_cast<float>(q.z()));
+          w.F32(static_cast<float>(q.w()));
+          w.F32(static_cast<float>(live->rms_mm * kMetresPerMm));
+        } else {
+          NaNs(w);
+          for (int i = 0; i < 4; ++i) w.F32(std::numeric_limits<float>::quiet_NaN());
+          w.F32(0.0f);
+        }
+        w.I16(solved ? kRigidBodyTracked : 0);
+      }
+    }
+  }
   if (SizesSections(v)) { Section s(w, v, 0); }  // assets
   {  // labelled markers: every point
     Section s(w, v, static_cast<int32_t>(points));
@@ -176,7 +217,7 @@ std::string Encode(const pipeline::LiveFrame& frame, const Model& model, const V
 std::string EncodeModelDef(const Model& model, const Version& v) {
   Writer w(kModelDef);
   const bool labels = !model.label_names.empty();
-  w.I32(static_cast<int32_t>(2 * model.bodies.size() + (labels ? 1 : 0)));
+  w.I32(static_cast<int32_t>(2 * model.bodies.size() + (labels ? 1 : 0) + model.skeletons.size()));
   for (const RigidBodyDefinition& body : model.bodies)
     Dataset(w, v, kDatasetMarkerSet, [&] {
       std::vector<std::string> names;
@@ -186,6 +227,10 @@ std::string EncodeModelDef(const Model& model, const Version& v) {
   if (labels) Dataset(w, v, kDatasetMarkerSet, [&] { MarkerSetDescription(w, "all", model.label_names); });
   for (size_t b = 0; b < model.bodies.size(); ++b)
     Dataset(w, v, kDatasetRigidBody, [&] { RigidBodyDescription(w, v, model.bodies[b], static_cast<int32_t>(b + 1)); });
+  for (size_t k = 0; k < model.skeletons.size(); ++k)
+    Dataset(w, v, kDatasetSkeleton, [&] {
+      SkeletonDescription(w, *model.skeletons[k], static_cast<int32_t>(model.bodies.size() + 1 + k));
+    });
   return w.Finish();
 }
 

@@ -8,8 +8,12 @@
 //    of its names;
 //  - one rigid body per body of the bodies file: ID = its 1-based place in the file (LiveBody
 //    id), parent -1, offset 0, its markers relative to its pivot (the reported position), active
-//    labels 0, and (4.x) its markers' names. No skeletons, force plates, devices, cameras or
-//    assets exist in the hub: none are described.
+//    labels 0, and (4.x) its markers' names;
+//  - one skeleton per skeleton of serve --skeleton: its name (the subject), ID = the number of
+//    rigid bodies + 1 + its place, and one rigid body description per bone (segment): the
+//    segment's name, ID = its 1-based place, parent = its parent's (0 for the root, as Motive
+//    does), offset = its joint centre in its parent's frame (m), no markers. No force plates,
+//    devices, cameras or assets exist in the hub: none are described.
 // Frames (NAT_FRAMEOFDATA):
 //  - frame number: the hub's (low 32 bits);
 //  - markerset data: each body's markers where its pose puts them, then the "all" set's names
@@ -23,7 +27,13 @@
 //    point no track took; params 0x02 point-cloud solved, 0x08 has a name (marker set), 0x10
 //    unlabelled (no confirmed track); size 0 and residual 0 (the hub measures reprojection error
 //    in pixels, not the metres Motive reports here);
-//  - no skeletons, assets, force plates or devices (counts 0);
+//  - skeletons: ID, bone count, then each bone as a rigid body: ID = skeleton ID << 16 | bone ID
+//    (as Motive's), position and quaternion in the world frame (Motive's "global" skeleton
+//    coordinates; segment -> world, the segment's frame being the skeleton's space at rest,
+//    +y up), mean error = the fit's marker RMS (m), params bit 0 = tracking valid when the
+//    frame was solved; a frame that could not be solved sends every bone with the bit clear and
+//    NaN pose (never the last solved one);
+//  - no assets, force plates or devices (counts 0);
 //  - timecode 0; timestamp = frame number / rate (s since the session epoch, frame 0);
 //  - the stamps on the hub's clock (CLOCK_REALTIME ns; ServerInfo's clock frequency is 1e9):
 //    camera mid-exposure = the frame's trigger time (the cameras' trigger edge, as the own
@@ -36,6 +46,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,6 +60,8 @@ struct Model {
   double rate_hz = 0.0;
   std::vector<RigidBodyDefinition> bodies;   // serve --bodies, in the file's order
   std::vector<std::string> label_names;      // serve --labels
+  // serve --skeleton: in the order of LiveFrame::skeletons. Skeleton k's ID is bodies + 1 + k.
+  std::vector<std::shared_ptr<const pipeline::LiveSkeletonModel>> skeletons;
 };
 
 std::string EncodeModelDef(const Model& model, const Version& version);

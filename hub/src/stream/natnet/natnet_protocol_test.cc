@@ -334,6 +334,123 @@ TEST(NatNetFrame, CarriesMarkersBodiesAndStamps) {
   }
 }
 
+std::shared_ptr<const pipeline::LiveSkeletonModel> TwoBones() {
+  auto m = std::make_shared<pipeline::LiveSkeletonModel>();
+  m->name = "anna";
+  m->bones = {"Hips", "LeftUpLeg"};
+  m->parents = {-1, 0};
+  m->offsets = {{0, 0, 0}, {90, -60, 0}};
+  return m;
+}
+
+TEST(NatNetSkeleton, DescribedAfterTheBodiesAndSentSolvedOrInvalid) {
+  for (const Version v : {Version{3, 0}, Version{4, 1}}) {
+    SCOPED_TRACE(ToString(v));
+    const bool sized = v.major == 4 && v.minor == 1;
+    Model model = TwoBodies();
+    model.skeletons = {TwoBones()};
+    const std::string d = EncodeModelDef(model, v);
+    Reader r{d};
+    r.at = 4;
+    ASSERT_EQ(r.Get<int32_t>(), 5);  // 2 markersets, 2 rigid bodies, 1 skeleton
+    // Skip to the skeleton: the last dataset.
+    for (int i = 0; i < 4; ++i) {
+      const int32_t type = r.Get<int32_t>();
+      ASSERT_TRUE(type == 0 || type == 1);
+      if (sized) {
+        r.at += static_cast<size_t>(r.Get<int32_t>());
+        continue;
+      }
+      r.Str();
+      if (type == 0) {
+        const int n = r.Get<int32_t>();
+        for (int m = 0; m < n; ++m) r.Str();
+      } else {
+        r.at += 4 + 4 + 12;
+        const int n = r.Get<int32_t>();
+        r.at += static_cast<size_t>(n) * 16;
+        if (v.major >= 4)
+          for (int m = 0; m < n; ++m) r.Str();
+      }
+    }
+    EXPECT_EQ(r.Get<int32_t>(), 2);
+    size_t end = sized ? r.Get<int32_t>() + r.at : 0;
+    EXPECT_EQ(r.Str(), "anna");
+    EXPECT_EQ(r.Get<int32_t>(), 3);  // after the two bodies' IDs
+    ASSERT_EQ(r.Get<int32_t>(), 2);
+    EXPECT_EQ(r.Str(), "Hips");
+    EXPECT_EQ(r.Get<int32_t>(), 1);
+    EXPECT_EQ(r.Get<int32_t>(), 0);  // the root
+    r.at += 12;
+    EXPECT_EQ(r.Get<int32_t>(), 0);  // no markers
+    EXPECT_EQ(r.Str(), "LeftUpLeg");
+    EXPECT_EQ(r.Get<int32_t>(), 2);
+    EXPECT_EQ(r.Get<int32_t>(), 1);
+    EXPECT_FLOAT_EQ(r.Get<float>(), 0.09f);
+    EXPECT_FLOAT_EQ(r.Get<float>(), -0.06f);
+    EXPECT_FLOAT_EQ(r.Get<float>(), 0.0f);
+    EXPECT_EQ(r.Get<int32_t>(), 0);
+    if (sized) {
+      EXPECT_EQ(r.at, end);
+    }
+    EXPECT_EQ(r.at, d.size());
+
+    // Frames: solved, then not.
+    for (const bool solved : {true, false}) {
+      SCOPED_TRACE(solved);
+      pipeline::LiveFrame f = OneFrame();
+      f.points.clear();
+      pipeline::LiveSkeleton s;
+      s.model = model.skeletons[0];
+      s.solved = solved;
+      s.rms_mm = 4.0;
+      if (solved) {
+        s.bones.resize(2);
+        s.bones[1].position = {90, 940, 0};
+        s.bones[1].orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()));
+      }
+      f.skeletons = {s};
+      const std::string p = EncodeFrame(f, model, v, FrameStamps{});
+      Reader fr{p};
+      fr.at = 8;
+      auto section = [&](int expected) {
+        EXPECT_EQ(fr.Get<int32_t>(), expected);
+        return sized ? fr.Get<int32_t>() + fr.at : 0;
+      };
+      if (!sized) continue;  // frames read by section sizes (4.1); the older layouts by the SDK's client
+      fr.at = section(2);  // markersets
+      fr.at = section(0);  // others
+      fr.at = section(2);  // rigid bodies
+      end = section(1);
+      EXPECT_EQ(fr.Get<int32_t>(), 3);
+      ASSERT_EQ(fr.Get<int32_t>(), 2);
+      for (int b = 0; b < 2; ++b) {
+        EXPECT_EQ(fr.Get<int32_t>(), (3 << 16) | (b + 1));
+        const float x = fr.Get<float>();
+        const float y = fr.Get<float>();
+        fr.Get<float>();
+        const float qx = fr.Get<float>();
+        fr.at += 8;
+        const float qw = fr.Get<float>();
+        const float error = fr.Get<float>();
+        const int16_t params = fr.Get<int16_t>();
+        if (solved) {
+          EXPECT_FLOAT_EQ(x, b ? 0.09f : 0.0f);
+          EXPECT_FLOAT_EQ(y, b ? 0.94f : 0.0f);
+          EXPECT_NEAR(qx, b ? std::sin(0.25) : 0.0, 1e-6);
+          EXPECT_NEAR(qw, b ? std::cos(0.25) : 1.0, 1e-6);
+          EXPECT_FLOAT_EQ(error, 0.004f);
+          EXPECT_EQ(params, 1);
+        } else {
+          EXPECT_TRUE(std::isnan(x) && std::isnan(qw));
+          EXPECT_EQ(params, 0);  // not tracked: no stale pose
+        }
+      }
+      EXPECT_EQ(fr.at, end);
+    }
+  }
+}
+
 TEST(NatNetFrame, ManyPointsAreCutToOneDatagram) {
   pipeline::LiveFrame f;
   f.points.resize(5000);
