@@ -18,6 +18,7 @@
 #include "io/calibration_json.h"
 #include "pipeline/offline_reconstruction.h"
 #include "pipeline/take_outputs.h"
+#include "recon/blob_time_align.h"
 #include "recon/known_correspondences.h"
 #include "bodies/body_live_filter.h"
 #include "bodies/body_trajectories.h"
@@ -176,8 +177,17 @@ void ReconstructSession(ReconstructArgs args) {
   std::unique_ptr<ProgressBar> progress;
   if (args.progress || !args.progress_file.empty())
     progress = std::make_unique<ProgressBar>("reconstruct", static_cast<size_t>(info.frame_sets), args.progress_file);
+  // Free-running cameras' blobs are brought to each frame set's instant (recon/blob_time_align.h).
+  std::unique_ptr<BlobTimeAligner> aligner;
+  if (info.free_run && !args.no_time_align) {
+    BlobTimeAlignOptions align;
+    align.rate_hz = info.rate_hz;
+    align.epoch_ns = info.epoch_ns;
+    aligner = std::make_unique<BlobTimeAligner>(align);
+  }
   FrameSet frame_set;
   while (reader.Next(&frame_set)) {
+    if (aligner) aligner->Align(&frame_set);
     if (!chain.Add(frame_set)) continue;  // the reader guarantees order
     if (live_bodies) live_bodies->Add(frame_set.frame_number, chain.points());
     if (progress) progress->Update(chain.frames());
@@ -203,6 +213,12 @@ void ReconstructSession(ReconstructArgs args) {
       rs.outlier_views_rejected, rs.ghosts_rejected, ts.reacquisitions, chain.hindsight().swaps_undone(),
       chain.hindsight().columns_joined(), ts.predicted_samples, chain.gap_filler().filled_samples(),
       args.matcher.c_str());
+  if (aligner) {
+    std::printf("%s: free-running cameras: %llu blobs brought to their frame set's instant, %llu left as captured "
+                "(no partner in the camera's previous frame)\n",
+                args.session.c_str(), static_cast<unsigned long long>(aligner->stats().blobs_moved),
+                static_cast<unsigned long long>(aligner->stats().blobs_kept));
+  }
   const SessionReadStats& read = reader.stats();
   if (read.rescaled_frames > 0 || read.wrong_size_frames > 0) {
     std::printf("%s: camera frames of another image size than the calibration's: %llu rescaled, %llu refused\n",
@@ -262,6 +278,9 @@ void AddReconstructCommand(CLI::App& app) {
   command->add_option("--assignment", args->assignment, "Predictions to points")
       ->check(CLI::IsMember({"optimal", "greedy"}))
       ->capture_default_str();
+  command->add_flag("--no-time-align", args->no_time_align,
+                    "Free-run sessions: triangulate each camera's blobs as captured, not brought to the frame "
+                    "set's instant along their 2D tracks");
   command->add_flag("--no-predictions", args->no_predictions,
                     "Match every frame from scratch (no reprojected track predictions)");
   command->add_option("--contested-gate-factor", args->chain.recon.prediction.contested_gate_factor,

@@ -67,6 +67,7 @@ struct SimProjectArgs {
   std::vector<std::string> bumps;  // CAM:DEG:MM
   double bump_from_s = 0.0;
   uint64_t bump_seed = 1;
+  FreeRunOptions free_run;
 };
 
 std::vector<CameraBump> ParseBumps(const SimProjectArgs& args, const Rig& rig) {
@@ -90,6 +91,9 @@ std::vector<CameraBump> ParseBumps(const SimProjectArgs& args, const Rig& rig) {
 void RunSimProject(const SimProjectArgs& args) {
   CheckOptions(args.project);
   CheckOptions(args.body_paths);
+  CheckOptions(args.free_run);
+  FreeRunOptions free_run = args.free_run;
+  free_run.seed = args.project.seed;
   MarkerTrajectories motion = ReadTrc(args.motion);
   const Rig rig = LoadRigJson(args.rig);
   const std::vector<CameraBump> bumps = ParseBumps(args, rig);
@@ -109,7 +113,8 @@ void RunSimProject(const SimProjectArgs& args) {
   }
   ProgressBar progress("sim project", motion.NumFrames());
   const ProjectSessionStats stats = ProjectSession(motion, rig, args.project, args.output,
-                                                   [&](size_t done, size_t) { progress.Update(done); }, bumps);
+                                                   [&](size_t done, size_t) { progress.Update(done); }, bumps,
+                                                   free_run);
   progress.Finish();
   if (!bodies.empty())
     WriteBodyPoses((std::filesystem::path(args.output) / "truth.bodies.tsv").string(), bodies, body_poses, motion.rate_hz);
@@ -192,6 +197,15 @@ void AddSimProjectCommand(CLI::App& app) {
       ->check(FiniteRange(0.0, 1e7))
       ->capture_default_str();
   command->add_option("--bump-seed", args->bump_seed, "Seed of the bumps' axes and directions")->capture_default_str();
+  command->add_flag("--free-run", args->free_run.enabled,
+                    "Free-running cameras (no trigger wire): each exposes at a random phase, its rate off by "
+                    "--rate-error-ppm, its time stamps with --time-jitter-ms (session.json: free_run)");
+  command->add_option("--rate-error-ppm", args->free_run.rate_error_ppm,
+                      "Free run: each camera's rate error, drawn within +- this, ppm")
+      ->capture_default_str();
+  command->add_option("--time-jitter-ms", args->free_run.jitter_ms,
+                      "Free run: sigma of the capture time stamps' error, ms (USB webcams: about 1)")
+      ->capture_default_str();
   command->add_flag("--json", args->json, "Print a JSON summary on stdout");
   command->callback([args] { RunSimProject(*args); });
 }

@@ -21,6 +21,7 @@ struct ReconstructArgs {
   std::string matcher = "relaxation";
   std::string assignment = "optimal";
   bool no_predictions = false;
+  bool no_time_align = false;  // free-run sessions: leave each camera's blobs at its own instant
   pipeline::OfflineReconstructionOptions chain;
   std::string bodies;  // rigid bodies file; empty: none
   BodySmoothingOptions body_smoothing;

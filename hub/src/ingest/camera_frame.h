@@ -25,6 +25,10 @@ struct Blob {
   uint32_t flags = 0;
 };
 
+// Frame flag bit as on the wire (proto FRAME_FLAG_FREE_RUN): no trigger wire, the frame number
+// is the slot of the capture time.
+constexpr uint32_t kFrameFreeRun = 1;
+
 struct CameraFrame {
   uint32_t camera_id = 0;
   uint64_t frame_number = 0;

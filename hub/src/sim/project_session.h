@@ -28,6 +28,22 @@ struct ProjectSessionStats {
   uint64_t present = 0;
 };
 
+// Free-running cameras (no trigger wire, e.g. USB webcams): each camera exposes at its own
+// instants, a random phase within the frame period from the slot's and a rate a little off the
+// nominal (the phase drifts by the rate error every frame), and stamps its capture time with
+// jitter. Each camera frame keeps the slot its instant lies in (as the node numbers a free-running
+// frame); a drift across a slot boundary is wrapped back into the slot, not modelled as the lost
+// or doubled frame it would be.
+struct FreeRunOptions {
+  bool enabled = false;
+  double rate_error_ppm = 100.0;  // each camera's rate error, drawn within +-this
+  double jitter_ms = 1.0;         // sigma of the capture time stamp's error
+  uint64_t seed = 1;
+
+  // Throws std::invalid_argument naming the bad option.
+  void Check() const;
+};
+
 // Simulated sessions start their trigger clock here (2023-11-14), a plausible wall-clock epoch.
 constexpr uint64_t kSimEpochNs = 1700000000000000000ull;
 
@@ -36,6 +52,7 @@ constexpr uint64_t kSimEpochNs = 1700000000000000000ull;
 ProjectSessionStats ProjectSession(const MarkerTrajectories& motion, const Rig& rig, const ProjectOptions& options,
                                    const std::string& dir,
                                    const std::function<void(size_t, size_t)>& progress = nullptr,
-                                   const std::vector<CameraBump>& bumps = {});
+                                   const std::vector<CameraBump>& bumps = {},
+                                   const FreeRunOptions& free_run = {});
 
 }  // namespace mocap

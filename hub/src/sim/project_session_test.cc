@@ -241,3 +241,84 @@ TEST_F(ProjectSessionTest, SameSeedSameSession) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// Free-running cameras: each exposes at its own constant phase (no rate error, no jitter here),
+// its blobs are the motion at that instant and its stamp says when; with jitter the stamps scatter
+// around that instant by the jitter asked.
+TEST_F(ProjectSessionTest, FreeRunningCamerasExposeAtTheirOwnPhase) {
+  ProjectOptions options;
+  options.merge_px = 0.0;
+  FreeRunOptions free_run;
+  free_run.enabled = true;
+  free_run.rate_error_ppm = 0.0;
+  free_run.jitter_ms = 0.0;
+  ProjectSession(motion, rig, options, dir, nullptr, {}, free_run);
+  SessionReader reader;
+  reader.Open(dir);
+  EXPECT_TRUE(reader.Info().free_run);
+  const double period_ns = 1e9 / motion.rate_hz;
+  std::map<uint32_t, double> phase;  // camera -> offset from the slot's instant, frame periods
+  double worst_px = 0.0;
+  size_t samples = 0;
+  FrameSet set;
+  while (reader.Next(&set)) {
+    const size_t f = set.frame_number - motion.frame_numbers[0];
+    for (const CameraFrame& frame : set.cameras) {
+      EXPECT_EQ(frame.flags & kFrameFreeRun, kFrameFreeRun);
+      EXPECT_EQ(frame.trigger_time_ns, 0u);
+      const double slot_ns = static_cast<double>(set.frame_number) * period_ns;
+      const double offset = (static_cast<double>(static_cast<int64_t>(frame.capture_time_ns - kSimEpochNs)) - slot_ns) /
+                            period_ns;
+      EXPECT_GE(offset, -0.5);
+      EXPECT_LT(offset, 0.5);
+      const auto [it, first] = phase.try_emplace(frame.camera_id, offset);
+      EXPECT_NEAR(offset, it->second, 1e-6) << "camera " << frame.camera_id << " frame " << set.frame_number;
+      if (f == 0 || f + 1 >= motion.NumFrames()) continue;
+      const size_t a = offset >= 0.0 ? f : f - 1;
+      const double t = offset >= 0.0 ? offset : 1.0 + offset;
+      const Camera* camera = rig.Find(frame.camera_id);
+      for (size_t m = 0; m < motion.NumMarkers(); ++m) {
+        Eigen::Vector2d pixel;
+        if (!camera->ProjectToPixel((1.0 - t) * motion.At(a, m) + t * motion.At(a + 1, m), &pixel)) continue;
+        double best = 1e300;
+        for (const Blob& blob : frame.blobs) best = std::min(best, (blob.pixel - pixel).norm());
+        worst_px = std::max(worst_px, best);
+        ++samples;
+      }
+    }
+  }
+  EXPECT_EQ(phase.size(), 5u);
+  double spread = 0.0;
+  for (const auto& [camera, offset] : phase) spread = std::max(spread, std::abs(offset - phase.begin()->second));
+  EXPECT_GT(spread, 0.05) << "the cameras' phases differ";
+  EXPECT_GT(samples, 1000u);
+  EXPECT_LE(worst_px, 0.5 / 64.0 * std::sqrt(2.0) + 1e-6);
+
+  // With 1 ms of jitter the stamps scatter about the camera's phase by about that.
+  free_run.jitter_ms = 1.0;
+  ProjectSession(motion, rig, options, dir, nullptr, {}, free_run);
+  SessionReader jittered;
+  jittered.Open(dir);
+  double sum_sq = 0.0;
+  size_t stamps = 0;
+  while (jittered.Next(&set)) {
+    for (const CameraFrame& frame : set.cameras) {
+      const double slot_ns = static_cast<double>(set.frame_number) * period_ns;
+      const double error_ns = static_cast<double>(static_cast<int64_t>(frame.capture_time_ns - kSimEpochNs)) - slot_ns -
+                              phase.at(frame.camera_id) * period_ns;
+      sum_sq += error_ns * error_ns;
+      ++stamps;
+    }
+  }
+  ASSERT_EQ(stamps, 450u);
+  EXPECT_NEAR(std::sqrt(sum_sq / static_cast<double>(stamps)), 1e6, 0.15e6);
+
+  free_run.jitter_ms = -1.0;
+  EXPECT_THROW(ProjectSession(motion, rig, options, dir, nullptr, {}, free_run), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mocap

@@ -108,6 +108,16 @@ std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_
                                                   const Eigen::Vector3d* points,
                                                   std::vector<int>* cameras_seeing,
                                                   std::vector<std::vector<int>>* blob_markers) {
+  return Project(frame_number, trigger_time_ns, std::vector<const Eigen::Vector3d*>(rig_.cameras.size(), points),
+                 cameras_seeing, blob_markers);
+}
+
+std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_t trigger_time_ns,
+                                                  const std::vector<const Eigen::Vector3d*>& camera_points,
+                                                  std::vector<int>* cameras_seeing,
+                                                  std::vector<std::vector<int>>* blob_markers) {
+  if (camera_points.size() != rig_.cameras.size())
+    throw std::invalid_argument("one point array per camera is needed");
   cameras_seeing->assign(num_markers_, 0);
   if (blob_markers) blob_markers->clear();
   std::vector<CameraFrame> frames;
@@ -115,7 +125,7 @@ std::vector<CameraFrame> FaultyProjector::Project(uint64_t frame_number, uint64_
   for (size_t i = 0; i < rig_.cameras.size(); ++i) {
     CameraFrame frame;
     markers.clear();
-    if (!ProjectCamera(i, frame_number, points, cameras_seeing, &frame, &markers)) continue;
+    if (!ProjectCamera(i, frame_number, camera_points[i], cameras_seeing, &frame, &markers)) continue;
     if (blob_markers) blob_markers->push_back(markers);
     frame.trigger_time_ns = trigger_time_ns;
     // Exposure start to readout on a small global-shutter sensor, then detection on the node.

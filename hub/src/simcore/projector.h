@@ -48,6 +48,13 @@ class FaultyProjector {
   std::vector<CameraFrame> Project(uint64_t frame_number, uint64_t trigger_time_ns,
                                    const Eigen::Vector3d* points, std::vector<int>* cameras_seeing,
                                    std::vector<std::vector<int>>* blob_markers = nullptr);
+  // The same with each camera's own positions (camera_points[i] for rig camera i, num_markers
+  // each): free-running cameras expose at their own instants. The faults' draws are those of the
+  // call above.
+  std::vector<CameraFrame> Project(uint64_t frame_number, uint64_t trigger_time_ns,
+                                   const std::vector<const Eigen::Vector3d*>& camera_points,
+                                   std::vector<int>* cameras_seeing,
+                                   std::vector<std::vector<int>>* blob_markers = nullptr);
 
   // Radius in pixels of a marker's blob at this depth in front of the camera.
   double BlobRadiusPx(const Camera& camera, double depth_mm) const;
