@@ -170,6 +170,7 @@ nlohmann::json ProcessingJobs::Start(const std::string& session, const nlohmann:
   fs::remove(job.output_dir / "progress.json", ec);
   job.id = next_id_++;
   jobs_.push_back(std::move(job));
+  ++active_;
   return Describe(jobs_.back());
 }
 
@@ -230,18 +231,24 @@ void ProcessingJobs::Finish(Job& job, int wait_status) {
 }
 
 void ProcessingJobs::Poll() {
+  if (active_.load(std::memory_order_relaxed) == 0) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now < next_poll_) return;
+  next_poll_ = now + std::chrono::milliseconds(50);
   std::lock_guard<std::mutex> lock(mutex_);
-  bool running = false;
+  bool running = false, changed = false;
   for (Job& job : jobs_) {
     if (job.state != "running") continue;
     int status = 0;
     const pid_t done = waitpid(job.pid, &status, WNOHANG);
     if (done == job.pid) {
       Finish(job, status);
+      changed = true;
     } else if (done < 0 && errno != EINTR) {
       job.pid = -1;
       job.state = "failed";
       job.reason = std::string("lost track of its process: ") + std::strerror(errno);
+      changed = true;
     } else {
       running = true;
     }
@@ -250,19 +257,20 @@ void ProcessingJobs::Poll() {
     for (Job& job : jobs_) {
       if (job.state != "queued") continue;
       Launch(job);
+      changed = true;
       if (job.state == "running") break;
     }
   }
-  // Finished jobs beyond the history go, oldest first (they are at the front).
-  size_t finished = 0;
-  for (const Job& job : jobs_) finished += job.state == "done" || job.state == "failed";
-  while (finished > options_.history && (jobs_.front().state == "done" || jobs_.front().state == "failed")) {
-    jobs_.pop_front();
-    --finished;
-  }
-  // Keep the order: finished, running, queued.
-  std::stable_partition(jobs_.begin(), jobs_.end(),
-                        [](const Job& j) { return j.state == "done" || j.state == "failed"; });
+  if (changed) Tidy();
+}
+
+void ProcessingJobs::Tidy() {
+  const auto finished = [](const Job& j) { return j.state == "done" || j.state == "failed"; };
+  // Keep the order: finished, running, queued; then the oldest finished beyond the history go.
+  std::stable_partition(jobs_.begin(), jobs_.end(), finished);
+  const size_t done = static_cast<size_t>(std::count_if(jobs_.begin(), jobs_.end(), finished));
+  for (size_t extra = done > options_.history ? done - options_.history : 0; extra > 0; --extra) jobs_.pop_front();
+  active_.store(jobs_.size() - std::min(done, options_.history), std::memory_order_relaxed);
 }
 
 nlohmann::json ProcessingJobs::Describe(const Job& job) const {

@@ -20,6 +20,8 @@
 
 #include <sys/types.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -57,7 +59,8 @@ class ProcessingJobs {
   // "outputs": the files written (done)}, ...]}, newest first: the queued, the running, the last
   // finished ones.
   nlohmann::json Jobs() const;
-  // Reaps a finished child and starts the next queued job. Cheap when nothing changed.
+  // Reaps a finished child and starts the next queued job. Called every turn of the hub's loop:
+  // without a queued or running job it reads one atomic; with one it looks at most every 50 ms.
   void Poll();
 
  private:
@@ -78,11 +81,14 @@ class ProcessingJobs {
   void Launch(Job& job);
   void Finish(Job& job, int wait_status);
   nlohmann::json Describe(const Job& job) const;
+  void Tidy();  // finished jobs first and at most `history` of them
 
   const ProcessingJobsOptions options_;
   mutable std::mutex mutex_;
   std::deque<Job> jobs_;  // finished (oldest first), then the running one, then the queued ones
   uint64_t next_id_ = 1;
+  std::atomic<size_t> active_{0};  // queued or running jobs
+  std::chrono::steady_clock::time_point next_poll_{};
 };
 
 }  // namespace mocap::service
