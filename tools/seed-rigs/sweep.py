@@ -165,22 +165,19 @@ def main():
             make_rig(hub, motion, cameras, args.width, args.height, rig)
             cells += [(hub, motion, stem, cameras, noise, rig, args) for noise in args.noise.split(",")]
     if args.free_run_hz > 0.0:
-        if not args.json:
-            print("| motion | Hz | cameras | noise px | synchronised: rmse mm (found, ghosts/frame) | free-running, "
-                  "brought to the set's instant | free-running, as captured (--no-time-align) | free / sync rmse |")
-            print("|---|---|---|---|---|---|---|---|")
-        with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-            for cell in pool.map(lambda c: run_free_run_cell(*c), cells):
-                print(json.dumps(cell) if args.json else free_run_row(cell), flush=True)
-        return
+        header = ("| motion | Hz | cameras | noise px | synchronised: rmse mm (found, ghosts/frame) | free-running, "
+                  "brought to the set's instant | free-running, as captured (--no-time-align) | free / sync rmse |",
+                  "|---|---|---|---|---|---|---|---|")
+        run, row = run_free_run_cell, free_run_row
+    else:
+        header = ("| motion | cameras | noise px | found % | ghosts/frame | missing/frame | trajectories / markers "
+                  "| rmse mm | floor rmse mm | rmse / floor |", "|---|---|---|---|---|---|---|---|---|---|")
+        run, row = run_cell, table_row
     if not args.json:
-        print("| motion | cameras | noise px | found % | ghosts/frame | missing/frame | trajectories / markers "
-              "| rmse mm | floor rmse mm | rmse / floor |")
-        print("|---|---|---|---|---|---|---|---|---|---|")
+        print("\n".join(header))
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        for cell in pool.map(lambda c: run_cell(*c), cells):
-            print(json.dumps(cell) if args.json else table_row(cell), flush=True)
-
+        for cell in pool.map(lambda c: run(*c), cells):
+            print(json.dumps(cell) if args.json else row(cell), flush=True)
 
 if __name__ == "__main__":
     main()
