@@ -24,7 +24,7 @@ void AddConvertCommand(CLI::App& app) {
     const bool archive_in = IsArchivePath(args->input), archive_out = IsArchivePath(args->output);
     try {
       if (!archive_in) TrajectoryFormatOf(args->input);
-      if (!archive_out) TrajectoryFormatOf(args->output);
+      if (!archive_out) OutputTrajectoryFormatOf(args->output);
     } catch (const std::invalid_argument& error) {
       throw UsageError(std::string(error.what()) + " or .mca archives");
     }

@@ -48,7 +48,7 @@ struct LabelsApplyArgs {
 
 void RunLabelsApply(const LabelsApplyArgs& args) {
   try {
-    TrajectoryFormatOf(args.output);
+    OutputTrajectoryFormatOf(args.output);
   } catch (const std::invalid_argument& error) {
     throw UsageError(error.what());
   }

@@ -118,7 +118,7 @@ void RunRegister(const RegisterArgs& args) {
     if (source.is_mesh && !IsObjPath(args.output))
       throw UsageError("-o: '" + args.output + "' must be an .obj, as the source is a mesh");
     try {
-      if (!source.is_mesh) TrajectoryFormatOf(args.output);
+      if (!source.is_mesh) OutputTrajectoryFormatOf(args.output);
     } catch (const std::invalid_argument& error) {
       throw UsageError(std::string("-o: ") + error.what());
     }

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/live_points.h"
 #include "io/trajectory_file.h"
 #include "util/special_file_testing.h"
 #include "util/temporary_directory_testing.h"
@@ -211,6 +212,27 @@ TEST(TrajectoryFile, ByExtension) {
   WriteTrajectories(t, trc);
   WriteTrajectories(ReadTrajectories(trc), c3d);
   ExpectSame(ReadTrajectories(trc), ReadTrajectories(c3d));
+}
+
+// A capture's live points read like any marker file (labels apply, convert), each track a column;
+// writing one is refused, before anything is written.
+TEST(TrajectoryFile, LivePointsAreReadNeverWritten) {
+  const testing::TemporaryDirectory temp("c3d_test");
+  const std::string tsv = temp.File("live_points.tsv");
+  {
+    std::ofstream out(tsv);
+    out << LivePointsHeader(100) << LivePointLine(7, 1, 2, 3, 5, false, 3, 0.1)
+        << LivePointLine(8, 1, 2, 4, 5, false, 3, 0.1);
+  }
+  EXPECT_EQ(TrajectoryFormatOf(tsv), TrajectoryFormat::kLivePoints);
+  const MarkerTrajectories t = ReadTrajectories(tsv);
+  ASSERT_EQ(t.names, std::vector<std::string>{"T5"});
+  ASSERT_EQ(t.frame_numbers, (std::vector<uint64_t>{7, 8}));
+  EXPECT_EQ(t.At(1, 0), Eigen::Vector3d(1, 2, 4));
+  const std::string out = temp.File("out.tsv");
+  EXPECT_THROW(OutputTrajectoryFormatOf(out), std::invalid_argument);
+  EXPECT_THROW(WriteTrajectories(t, out), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 }  // namespace

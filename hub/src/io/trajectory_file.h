@@ -1,6 +1,7 @@
 // Marker files by extension: `.trc` (OpenSim, io/trc.h) or `.c3d` (io/c3d.h), for every command
-// that reads or writes trajectories. Errors: std::invalid_argument for any other extension,
-// otherwise the formats' own std::runtime_error.
+// that reads or writes trajectories; a capture's `live_points.tsv` (io/live_points.h, any `.tsv`)
+// is read too, never written (serve writes it). Errors: std::invalid_argument for any other
+// extension (or writing a .tsv), otherwise the formats' own std::runtime_error.
 #pragma once
 
 #include <memory>
@@ -15,11 +16,14 @@
 
 namespace mocap {
 
-enum class TrajectoryFormat { kTrc, kC3d };
+enum class TrajectoryFormat { kTrc, kC3d, kLivePoints };
 
 // From the file name's extension (case-insensitive).
 TrajectoryFormat TrajectoryFormatOf(const std::string& path);
+// The same for a file to write: refuses live points (std::invalid_argument).
+TrajectoryFormat OutputTrajectoryFormatOf(const std::string& path);
 
+// Live points: each track its own column as io/live_points.h reads them.
 MarkerTrajectories ReadTrajectories(const std::string& path);
 void WriteTrajectories(const MarkerTrajectories& trajectories, const std::string& path);
 
