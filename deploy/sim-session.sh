@@ -194,6 +194,12 @@ for _ in $(seq 200); do
     [ "$running" -ge "${#ids[@]}" ] && break
     sleep 0.05
 done
+# ...and once frames flow (the table shows a node still waiting for its first trigger as such).
+for _ in $(seq 100); do
+    waiting=$("$hub" nodes --json | grep -c '"frames_sent": 0,' || true)
+    [ "$waiting" -eq 0 ] && break
+    sleep 0.05
+done
 if [ "$json" = 1 ]; then "$hub" nodes >&2; else "$hub" nodes; fi
 
 # Nodes end with their recording; allow the replay's length plus start-up and a margin.
@@ -226,12 +232,14 @@ latency=$(python3 -c '
 import json, sys
 s = json.loads(sys.argv[1])
 n, h, p = s["node_latency_ms"], s["hub_latency_ms"], s["processing_ms"]
-print(json.dumps({"trigger_to_send_p50": n["p50"], "trigger_to_send_p99": n["p99"],
-                  "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"],
-                  "processing_p50": p["p50"], "processing_p99": p["p99"], "processing_max": p["max"],
-                  "incomplete_frame_sets": s["incomplete_frame_sets"],
-                  **({"stream_p50": t["p50"], "stream_p99": t["p99"], "stream_max": t["max"]}
-                     if (t := s.get("stream", {}).get("publish_to_sent_ms", {})).get("frames") else {})}))' "$status")
+figures = {"trigger_to_send_p50": n["p50"], "trigger_to_send_p99": n["p99"],
+           "hub_p50": h["p50"], "hub_p99": h["p99"], "hub_max": h["max"],
+           "processing_p50": p["p50"], "processing_p99": p["p99"], "processing_max": p["max"],
+           **({"stream_p50": t["p50"], "stream_p99": t["p99"], "stream_max": t["max"]}
+              if (t := s.get("stream", {}).get("publish_to_sent_ms", {})).get("frames") else {})}
+# Microseconds are the resolution that matters; more digits are noise.
+print(json.dumps({**{k: round(v, 3) for k, v in figures.items()},
+                  "incomplete_frame_sets": s["incomplete_frame_sets"]}))' "$status")
 
 if [ "$json" = 1 ]; then
     printf '{"trc": "%s", "live_points": "%s", "cameras": %d, "frames": %d, "rate_hz": %s, "network": "%s", "frame_sets": %s, "latency_ms": %s, "live": %s, "filled": %s}\n' \
@@ -239,7 +247,16 @@ if [ "$json" = 1 ]; then
         "$([ "$netns_ok" = 1 ] && echo netns || echo loopback)" "$sets" "$latency" "$live" "$filled"
 else
     echo "frame sets: $sets"
-    echo "latency (ms): $latency"
+    python3 -c '
+import json, sys
+l = json.loads(sys.argv[1])
+print("latency (ms): trigger -> node sent p50 %.3f p99 %.3f; last datagram -> 3D published p50 %.3f p99 %.3f max %.3f"
+      % (l["trigger_to_send_p50"], l["trigger_to_send_p99"], l["hub_p50"], l["hub_p99"], l["hub_max"]))
+print("              processing p50 %.3f p99 %.3f max %.3f; incomplete frame sets %d"
+      % (l["processing_p50"], l["processing_p99"], l["processing_max"], l["incomplete_frame_sets"]))
+if "stream_p50" in l:
+    print("              published -> sent to stream clients p50 %.3f p99 %.3f max %.3f"
+          % (l["stream_p50"], l["stream_p99"], l["stream_max"]))' "$latency"
     echo
     echo "live result (every point serve published, as published): $session/live_points.tsv"
     "$hub" eval --truth "$frames_dir/truth.trc" --result "$session/live_points.tsv" --visibility "$frames_dir/visibility.tsv"

@@ -11,6 +11,7 @@
 
 #include "cli/api_client.h"
 #include "cli/commands.h"
+#include "cli/node_table.h"
 
 namespace mocap {
 namespace {
@@ -19,30 +20,11 @@ using nlohmann::json;
 
 void Print(const json& j) { std::printf("%s\n", j.dump(2).c_str()); }
 
-std::string Str(const json& j, const char* key) {
-  if (!j.contains(key) || j[key].is_null()) return "-";
-  return j[key].is_string() ? j[key].get<std::string>() : j[key].dump();
-}
+std::string Str(const json& j, const char* key) { return JsonFieldText(j, key); }
 
 void PrintNodes(const json& nodes) {
-  std::printf("%4s  %-21s  %-12s  %-10s  %6s  %8s  %9s  %9s  %5s  %6s  %9s  %s\n", "id", "address", "state",
-              "firmware", "fps", "detect", "sent", "dropped", "thr", "temp", "jitter", "seen");
-  for (const json& n : nodes) {
-    const std::string temp = n["temperature_c"].is_null() ? "-" : std::to_string(n["temperature_c"].get<double>()).substr(0, 4);
-    // A camera whose image size is not the calibration's (image_size_check.h) is flagged here.
-    std::string image;
-    const std::string size = Str(n, "width") + "x" + Str(n, "height");
-    if (n.value("rescaled_frames", 0ull) > 0)
-      image += ", " + size + " images rescaled to the calibration's (" + Str(n, "rescaled_frames") + " frames)";
-    if (n.value("wrong_size_frames", 0ull) > 0)
-      image += ", " + size + " images REFUSED: not the calibration's size (" + Str(n, "wrong_size_frames") + " frames)";
-    std::printf("%4u  %-21s  %-12s  %-10s  %6.1f  %6uus  %9llu  %9llu  %5u  %6s  %7uns  %.1fs ago%s%s\n",
-                n["id"].get<unsigned>(), n["address"].get<std::string>().c_str(), n["state"].get<std::string>().c_str(),
-                n["firmware"].get<std::string>().c_str(), n["fps"].get<double>(), n["detect_us_mean"].get<unsigned>(),
-                n["frames_sent"].get<unsigned long long>(), n["frames_dropped"].get<unsigned long long>(),
-                n["threshold"].get<unsigned>(), temp.c_str(), n["sync"]["edge_jitter_ns"].get<unsigned>(),
-                n["last_seen_s"].get<double>(), n["masked"].get<bool>() ? ", masked" : "", image.c_str());
-  }
+  std::printf("%s\n", NodeTableHeader().c_str());
+  for (const json& n : nodes) std::printf("%s\n", NodeTableRow(n).c_str());
 }
 
 void PrintStatus(const json& s) {
@@ -50,8 +32,9 @@ void PrintStatus(const json& s) {
   std::printf("up %.0f s; nodes %s online of %s known (%s cameras calibrated); UDP port %s\n",
               s["uptime_s"].get<double>(), Str(s, "nodes_online").c_str(), Str(s, "nodes_known").c_str(),
               Str(s, "cameras").c_str(), Str(s, "udp_port").c_str());
-  std::printf("frame sets %s (%s incomplete); points %s (%s provisional); markers confirmed %s\n",
-              Str(s, "frame_sets").c_str(), Str(s, "incomplete_frame_sets").c_str(), Str(s, "points_published").c_str(),
+  std::printf("frame sets %s (%s incomplete, %s of one camera only); points %s (%s provisional); markers confirmed %s\n",
+              Str(s, "frame_sets").c_str(), Str(s, "incomplete_frame_sets").c_str(),
+              Str(s, "single_camera_frame_sets").c_str(), Str(s, "points_published").c_str(),
               Str(s, "provisional_points_published").c_str(), Str(s, "markers_confirmed").c_str());
   std::printf("hub latency (last datagram -> 3D published): p50 %.3f ms, p99 %.3f ms, max %.3f ms\n",
               l["p50"].get<double>(), l["p99"].get<double>(), l["max"].get<double>());
