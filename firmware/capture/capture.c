@@ -102,11 +102,24 @@ int mn_capture_release(struct mn_capture *c, const struct mn_frame *frame)
 
 int mn_capture_set_exposure(struct mn_capture *c, uint32_t exposure_us)
 {
+    if (c->ops->set_exposure == NULL) {
+        errno = ENOTSUP; /* the source's exposure is fixed */
+        return -1;
+    }
     return c->ops->set_exposure(c->impl, exposure_us);
+}
+
+bool mn_capture_exposure_fixed(const struct mn_capture *c)
+{
+    return c->ops->set_exposure == NULL && c->ops->set_gain == NULL;
 }
 
 int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli)
 {
+    if (c->ops->set_gain == NULL) {
+        errno = ENOTSUP; /* the source's gain is fixed */
+        return -1;
+    }
     return c->ops->set_gain(c->impl, gain_milli);
 }
 

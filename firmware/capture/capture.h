@@ -44,7 +44,8 @@ struct mn_capture_ops {
      * (libcamera after an unplug): close still works, and the process should exit. */
     int (*dequeue)(void *impl, struct mn_frame *frame);
     int (*release)(void *impl, const struct mn_frame *frame);
-    /* Controls: -1 with errno ENOTSUP where the device has no such control. */
+    /* Controls: -1 with errno ENOTSUP where the device has no such control. NULL for both: the
+     * source's exposure and gain are fixed (a recording), as mn_capture_exposure_fixed says. */
     int (*set_exposure)(void *impl, uint32_t exposure_us);
     int (*set_gain)(void *impl, uint32_t gain_milli);
     /* A picture control at pct percent of the camera's range (0 = its minimum, 100 = maximum);
@@ -87,6 +88,9 @@ int mn_capture_fd(const struct mn_capture *c);
 int mn_capture_dequeue(struct mn_capture *c, struct mn_frame *frame);
 int mn_capture_release(struct mn_capture *c, const struct mn_frame *frame);
 int mn_capture_set_exposure(struct mn_capture *c, uint32_t exposure_us);
+/* True when the source has no exposure or gain to set (recorded frames): the node then reports
+ * its exposure as fixed rather than a value. */
+bool mn_capture_exposure_fixed(const struct mn_capture *c);
 int mn_capture_set_gain(struct mn_capture *c, uint32_t gain_milli);
 int mn_capture_set_picture(struct mn_capture *c, enum mn_picture_control which, uint32_t pct,
                            double *value_out);

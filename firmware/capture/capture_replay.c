@@ -276,13 +276,6 @@ static int replay_release(void *impl, const struct mn_frame *frame)
     return 0;
 }
 
-static int no_control(void *impl, uint32_t value)
-{
-    (void)impl, (void)value;
-    errno = ENOTSUP; /* a recording's exposure is fixed */
-    return -1;
-}
-
 static int no_picture(void *impl, enum mn_picture_control which, uint32_t pct, double *value_out)
 {
     (void)impl, (void)which, (void)pct, (void)value_out;
@@ -308,8 +301,8 @@ const struct mn_capture_ops mn_capture_replay_ops = {
     .fd = replay_fd,
     .dequeue = replay_dequeue,
     .release = replay_release,
-    .set_exposure = no_control,
-    .set_gain = no_control,
+    .set_exposure = NULL, /* a recording's exposure and gain are fixed */
+    .set_gain = NULL,
     .set_picture = no_picture,
     .close = replay_close,
 };

@@ -402,6 +402,7 @@ static void send_status(struct mn_node *n, int64_t now)
     c.threshold = n->auto_threshold ? mn_detector_stats(n->detector)->threshold : n->threshold;
     c.exposure_us = n->exposure_us;
     c.gain_milli = n->gain_milli;
+    c.exposure_fixed = n->capture != NULL && mn_capture_exposure_fixed(n->capture);
     c.control_rejected = n->stats.control_rejected;
     c.auth_rejected = n->stats.auth_rejected;
     c.camera_reopens = n->stats.camera_reopens;

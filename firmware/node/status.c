@@ -76,6 +76,7 @@ void mn_status_build(const struct mn_status_counters *c, const char *temperature
     s->threshold = c->threshold;
     s->exposure_us = c->exposure_us;
     s->gain_milli = c->gain_milli;
+    s->exposure_fixed = c->exposure_fixed;
     s->control_rejected = c->control_rejected;
     s->auth_rejected = c->auth_rejected;
     s->camera_reopens = c->camera_reopens;

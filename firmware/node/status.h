@@ -20,6 +20,7 @@ struct mn_status_counters {
     uint64_t detect_ns_sum, detect_ns_max, detect_count;
     struct mn_sync_health sync;
     uint32_t threshold, exposure_us, gain_milli;
+    bool exposure_fixed; /* the source has no exposure or gain to set (a recording) */
     uint32_t control_rejected, camera_reopens, auth_rejected;
     uint32_t width, height;
 };

@@ -159,6 +159,14 @@ class WebConsoleTest(unittest.TestCase):
             wait_for("the row's state",
                      lambda: row.find_element(By.CSS_SELECTOR, "[data-field=state]").text == node["state"])
             self.assertEqual(row.find_element(By.CSS_SELECTOR, "[data-field=address]").text, node["address"])
+            # Replayed frames have no exposure or gain: the row says so instead of showing a 0.
+            self.assertTrue(node["exposure_fixed"], node)
+            self.assertIsNone(node["exposure_us"], node)
+            exposure = row.find_element(By.CSS_SELECTOR, "input[data-field=exposure_us]")
+            wait_for("the exposure shown as fixed",
+                     lambda: exposure.get_attribute("placeholder") == "fixed (recording)" or None)
+            self.assertFalse(exposure.is_enabled())
+            self.assertEqual(exposure.get_attribute("value"), "")
         errors = [e for e in self.page.get_log("browser") if e["level"] == "SEVERE"]
         self.assertEqual(errors, [], "the console logs no errors")
         print(f"page load on loopback: load event {load_ms:.0f} ms, node rows shown {rows_s * 1000:.0f} ms "

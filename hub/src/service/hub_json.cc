@@ -48,8 +48,10 @@ nlohmann::json NodeJson(const NodeEntry& n, const IngestStats& stats, const std:
       {"times_lost", n.times_lost},
       {"restarts", n.restarts},
       {"threshold", n.threshold},
-      {"exposure_us", n.exposure_us},
-      {"gain_milli", n.gain_milli},
+      // Recorded frames have no exposure or gain to set: null, not a 0 that reads as a setting.
+      {"exposure_fixed", n.exposure_fixed},
+      {"exposure_us", n.exposure_fixed ? nlohmann::json(nullptr) : nlohmann::json(n.exposure_us)},
+      {"gain_milli", n.exposure_fixed ? nlohmann::json(nullptr) : nlohmann::json(n.gain_milli)},
       {"width", n.width},
       {"height", n.height},
       {"control_rejected", n.control_rejected},

@@ -47,6 +47,7 @@ void CopyStatus(const v1::NodeStatus& s, uint64_t now_ns, NodeEntry* e) {
   e->threshold = s.threshold();
   e->exposure_us = s.exposure_us();
   e->gain_milli = s.gain_milli();
+  e->exposure_fixed = s.exposure_fixed();
   e->control_rejected = s.control_rejected();
   e->auth_rejected = s.auth_rejected();
   e->camera_reopens = s.camera_reopens();

@@ -69,6 +69,7 @@ struct NodeEntry {
   uint32_t threshold = 0;
   uint32_t exposure_us = 0;
   uint32_t gain_milli = 0;
+  bool exposure_fixed = false;  // recorded frames: exposure and gain say nothing
   uint32_t control_rejected = 0;
   uint32_t auth_rejected = 0;     // hub datagrams the node refused as unauthentic
   uint32_t camera_reopens = 0;

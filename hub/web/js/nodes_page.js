@@ -71,18 +71,25 @@ export class NodesPage {
       c.state.textContent = node.state;
       c.address.textContent = node.address;
       c.firmware.textContent = node.firmware || '–';
-      c.fps.textContent = formatNumber(node.fps, 1);
+      // Before its first frame a running node has no rate or detection time: say what it waits for.
+      const waiting = node.state === 'running' && node.frames_sent === 0;
+      c.fps.textContent = waiting ? 'waiting for the first trigger' : formatNumber(node.fps, 1);
       c.dropped.textContent = node.frames_dropped;
-      c.detect.textContent = formatNumber(node.detect_us_mean, 0);
+      c.detect.textContent = waiting ? '–' : formatNumber(node.detect_us_mean, 0);
       c.temperature.textContent = formatNumber(node.temperature_c, 1);
       const jitter = formatNumber(node.sync.edge_jitter_ns / 1000, 1);
       c.sync.textContent = `${jitter} µs · ${node.sync.missed_edges} missed`;
       c.seen.textContent = lastSeen(node.last_seen_s);
+      // Exposure and gain: fixed for recorded frames (nothing to set), 0 = the camera's own.
       for (const [key, value] of [['threshold', node.threshold], ['exposure_us', node.exposure_us],
-        ['gain', node.gain_milli / 1000]]) {
+        ['gain', node.gain_milli === null ? null : node.gain_milli / 1000]]) {
         const input = row.inputs[key];
-        input.dataset.current = value;
-        if (document.activeElement !== input && !input.dataset.edited) input.value = value;
+        const fixed = key !== 'threshold' && node.exposure_fixed;
+        input.disabled = fixed;
+        input.placeholder = fixed ? 'fixed (recording)' : key !== 'threshold' ? "camera's own" : '';
+        input.dataset.current = value === null ? '' : value;
+        const shown = fixed || (key !== 'threshold' && !value) ? '' : value;
+        if (document.activeElement !== input && !input.dataset.edited) input.value = shown;
       }
     }
     for (const [id, row] of this.rows) {
