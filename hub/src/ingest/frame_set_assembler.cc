@@ -85,7 +85,7 @@ std::vector<FrameSet> FrameSetAssembler::Collect(uint64_t now_ns) {
     const bool expired = now_ns >= it->second.first_arrival_ns + options_.deadline_ns;
     const bool overflow = open_.size() > options_.max_open_sets;
     if (!complete && !expired && !overflow) break;
-    if (!complete) ++incomplete_;
+    if (!complete) CountIncomplete(it->second.set);
     emitted_any_ = true;
     last_emitted_ = it->first;
     out.push_back(std::move(it->second.set));
@@ -94,10 +94,15 @@ std::vector<FrameSet> FrameSetAssembler::Collect(uint64_t now_ns) {
   return out;
 }
 
+void FrameSetAssembler::CountIncomplete(const FrameSet& set) {
+  ++incomplete_;
+  if (set.cameras.size() == 1 && expected_.size() >= 2) ++single_camera_;
+}
+
 std::vector<FrameSet> FrameSetAssembler::Flush() {
   std::vector<FrameSet> out;
   for (auto& [key, open] : open_) {
-    if (expected_.empty() || open.set.cameras.size() < expected_.size()) ++incomplete_;
+    if (expected_.empty() || open.set.cameras.size() < expected_.size()) CountIncomplete(open.set);
     emitted_any_ = true;
     last_emitted_ = key;
     out.push_back(std::move(open.set));

@@ -55,6 +55,9 @@ class FrameSetAssembler {
   uint64_t late_frames() const { return late_; }
   uint64_t duplicate_frames() const { return duplicates_; }
   uint64_t incomplete_sets() const { return incomplete_; }
+  // Sets handed out with one camera while two or more are expected: nothing in them can be
+  // triangulated (under load, the other cameras' frames came after the deadline).
+  uint64_t single_camera_sets() const { return single_camera_; }
   uint64_t off_clock_frames() const { return off_clock_; }
 
  private:
@@ -71,7 +74,9 @@ class FrameSetAssembler {
   bool emitted_any_ = false;
   uint64_t last_emitted_ = 0;
   bool clock_known_ = false;
-  uint64_t late_ = 0, duplicates_ = 0, incomplete_ = 0, off_clock_ = 0;
+  void CountIncomplete(const FrameSet& set);
+
+  uint64_t late_ = 0, duplicates_ = 0, incomplete_ = 0, single_camera_ = 0, off_clock_ = 0;
 };
 
 }  // namespace mocap

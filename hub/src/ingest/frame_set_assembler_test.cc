@@ -36,6 +36,25 @@ TEST(FrameSetAssembler, CompleteSetLeavesAtOnceIncompleteAtDeadline) {
   ASSERT_EQ(sets.size(), 1u);
   EXPECT_EQ(sets[0].frame_number, 6u);
   EXPECT_EQ(a.incomplete_sets(), 1u);
+  EXPECT_EQ(a.single_camera_sets(), 1u);  // frame 6 held camera 1 alone
+
+  // Two cameras of three: incomplete but not single; flushed single sets count too.
+  EXPECT_TRUE(a.Add(Frame(1, 7), 20 * kMs));
+  EXPECT_TRUE(a.Add(Frame(3, 7), 20 * kMs));
+  EXPECT_TRUE(a.Add(Frame(2, 8), 21 * kMs));
+  EXPECT_EQ(a.Collect(30 * kMs).size(), 1u);  // frame 7 at its deadline, frame 8 not yet
+  EXPECT_EQ(a.incomplete_sets(), 2u);
+  EXPECT_EQ(a.single_camera_sets(), 1u);
+  EXPECT_EQ(a.Flush().size(), 1u);
+  EXPECT_EQ(a.incomplete_sets(), 3u);
+  EXPECT_EQ(a.single_camera_sets(), 2u);
+}
+
+TEST(FrameSetAssembler, ASingleCameraRigHasNoSingleCameraSetsToWarnOf) {
+  FrameSetAssembler a(FrameSetAssemblerOptions{}, {4});
+  EXPECT_TRUE(a.Add(Frame(4, 1), 0));
+  EXPECT_EQ(a.Collect(0).size(), 1u);
+  EXPECT_EQ(a.single_camera_sets(), 0u);
 }
 
 TEST(FrameSetAssembler, LateAndDuplicateFramesAreDropped) {

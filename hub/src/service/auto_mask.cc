@@ -267,6 +267,13 @@ std::vector<v1::Control> MaskCommands(const CameraMask& mask, const NodeMaskLimi
   return commands;
 }
 
+size_t CountMaskedCameras(const std::vector<CameraMask>& masks, const Rig& rig) {
+  size_t count = 0;
+  for (const CameraMask& m : masks)
+    count += !m.regions.empty() && (rig.cameras.empty() || rig.Find(m.camera_id) != nullptr);
+  return count;
+}
+
 nlohmann::json MasksToJson(const std::vector<CameraMask>& masks) {
   nlohmann::json cameras = nlohmann::json::array();
   for (const CameraMask& m : masks) {

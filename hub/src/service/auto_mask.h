@@ -16,6 +16,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "geometry/camera.h"
 #include "ingest/camera_frame.h"
 #include "mocap.pb.h"
 
@@ -84,6 +85,11 @@ std::vector<v1::Control> MaskCommands(const CameraMask& mask, const NodeMaskLimi
 
 // The installation's mask file: {"version": 1, "cameras": [{camera_id, width, height, frames,
 // blobs: [{x, y, radius_px, presence}], regions: [{x, y, width, height}]}]}.
+// Cameras a mask actually masks: at least one region, and a camera of the calibration (every
+// camera when the rig has none yet). What the operator is told ("masks N"); a mask that found
+// nothing static, or one kept in the file for a camera no longer calibrated, masks nothing here.
+size_t CountMaskedCameras(const std::vector<CameraMask>& masks, const Rig& rig);
+
 nlohmann::json MasksToJson(const std::vector<CameraMask>& masks);
 std::vector<CameraMask> MasksFromJson(const nlohmann::json& document, const std::string& source);
 

@@ -212,6 +212,22 @@ TEST(AutoMask, ManyRegionsTravelAsTheCellImage) {
   EXPECT_THROW(MaskCommands(mask, tiny), std::invalid_argument);
 }
 
+TEST(AutoMask, OnlyMasksWithRegionsOnCalibratedCamerasCount) {
+  std::vector<CameraMask> masks(3);
+  masks[0].camera_id = 1;
+  masks[0].regions.push_back({0, 0, 8, 8});
+  masks[1].camera_id = 2;  // found nothing static
+  masks[2].camera_id = 9;  // kept for a camera the calibration no longer has
+  masks[2].regions.push_back({0, 0, 8, 8});
+  Rig rig;
+  EXPECT_EQ(CountMaskedCameras(masks, rig), 2u);  // no calibration yet: every camera counts
+  for (uint32_t id : {1u, 2u, 3u}) {
+    rig.cameras.emplace_back();
+    rig.cameras.back().id = id;
+  }
+  EXPECT_EQ(CountMaskedCameras(masks, rig), 1u);
+}
+
 TEST(AutoMask, FileRoundTripAndBadFiles) {
   const CameraMask found = ComputeAutoMask(Frames({{200.0, 100.0, 12, 1.0}}, 20, 3), AutoMaskOptions{});
   const std::vector<CameraMask> masks = {found, GridMask(3)};

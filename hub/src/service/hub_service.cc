@@ -231,7 +231,18 @@ void HubService::Publish(const FrameSet& set) {
   if (calibration_monitor_) calibration_monitor_->Add(set, live_->reconstructor());
 }
 
+void HubService::WarnOfSingleCameraSets(uint64_t now) {
+  const uint64_t count = ingest_.assembler().single_camera_sets();
+  if (count == single_camera_sets_warned_ || now < next_single_camera_warning_ns_) return;
+  log::Warn("{} frame sets held one camera only (nothing in them can be triangulated): the other cameras' frames "
+            "came after the {:.0f} ms deadline; the hub machine is overloaded or the network is late",
+            count - single_camera_sets_warned_, options_.deadline_ms);
+  single_camera_sets_warned_ = count;
+  next_single_camera_warning_ns_ = now + 10 * kSecondNs;
+}
+
 void HubService::Tick(uint64_t now) {
+  WarnOfSingleCameraSets(now);
   captures_.Tick(ingest_.stats(), now);
   published_.Refresh(now);
   Announce(now);
@@ -407,6 +418,7 @@ nlohmann::json HubService::Status() {
         {"nodes_online", online},
         {"nodes_known", nodes.size()},
         {"incomplete_frame_sets", ingest_.assembler().incomplete_sets()},
+        {"single_camera_frame_sets", ingest_.assembler().single_camera_sets()},
         {"late_frames", ingest_.assembler().late_frames()},
         {"markers_confirmed", live_->tracker().NumMarkers()},
         {"malformed_datagrams", registry_.malformed_total()},
@@ -416,7 +428,7 @@ nlohmann::json HubService::Status() {
         {"capture", captures_.Current(now)},
         {"last_capture", captures_.last()},
         {"sessions_disk", captures_.Disk()},
-        {"masks", masks_.size()},
+        {"masks", CountMaskedCameras(masks_, rig_)},
         {"requests_pending", controls_.pending()},
         {"calibration_monitor", calibration_monitor_ ? calibration_monitor_->StatusJson() : nlohmann::json(nullptr)},
     };

@@ -142,6 +142,7 @@ class HubService : public ServiceApi {
   void OnOffClockFrame(const v1::MarkerFrame& frame, const Datagram& d);
   void Publish(const FrameSet& set);
   void Tick(uint64_t now_ns);
+  void WarnOfSingleCameraSets(uint64_t now_ns);
   void Announce(uint64_t now_ns);
   void OnRegistryEvents(const std::vector<RegistryEvent>& events);
   void OnRequestFinished(const RequestResult& result);
@@ -172,6 +173,9 @@ class HubService : public ServiceApi {
   std::optional<HostPort> announce_to_;
   uint64_t next_announce_ns_ = 0;
   std::map<uint32_t, uint64_t> next_grid_ns_;  // per node: earliest next grid announce (off clock)
+  // Frame sets of one camera (nothing 3D in them): warned of at most every 10 s, with the count since.
+  uint64_t single_camera_sets_warned_ = 0;
+  uint64_t next_single_camera_warning_ns_ = 0;
   uint64_t start_ns_ = 0;
   FrameIngest ingest_;
   NodeRegistry registry_;

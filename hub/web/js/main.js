@@ -82,6 +82,13 @@ class Hub {
       el('span', { text: `masks ${s.masks}` }),
       el('span', { text: `up ${formatNumber(s.uptime_s, 0)} s` }),
     ];
+    // Frame sets of one camera since the last poll: 3D lost to a late hub or network, said at once.
+    const single = s.single_camera_frame_sets - (this.lastSingleCameraSets ?? s.single_camera_frame_sets);
+    this.lastSingleCameraSets = s.single_camera_frame_sets;
+    if (single > 0) {
+      items.push(el('span', { class: 'state away', id: 'single-camera-sets',
+                              text: `${single} frame sets from one camera only: the hub is late, no 3D in them` }));
+    }
     if (s.capture) items.push(el('span', { class: 'state recording', text: `● ${s.capture.name}` }));
     if (s.last_capture && s.last_capture.state === 'failed') {
       items.push(el('span', { class: 'state away', id: 'capture-failed',
