@@ -55,10 +55,22 @@ BodyTracker::BodyTracker(std::vector<RigidBodyDefinition> bodies, const BodyTrac
     if (b.markers.size() < 3) throw std::invalid_argument("body '" + b.name + "' has fewer than 3 markers");
 }
 
+const char* BodyMissText(BodyMiss miss) {
+  switch (miss) {
+    case BodyMiss::kNone: return "fitted";
+    case BodyMiss::kTooFewPoints: return "too few free points in the frame";
+    case BodyMiss::kNoShape: return "no three points with the sides of its triangles";
+    case BodyMiss::kTooFewMarkers: return "too few of its markers where its triangles placed it";
+    case BodyMiss::kCrowded: return "too many points in the frame to search";
+  }
+  return "unknown";
+}
+
 std::vector<BodyPose> BodyTracker::Update(const std::vector<Eigen::Vector3d>& points, std::vector<int>* owner_out) {
   std::vector<int> owner(points.size(), -1);
   std::vector<BodyPose> poses(bodies_.size());
   std::vector<bool> done(bodies_.size(), false);
+  std::vector<BodyMiss> miss(bodies_.size(), BodyMiss::kCrowded);
   auto take = [&](size_t b) {
     for (int p : poses[b].point_of_marker)
       if (p >= 0) owner[static_cast<size_t>(p)] = static_cast<int>(b);
@@ -72,13 +84,14 @@ std::vector<BodyPose> BodyTracker::Update(const std::vector<Eigen::Vector3d>& po
       take(b);
   if (points.size() <= options_.max_points)
     for (size_t b = 0; b < bodies_.size(); ++b)
-      if (!done[b] && Search(b, points, owner, &poses[b])) take(b);
+      if (!done[b] && Search(b, points, owner, &poses[b], &miss[b])) take(b);
   for (size_t b = 0; b < bodies_.size(); ++b) {
     if (done[b]) continue;
     State& s = states_[b];
     BodyPose& pose = poses[b];
     pose = BodyPose{};
     pose.point_of_marker.assign(bodies_[b].markers.size(), -1);
+    pose.miss = miss[b];
     ++s.frames_since;
     if (s.known && s.frames_since <= options_.predict_frames) {
       const double k = s.frames_since;
@@ -166,7 +179,7 @@ bool BodyTracker::FitAndPrune(size_t b, const std::vector<Eigen::Vector3d>& poin
 }
 
 bool BodyTracker::Search(size_t b, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& owner,
-                         BodyPose* pose) {
+                         BodyPose* pose, BodyMiss* miss) {
   const RigidBodyDefinition& body = bodies_[b];
   const size_t n = body.markers.size();
   const double tol = options_.distance_tolerance_mm;
@@ -174,7 +187,9 @@ bool BodyTracker::Search(size_t b, const std::vector<Eigen::Vector3d>& points, c
   for (size_t p = 0; p < points.size(); ++p)
     if (owner[p] < 0) free.index.push_back(static_cast<int>(p));
   const size_t min_start = std::min(options_.min_markers_start, n);
+  *miss = BodyMiss::kTooFewPoints;
   if (free.index.size() < min_start) return false;
+  *miss = BodyMiss::kNoShape;
   std::sort(free.index.begin(), free.index.end(), [&](int a, int c) { return points[static_cast<size_t>(a)].x() < points[static_cast<size_t>(c)].x(); });
   for (int p : free.index) free.x.push_back(points[static_cast<size_t>(p)].x());
 
@@ -234,6 +249,7 @@ bool BodyTracker::Search(size_t b, const std::vector<Eigen::Vector3d>& points, c
           const Eigen::Vector3d& pk = points[static_cast<size_t>(free.index[lo2])];
           if (std::abs((pi - pk).norm() - dac) > tol || std::abs((pj - pk).norm() - dbc) > tol) continue;
           if (++hypotheses > kMaxHypotheses) break;
+          *miss = BodyMiss::kTooFewMarkers;
           consider(a, c2, c3, free.index[i], free.index[lo], free.index[lo2]);
         }
       }

@@ -36,6 +36,16 @@ struct BodyTrackerOptions {
   void Check() const;        // throws std::invalid_argument
 };
 
+// Why a body was not fitted in a frame (BodyPose::miss), so that an operator is told the cause.
+enum class BodyMiss {
+  kNone,              // fitted
+  kTooFewPoints,      // fewer free points in the frame than markers needed to find it
+  kNoShape,           // no three free points with the sides of any of its triangles (within tolerance)
+  kTooFewMarkers,     // its triangles were found, but too few of its other markers landed on points
+  kCrowded,           // more points than max_points: only bodies already tracked continue
+};
+const char* BodyMissText(BodyMiss miss);
+
 struct BodyPose {
   bool tracked = false;     // fitted to this frame's points
   bool predicted = false;   // not seen this frame: the pose predicted from the last frames
@@ -45,6 +55,7 @@ struct BodyPose {
   double mean_error_mm = 0.0;  // mean distance of the fitted markers from their points
   size_t markers = 0;          // markers fitted
   std::vector<int> point_of_marker;  // per body marker: the frame's point index, -1 when none
+  BodyMiss miss = BodyMiss::kNone;   // not tracked: why the search failed
 };
 
 class BodyTracker {
@@ -69,7 +80,9 @@ class BodyTracker {
     Eigen::Vector3d angular = Eigen::Vector3d::Zero();       // rotation vector per frame
   };
   bool Follow(size_t body, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& owner, BodyPose* pose);
-  bool Search(size_t body, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& owner, BodyPose* pose);
+  // Not found: *miss says why.
+  bool Search(size_t body, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& owner, BodyPose* pose,
+              BodyMiss* miss);
   bool FitAndPrune(size_t body, const std::vector<Eigen::Vector3d>& points, BodyPose* pose, size_t min_markers);
   void Remember(size_t body, const BodyPose& pose);
 

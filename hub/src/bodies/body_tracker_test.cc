@@ -115,6 +115,35 @@ TEST(BodyTracker, NothingFromLooseMarkersAlone) {
   EXPECT_FALSE(tracker.Update({})[0].tracked);
 }
 
+// A body not fitted says why: nothing there, points that do not have its shape, its triangle
+// without the rest of it, or a frame too crowded to search.
+TEST(BodyTracker, AMissSaysWhy) {
+  const std::vector<Eigen::Vector3d> shape{{0, 0, 0}, {120, 0, 0}, {0, 80, 0}, {40, 30, 50}, {90, 60, 20}};
+  BodyTrackerOptions options;
+  options.max_points = 20;
+  BodyTracker tracker({DefineBody("wand", shape)}, options);
+  EXPECT_EQ(tracker.Update({shape[0], shape[1]})[0].miss, BodyMiss::kTooFewPoints);
+  // Five points, none three with its sides (a skin cluster that stretched by 10 %).
+  std::vector<Eigen::Vector3d> stretched;
+  for (const Eigen::Vector3d& p : shape) stretched.push_back(1.1 * p);
+  EXPECT_EQ(tracker.Update(stretched)[0].miss, BodyMiss::kNoShape);
+  // Its first three markers in place, the other two moved away: the triangle places it, the
+  // rest is missing.
+  std::vector<Eigen::Vector3d> partial = shape;
+  partial[3] += Eigen::Vector3d(0, 0, 40);
+  partial[4] += Eigen::Vector3d(0, 45, 0);
+  const BodyPose miss = tracker.Update(partial)[0];
+  EXPECT_FALSE(miss.tracked);
+  EXPECT_EQ(miss.miss, BodyMiss::kTooFewMarkers);
+  std::vector<Eigen::Vector3d> crowd = shape;
+  for (int k = 0; k < 30; ++k) crowd.push_back(Eigen::Vector3d(1000.0 + 37.0 * k, 0, 0));
+  EXPECT_EQ(tracker.Update(crowd)[0].miss, BodyMiss::kCrowded);
+  const BodyPose fitted = tracker.Update(shape)[0];
+  EXPECT_TRUE(fitted.tracked);
+  EXPECT_EQ(fitted.miss, BodyMiss::kNone);
+  EXPECT_STREQ(BodyMissText(BodyMiss::kNoShape), "no three points with the sides of its triangles");
+}
+
 TEST(BodyTracker, OptionsChecked) {
   BodyTrackerOptions o;
   o.min_markers_start = 2;

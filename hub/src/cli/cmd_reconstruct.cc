@@ -52,6 +52,8 @@ void FinishTake(const ReconstructArgs& args, bool live_bodies) {
                   "alone in %zu (point noise %.3f mm per axis)\n",
                   poses.c_str(), bodies[b].name.c_str(), take.FramesFitted(b), take.rows.size(),
                   args.body_smoothing.half_window, s.refined, s.shrunk, s.unchanged, s.noise_mm);
+      const std::string missed = take.MissSummary(b);
+      if (!missed.empty()) std::printf("%s: body %s not fitted in %s\n", poses.c_str(), bodies[b].name.c_str(), missed.c_str());
     }
   }
   WriteTrajectories(markers, args.output);
@@ -141,7 +143,7 @@ void WriteKnownCorrespondenceFloor(const ReconstructArgs& args, const Rig& rig, 
 
 void ReconstructSession(ReconstructArgs args) {
   try {
-    TrajectoryFormatOf(args.output);
+    OutputTrajectoryFormatOf(args.output);
   } catch (const std::invalid_argument& error) {
     throw UsageError(error.what());
   }

@@ -1,6 +1,8 @@
 // The whole-take steps after the reconstruction (see take_outputs.h).
 #include "pipeline/take_outputs.h"
 
+#include <algorithm>
+#include <map>
 #include <utility>
 
 #include <fmt/format.h>
@@ -63,6 +65,19 @@ size_t TakeBodies::FramesFitted(size_t body) const {
   size_t fitted = 0;
   for (const BodyPoseRow& row : rows) fitted += row.poses[body].tracked;
   return fitted;
+}
+
+std::string TakeBodies::MissSummary(size_t body) const {
+  std::map<BodyMiss, size_t> frames;
+  for (const BodyPoseRow& row : rows)
+    if (!row.poses[body].tracked) ++frames[row.poses[body].miss];
+  std::vector<std::pair<size_t, BodyMiss>> by_count;
+  for (const auto& [miss, count] : frames) by_count.emplace_back(count, miss);
+  std::stable_sort(by_count.begin(), by_count.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string text;
+  for (const auto& [count, miss] : by_count)
+    text += (text.empty() ? "" : "; ") + std::to_string(count) + " frames: " + BodyMissText(miss);
+  return text;
 }
 
 TakeBodies FitTakeBodies(const std::vector<RigidBodyDefinition>& bodies, const BodySmoothingOptions& smoothing,

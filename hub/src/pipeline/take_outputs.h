@@ -51,6 +51,10 @@ struct TakeBodies {
   std::vector<BodyPoseRow> rows;
   std::vector<BodySmoothingStats> smoothing;
   size_t FramesFitted(size_t body) const;
+  // Why `body` was not fitted where it was not, by cause with its frame count ("412 frames: no
+  // three points with the sides of its triangles; 3 frames: ..."), most frequent first; empty
+  // when it was fitted in every frame.
+  std::string MissSummary(size_t body) const;
 };
 
 // Fits every body over the take and appends one column per body named after it (its pivot, a gap

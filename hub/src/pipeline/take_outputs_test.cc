@@ -124,6 +124,28 @@ TEST(TakeOutputs, FitTakeBodiesFollowsARigidBodyAndAddsItsPivot) {
     ASSERT_TRUE(take.Has(f, 5)) << "frame " << f;
     EXPECT_LT((take.At(f, 5) - pivots[f]).norm(), 1e-6) << "frame " << f;
   }
+  EXPECT_EQ(fitted.MissSummary(0), "");
+}
+
+// Where a body is not fitted, the take says why, frame counts by cause.
+TEST(TakeOutputs, ABodyNotFittedIsGivenItsReasons) {
+  const std::vector<Eigen::Vector3d> shape = {{0, 0, 0}, {90, 0, 0}, {0, 60, 0}, {30, 20, 70}};
+  MarkerTrajectories take;
+  take.rate_hz = 100.0;
+  take.names = {"A", "B", "C", "D"};
+  for (int f = 0; f < 60; ++f) {
+    const size_t row = take.AddFrame(static_cast<uint64_t>(f));
+    // Frames 20-39: two markers hidden; frames 40-59: the shape stretched by a fifth.
+    const double scale = f >= 40 ? 1.2 : 1.0;
+    for (size_t m = 0; m < shape.size(); ++m)
+      if (f < 20 || f >= 40 || m < 2) take.At(row, m) = Eigen::Vector3d(2.0 * f, 0, 1000) + scale * shape[m];
+  }
+  std::vector<Eigen::Vector3d> first(shape.size());
+  for (size_t m = 0; m < shape.size(); ++m) first[m] = take.At(0, m);
+  const TakeBodies fitted = FitTakeBodies({DefineBody("probe", first)}, BodySmoothingOptions(), &take);
+  EXPECT_EQ(fitted.FramesFitted(0), 20u);
+  EXPECT_EQ(fitted.MissSummary(0),
+            "20 frames: too few free points in the frame; 20 frames: no three points with the sides of its triangles");
 }
 
 }  // namespace
