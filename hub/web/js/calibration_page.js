@@ -19,6 +19,7 @@ export class CalibrationPage {
         this.tbody = el('tbody')));
     this.scene = new Scene3D(view);
     this.cameras = [];
+    this.nodes = null;  // null until the node list is read: a camera is then "not heard" only if absent
     hub.onCalibration((cameras, file) => {
       this.cameras = cameras;
       this.file.textContent = `${file} · ${cameras.length} cameras`;
@@ -27,12 +28,13 @@ export class CalibrationPage {
     });
   }
 
-  fill(nodes = new Map()) {
+  fill() {
+    const nodes = this.nodes;
     this.tbody.replaceChildren();
     const centre = [0, 0, 0];
     for (const c of this.cameras) c.centre.forEach((v, i) => { centre[i] += v / this.cameras.length; });
     for (const c of this.cameras) {
-      const node = nodes.get(c.id);
+      const node = nodes && nodes.get(c.id);
       const d = Math.hypot(...c.centre.map((v, i) => v - centre[i]));
       this.tbody.append(el('tr', { 'data-camera-id': c.id },
         el('td', { text: c.id }), el('td', { text: `${c.width}×${c.height}` }),
@@ -41,22 +43,32 @@ export class CalibrationPage {
         el('td', { text: `${formatNumber(c.distortion[0], 3)} / ${formatNumber(c.distortion[1], 3)}` }),
         el('td', { text: c.centre.map((v) => v.toFixed(0)).join(', ') }),
         el('td', { text: d.toFixed(0) }),
-        el('td', { text: node ? node.state : 'not heard' })));
+        el('td', { 'data-field': 'node', text: node ? node.state : nodes ? 'not heard' : '…' })));
     }
+  }
+
+  // The node states follow while the page is shown (the calibration may arrive before or after
+  // the first node list: each fills the table with what is known).
+  async refreshNodes() {
+    try {
+      const nodes = await this.hub.nodes();
+      this.nodes = new Map(nodes.map((n) => [n.id, n]));
+    } catch (e) {
+      /* the status bar says the hub is away; keep what was known */
+    }
+    this.fill();
   }
 
   async show() {
     this.wanding.show();
     this.scene.show();
-    try {
-      const nodes = await this.hub.nodes();
-      this.fill(new Map(nodes.map((n) => [n.id, n])));
-    } catch (e) {
-      this.fill();
-    }
+    clearInterval(this.nodeTimer);
+    this.nodeTimer = setInterval(() => this.refreshNodes(), 2000);
+    await this.refreshNodes();
   }
 
   hide() {
+    clearInterval(this.nodeTimer);
     this.wanding.hide();
     this.scene.hide();
   }
