@@ -77,32 +77,40 @@ def write_static_trc(path, markers, frames, rate):
         out.write("\n".join(rows) + "\n")
 
 
+def lframe_scene(bin_dir, work):
+    """A still L-frame in a 4-camera sim rig, rendered into work/frames for the nodes; serve's
+    calibration there is the rig in a tilted wand world. Returns the truth calibration's path
+    (the same cameras in the world on the L-frame)."""
+    if os.path.isdir(work):
+        shutil.rmtree(work)
+    os.makedirs(work)
+    walk = os.path.join(work, "walk.trc")
+    run(bin_dir, "sim", "motion", "-o", walk, "--markers", "4", "--frames", "200", "--rate", str(RATE))
+    rig = os.path.join(work, "rig.json")
+    run(bin_dir, "sim", "rig", "--motion", walk, "--cameras", str(CAMERAS), "-o", rig, "--width", "640",
+        "--height", "400", "--up", "y")
+    # The truth: the same cameras in the world whose origin is where the L-frame lies.
+    with open(rig) as f:
+        truth = moved_world(json.load(f), rotation("x", 0.0), [-v for v in PLACE])
+    truth_path = os.path.join(work, "truth.json")
+    with open(truth_path, "w") as f:
+        json.dump(truth, f)
+    # Rendered in the rig's own world, where the L-frame's origin is not (0, 0, 0): a TRC marker
+    # at exactly the origin reads as a gap.
+    lframe = os.path.join(work, "lframe.trc")
+    write_static_trc(lframe, [[p + v for p, v in zip(PLACE, m)] for m in LFRAME], 100, RATE)
+    run(bin_dir, "sim", "render", "--motion", lframe, "--rig", rig, "-o", os.path.join(work, "frames"))
+    # serve's calibration: the wand's world, tilted and shifted.
+    served = moved_world(truth, matmul(rotation("x", TILT_DEG), rotation("y", 25.0)), (400.0, -250.0, 1200.0))
+    with open(os.path.join(work, "frames", "calibration.json"), "w") as f:
+        json.dump(served, f)
+    return truth_path
+
+
 class WorldFrameLiveTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        if os.path.isdir(WORK):
-            shutil.rmtree(WORK)
-        os.makedirs(WORK)
-        walk = os.path.join(WORK, "walk.trc")
-        run(BIN, "sim", "motion", "-o", walk, "--markers", "4", "--frames", "200", "--rate", str(RATE))
-        rig = os.path.join(WORK, "rig.json")
-        run(BIN, "sim", "rig", "--motion", walk, "--cameras", str(CAMERAS), "-o", rig, "--width", "640",
-            "--height", "400", "--up", "y")
-        # The truth: the same cameras in the world whose origin is where the L-frame lies.
-        with open(rig) as f:
-            truth = moved_world(json.load(f), rotation("x", 0.0), [-v for v in PLACE])
-        cls.truth = os.path.join(WORK, "truth.json")
-        with open(cls.truth, "w") as f:
-            json.dump(truth, f)
-        # Rendered in the rig's own world, where the L-frame's origin is not (0, 0, 0): a TRC marker
-        # at exactly the origin reads as a gap.
-        lframe = os.path.join(WORK, "lframe.trc")
-        write_static_trc(lframe, [[p + v for p, v in zip(PLACE, m)] for m in LFRAME], 100, RATE)
-        run(BIN, "sim", "render", "--motion", lframe, "--rig", rig, "-o", os.path.join(WORK, "frames"))
-        # serve's calibration: the wand's world, tilted and shifted.
-        cls.served = moved_world(truth, matmul(rotation("x", TILT_DEG), rotation("y", 25.0)), (400.0, -250.0, 1200.0))
-        with open(os.path.join(WORK, "frames", "calibration.json"), "w") as f:
-            json.dump(cls.served, f)
+        cls.truth = lframe_scene(BIN, WORK)
         cls.rig = Rig(BIN, WORK, RATE)
         try:
             cls.rig.start(CAMERAS)
