@@ -5,7 +5,9 @@
 // crowding it, it is refused with what it saw; floor markers level the world alike.
 #include "service/world_frame_step.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
