@@ -4,7 +4,8 @@
 listed with the session and downloaded. The results equal what `mocap-hub process` writes for the
 same recipe on the command line; the session's own files are untouched; results are never replaced
 without "overwrite"; bad requests are refused with the field named; a session that cannot be
-processed fails its job with the command's own words. Python standard library only.
+processed (no calibration of its own, one that does not fit its cameras) fails its job with the
+command's own words. Python standard library only.
 
 usage: processing_test.py BIN_DIR WORK_DIR"""
 
@@ -53,6 +54,7 @@ class ProcessingThroughServe(unittest.TestCase):
         run(BIN, "process", recipe, cli_session)
         with open(os.path.join(cli_session, "processed", "clean", "markers.trc"), "rb") as f:
             cls.cli_trc = f.read()
+        cls.motion = motion
         cls.own_files = {name: digest(os.path.join(cls.session, name)) for name in os.listdir(cls.session)}
         cls.rig = Rig(BIN, WORK, 100)
         cls.rig.start_serve()
@@ -126,17 +128,38 @@ class ProcessingThroughServe(unittest.TestCase):
     def test_3_a_session_that_cannot_be_processed_fails_its_job_with_the_reason(self):
         broken = os.path.join(WORK, "sessions", "broken")
         shutil.copytree(self.session, broken, ignore=shutil.ignore_patterns("processed"))
-        calibration = json.load(open(os.path.join(broken, "session.json")))["calibration"]
+        with open(os.path.join(broken, "session.json")) as f:
+            calibration = json.load(f)["calibration"]
         os.remove(os.path.join(broken, calibration))
         status, payload = self.api("POST", "/api/sessions/broken/process", {"recipe": {"name": "clean"}})
         self.assertEqual(status, 202, payload)
         failed = self.wait_job(json.loads(payload)["id"])
         self.assertEqual(failed["state"], "failed", failed)
         self.assertEqual(failed["exit_status"], 1)
-        self.assertTrue(any("give the recipe a \"calibration\"" in line for line in failed["log"]), failed["log"])
+        self.assertTrue(any("has no calibration of its own (calibration.json); give a calibration" in line
+                            for line in failed["log"]), failed["log"])
         # The request can name the file serve runs with instead.
         status, payload = self.api("POST", "/api/sessions/broken/process",
                                    {"recipe": {"name": "clean", "calibration": "serve"}, "overwrite": True})
+        self.assertEqual(status, 202, payload)
+        self.assertEqual(self.wait_job(json.loads(payload)["id"])["state"], "done")
+
+    def test_4_a_calibration_that_does_not_fit_fails_its_job_with_the_residuals(self):
+        # Camera 3 turned 3 deg after the calibration the session carries.
+        turned = os.path.join(WORK, "sessions", "turned")
+        run(BIN, "sim", "project", "--motion", self.motion, "--rig", self.calibration, "-o", turned,
+            "--noise-px", "0.2", "--occlusion", "0.05", "--seed", "4", "--bump", "3:3:0", "--bump-from-s", "0")
+        status, payload = self.api("POST", "/api/sessions/turned/process", {"recipe": {"name": "clean"}})
+        self.assertEqual(status, 202, payload)
+        failed = self.wait_job(json.loads(payload)["id"])
+        self.assertEqual(failed["state"], "failed", failed)
+        reason = [line for line in failed["log"] if "does not fit" in line]
+        self.assertEqual(len(reason), 1, failed["log"])
+        self.assertIn(": camera 3 median ", reason[0])
+        self.assertIn("median leave-one-out residual per camera 1: ", reason[0])
+        # The console's "even with a misfit calibration".
+        status, payload = self.api("POST", "/api/sessions/turned/process",
+                                   {"recipe": {"name": "clean", "force_calibration": True}, "overwrite": True})
         self.assertEqual(status, 202, payload)
         self.assertEqual(self.wait_job(json.loads(payload)["id"])["state"], "done")
 

@@ -24,7 +24,6 @@
 #include "ingest/session.h"
 #include "io/trajectory_file.h"
 #include "pipeline/processing_recipe.h"
-#include "util/plain_name.h"
 #include "util/regular_file.h"
 
 namespace mocap {
@@ -73,19 +72,6 @@ std::string UtcNow() {
   return text;
 }
 
-// The calibration a session is processed with: the recipe's, else the session's own file.
-std::string CalibrationFor(const pipeline::ProcessingRecipe& recipe, const std::string& session) {
-  if (!recipe.calibration.empty()) return recipe.calibration;
-  const SessionInfo info = LoadSessionInfo(session);
-  if (!PlainName(info.calibration, 255))
-    throw std::runtime_error(session + ": session.json names its calibration '" + info.calibration +
-                             "', not a file of the session; give the recipe a \"calibration\"");
-  const fs::path own = fs::path(session) / info.calibration;
-  if (!fs::is_regular_file(own))
-    throw std::runtime_error(session + ": has no " + info.calibration + "; give the recipe a \"calibration\"");
-  return own.string();
-}
-
 void ProcessSession(const pipeline::ProcessingRecipe& recipe, const std::string& session, bool overwrite,
                     bool progress, const std::string& progress_file) {
   if (!fs::is_regular_file(fs::path(session) / "session.json"))
@@ -97,7 +83,8 @@ void ProcessSession(const pipeline::ProcessingRecipe& recipe, const std::string&
   fs::create_directories(out);
   ReconstructArgs args;
   args.session = session;
-  args.calibration = CalibrationFor(recipe, session);
+  args.calibration = recipe.calibration.empty() ? SessionCalibration(session) : recipe.calibration;
+  args.force_calibration = recipe.force_calibration;
   args.output = (out / ("markers." + recipe.outputs.front())).string();
   args.matcher = recipe.matcher;
   args.assignment = recipe.assignment;

@@ -1,10 +1,13 @@
-// `reconstruct`: a session directory's 2D blobs -> labelled 3D trajectories in a TRC file.
+// `reconstruct`: a session directory's 2D blobs -> labelled 3D trajectories in a TRC file, with
+// the session's own calibration unless one is given, after a sample of frame sets has shown that
+// the calibration fits the session (calib/calibration_fit.h).
 // Streams: frame sets are reconstructed and tracked as they are read, rows leave the gap
 // filler's bounded window for a spill file, and the TRC is written from it at the end, so memory
 // does not grow with session length.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -25,6 +28,7 @@
 #include "io/trajectory_file.h"
 #include "track/trc_spill.h"
 #include "util/log.h"
+#include "util/plain_name.h"
 
 namespace mocap {
 namespace {
@@ -103,6 +107,46 @@ void CheckCalibrationMatches(const SessionInfo& info, const Rig& rig, const Reco
   if (rig.cameras.size() < 2) throw std::runtime_error(args.calibration + ": needs at least 2 cameras");
 }
 
+// A sample of the session's frame sets (spread evenly, free-running cameras' blobs brought to
+// their instant as the reconstruction will) judges the calibration before hours of reconstruction
+// go into a wrong one.
+void CheckCalibrationFits(const ReconstructArgs& args, const Rig& rig) {
+  SessionReader reader;
+  reader.Open(args.session);
+  reader.CheckImageSizes(ImageSizesOf(rig));
+  const SessionInfo& info = reader.Info();
+  const uint64_t stride = std::max<uint64_t>(1, info.frame_sets / args.fit.frame_sets);
+  std::unique_ptr<BlobTimeAligner> aligner;
+  if (info.free_run && !args.no_time_align) {
+    BlobTimeAlignOptions align;
+    align.rate_hz = info.rate_hz;
+    align.epoch_ns = info.epoch_ns;
+    aligner = std::make_unique<BlobTimeAligner>(align);
+  }
+  CalibrationFitCheck check(rig, args.fit, args.chain.recon);
+  FrameSet frame_set;
+  size_t judged = 0;
+  for (uint64_t n = 0; judged < args.fit.frame_sets && reader.Next(&frame_set); ++n) {
+    if (aligner) aligner->Align(&frame_set);
+    if (n % stride != 0) continue;
+    check.Add(frame_set);
+    ++judged;
+  }
+  const CalibrationFit fit = check.Judge();
+  if (fit.Fits()) {
+    std::printf("%s: fits %s: median leave-one-out residual per camera %s, over %zu points of %zu frame sets\n",
+                args.calibration.c_str(), args.session.c_str(), fit.PerCamera().c_str(), fit.points, fit.frame_sets);
+    return;
+  }
+  const std::string reason = args.calibration + " does not fit " + args.session + ": " + fit.Misfits() +
+                             " (moved or turned since that calibration?); median leave-one-out residual per camera " +
+                             fit.PerCamera() + ", over " + std::to_string(fit.points) + " points of " +
+                             std::to_string(fit.frame_sets) + " frame sets";
+  if (!args.force_calibration)
+    throw std::runtime_error(reason + "; calibrate again or --force-calibration to reconstruct anyway");
+  log::Warn("{} (--force-calibration: reconstructing anyway)", reason);
+}
+
 // The known-correspondence floor of a simulated session: every true marker triangulated from its
 // own unmerged blobs, no matching or tracking, columns named as in the truth. `eval` of this file
 // against the truth is the accuracy a reconstruction could reach on these blobs.
@@ -141,6 +185,18 @@ void WriteKnownCorrespondenceFloor(const ReconstructArgs& args, const Rig& rig, 
 
 }  // namespace
 
+std::string SessionCalibration(const std::string& session) {
+  const SessionInfo info = LoadSessionInfo(session);
+  if (!PlainName(info.calibration, 255))
+    throw std::runtime_error(session + ": session.json names its calibration '" + info.calibration +
+                             "', not a file of the session; give a calibration (--calibration, a recipe's \"calibration\")");
+  const std::filesystem::path own = std::filesystem::path(session) / info.calibration;
+  if (!std::filesystem::is_regular_file(own))
+    throw std::runtime_error(session + ": has no calibration of its own (" + info.calibration +
+                             "); give a calibration (--calibration, a recipe's \"calibration\")");
+  return own.string();
+}
+
 void ReconstructSession(ReconstructArgs args) {
   try {
     OutputTrajectoryFormatOf(args.output);
@@ -152,6 +208,11 @@ void ReconstructSession(ReconstructArgs args) {
   args.chain.tracker.assignment = AssignmentMethodFromString(args.assignment);
   CheckOptions(args.chain.recon);  // out-of-range numbers are usage errors, before any file is read
   CheckOptions(args.chain.tracker);
+  args.fit.Check();
+  if (args.calibration.empty()) {
+    args.calibration = SessionCalibration(args.session);
+    std::printf("%s: calibration %s (the session's own)\n", args.session.c_str(), args.calibration.c_str());
+  }
   const Rig rig = LoadRigJson(args.calibration);
   SessionReader reader;
   reader.Open(args.session);
@@ -159,6 +220,7 @@ void ReconstructSession(ReconstructArgs args) {
   if (!(info.rate_hz > 0.0)) throw std::runtime_error(args.session + ": session.json has no frame rate");
   CheckCalibrationMatches(info, rig, args);
   reader.CheckImageSizes(ImageSizesOf(rig));
+  CheckCalibrationFits(args, rig);
   if (!args.known_correspondences.empty()) {
     WriteKnownCorrespondenceFloor(args, rig, &reader);
     return;
@@ -238,7 +300,17 @@ void AddReconstructCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand("reconstruct", "2D blobs of a session -> labelled 3D markers (TRC)");
   auto args = std::make_shared<ReconstructArgs>();
   command->add_option("session", args->session, "Session directory")->required()->check(CLI::ExistingDirectory);
-  command->add_option("--calibration", args->calibration, "Calibration JSON")->required()->check(CLI::ExistingFile);
+  command->add_option("--calibration", args->calibration,
+                      "Calibration JSON (default: the session's own, the file its session.json names); checked "
+                      "against a sample of the session's frame sets first")
+      ->check(CLI::ExistingFile);
+  command->add_flag("--force-calibration", args->force_calibration,
+                    "Reconstruct even when a camera's residuals show the calibration does not fit the session "
+                    "(printed as a warning)");
+  command->add_option("--fit-frame-sets", args->fit.frame_sets,
+                      "Frame sets (spread over the session) that judge the calibration first")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   command->add_option("-o,--output", args->output, "Output marker file: .trc or .c3d")->required();
   command->add_option("--bodies", args->bodies,
                       "Rigid bodies file: their poses to OUT.bodies.tsv and a virtual marker each (memory then "

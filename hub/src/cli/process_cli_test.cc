@@ -81,7 +81,7 @@ TEST_F(ProcessCli, AFailedSessionIsNamedAndTheOthersAreProcessed) {
   // A session whose calibration is gone needs one in the recipe.
   fs::remove(work_ + "/s2/calibration.json");
   const HubRun lost = RunHub(work_, "process recipe.json s2 --overwrite");
-  EXPECT_NE(lost.err.find("has no calibration.json; give the recipe a \"calibration\""), std::string::npos)
+  EXPECT_NE(lost.err.find("s2: has no calibration of its own (calibration.json); give a calibration"), std::string::npos)
       << lost.err;
   std::ofstream(work_ + "/with_rig.json")
       << R"({"format": "mocap-recipe", "version": 1, "name": "clean", "calibration": "rig.json"})";

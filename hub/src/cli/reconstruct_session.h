@@ -1,5 +1,6 @@
 // One session's reconstruction as `reconstruct` runs it, for the commands that run it
-// (`reconstruct`, and `process` once per session of a batch): the offline chain
+// (`reconstruct`, and `process` once per session of a batch): the calibration checked against the
+// session's blobs, the offline chain
 // (pipeline/offline_reconstruction.h) into OUTPUT, then the whole-take steps
 // (pipeline/take_outputs.h), printing one summary line per step to stdout.
 // Errors: UsageError for options out of range, std::runtime_error for files and data.
@@ -9,6 +10,7 @@
 
 #include "bodies/body_live_filter.h"
 #include "bodies/body_smoothing.h"
+#include "calib/calibration_fit.h"
 #include "cli/labels_helpers.h"
 #include "pipeline/offline_reconstruction.h"
 
@@ -16,7 +18,9 @@ namespace mocap {
 
 struct ReconstructArgs {
   std::string session;
-  std::string calibration;
+  std::string calibration;  // empty: the session's own (SessionCalibration)
+  bool force_calibration = false;  // reconstruct with a calibration that does not fit (a warning)
+  CalibrationFitOptions fit;
   std::string output;  // .trc or .c3d
   std::string matcher = "relaxation";
   std::string assignment = "optimal";
@@ -34,6 +38,13 @@ struct ReconstructArgs {
   std::string progress_file;  // also the progress as JSON there (cli/progress.h); empty: none
 };
 
+// The calibration kept with a session: the file its session.json names, inside its directory.
+// std::runtime_error when that name is not a plain file name or the file is missing.
+std::string SessionCalibration(const std::string& session);
+
+// Before reconstructing, a sample of the session's frame sets judges the calibration
+// (calib/calibration_fit.h); one that does not fit is refused (std::runtime_error with every
+// camera's median residual) unless force_calibration, which reconstructs with a warning.
 void ReconstructSession(ReconstructArgs args);
 
 }  // namespace mocap

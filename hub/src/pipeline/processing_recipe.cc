@@ -81,7 +81,7 @@ class RecipeReader {
   const std::string& source_;
 };
 
-const std::set<std::string> kFields = {"format",      "version",         "name",    "calibration",      "matcher",
+const std::set<std::string> kFields = {"format",      "version",         "name",    "calibration",      "force_calibration", "matcher",
                                        "assignment",  "predictions",     "hindsight_swaps", "max_spline_gap_s",
                                        "threads",     "labels",          "bodies",  "bodies_window",    "bodies_degree",
                                        "outputs"};
@@ -100,6 +100,7 @@ ProcessingRecipe RecipeFromJson(const nlohmann::json& doc, const std::string& so
   read.String("name", &r.name, 64);
   if (!PlainName(r.name, 64)) read.Refuse("name", "must be letters, digits, '.', '-' or '_', not starting with '.'");
   read.String("calibration", &r.calibration, kMaxPathSize);
+  read.Bool("force_calibration", &r.force_calibration);
   read.OneOf("matcher", &r.matcher, {"relaxation", "clustering", "greedy"});
   read.OneOf("assignment", &r.assignment, {"optimal", "greedy"});
   read.Bool("predictions", &r.predictions);
@@ -127,6 +128,7 @@ nlohmann::json RecipeToJson(const ProcessingRecipe& r) {
   nlohmann::json j = {{"format", "mocap-recipe"},
                       {"version", 1},
                       {"name", r.name},
+                      {"force_calibration", r.force_calibration},
                       {"matcher", r.matcher},
                       {"assignment", r.assignment},
                       {"predictions", r.predictions},

@@ -7,6 +7,8 @@
 //   {"format": "mocap-recipe", "version": 1,
 //    "name": "gait",                        plain name (letters, digits, . - _), 1-64 characters
 //    "calibration": "rig.json",             optional: else each session's own calibration
+//    "force_calibration": false,            true: reconstruct with a calibration that does not fit
+//                                           the session (calib/calibration_fit.h), with a warning
 //    "matcher": "relaxation",               relaxation | clustering | greedy
 //    "assignment": "optimal",               optimal | greedy
 //    "predictions": true, "hindsight_swaps": true,
@@ -32,6 +34,7 @@ namespace mocap::pipeline {
 struct ProcessingRecipe {
   std::string name = "default";
   std::string calibration;
+  bool force_calibration = false;
   std::string matcher = "relaxation";
   std::string assignment = "optimal";
   bool predictions = true;

@@ -24,7 +24,7 @@ std::string Refusal(const nlohmann::json& doc) {
 
 TEST(ProcessingRecipe, EveryFieldRoundTrips) {
   nlohmann::json doc = Minimal();
-  doc.update({{"name", "gait-2"},      {"calibration", "rig.json"}, {"matcher", "clustering"},
+  doc.update({{"name", "gait-2"},      {"calibration", "rig.json"}, {"force_calibration", true}, {"matcher", "clustering"},
               {"assignment", "greedy"}, {"predictions", false},      {"hindsight_swaps", false},
               {"max_spline_gap_s", 0.2}, {"threads", 4},             {"labels", "set.json"},
               {"bodies", "b.json"},     {"bodies_window", 3},        {"bodies_degree", 1},
@@ -32,6 +32,7 @@ TEST(ProcessingRecipe, EveryFieldRoundTrips) {
   const ProcessingRecipe r = RecipeFromJson(doc, "r.json");
   EXPECT_EQ(r.name, "gait-2");
   EXPECT_EQ(r.calibration, "rig.json");
+  EXPECT_TRUE(r.force_calibration);
   EXPECT_EQ(r.matcher, "clustering");
   EXPECT_EQ(r.assignment, "greedy");
   EXPECT_FALSE(r.predictions);
@@ -52,6 +53,7 @@ TEST(ProcessingRecipe, AMinimalRecipeTakesTheDefaults) {
   EXPECT_EQ(RecipeToJson(r), RecipeToJson(defaults));
   EXPECT_EQ(r.outputs, (std::vector<std::string>{"trc"}));
   EXPECT_TRUE(r.calibration.empty());
+  EXPECT_FALSE(r.force_calibration);
 }
 
 TEST(ProcessingRecipe, RefusesWithTheFieldAndTheRule) {

@@ -249,6 +249,37 @@ WandingOptions WandingFromBody(const std::string& text) {
   return o;
 }
 
+// POST /api/calibration/world: {"method": "lframe" | "floor", "frames", "up": "x" | "y" | "z",
+// "lframe": [[x, y, z], ...] mm, "max_fit_rms_mm", "min_frames"}, every field optional.
+WorldFrameRequest WorldFrameFromBody(const std::string& text) {
+  const json body = ParseBody(text, {"method", "frames", "up", "lframe", "max_fit_rms_mm", "min_frames"});
+  WorldFrameRequest o;
+  if (body.contains("method")) {
+    if (!body["method"].is_string()) throw ApiError(400, "'method' must be lframe or floor");
+    o.method = body["method"].get<std::string>();
+  }
+  o.frames = static_cast<int>(IntegerField(body, "frames", 10, 2000).value_or(o.frames));
+  o.min_frames = static_cast<int>(IntegerField(body, "min_frames", 1, 2000).value_or(o.min_frames));
+  o.max_fit_rms_mm = NumberField(body, "max_fit_rms_mm", 0.01, 100.0).value_or(o.max_fit_rms_mm);
+  if (body.contains("up")) {
+    const json& up = body["up"];
+    if (!up.is_string() || (up != "x" && up != "y" && up != "z")) throw ApiError(400, "'up' must be x, y or z");
+    o.up_axis = up == "x" ? 0 : up == "y" ? 1 : 2;
+  }
+  if (body.contains("lframe")) {
+    const json& markers = body["lframe"];
+    if (!markers.is_array() || markers.size() < 3 || markers.size() > 8)
+      throw ApiError(400, "'lframe' must list 3..8 markers as [x, y, z] in mm");
+    for (const json& m : markers) {
+      if (!m.is_array() || m.size() != 3 || !m[0].is_number() || !m[1].is_number() || !m[2].is_number())
+        throw ApiError(400, "'lframe' must list 3..8 markers as [x, y, z] in mm");
+      o.lframe.emplace_back(m[0].get<double>(), m[1].get<double>(), m[2].get<double>());
+    }
+  }
+  o.Check();
+  return o;
+}
+
 // /api/calibration/wand[/start|/stop|/solve|/apply]
 ApiResponse RouteWanding(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
   if (s.size() == 3) {
@@ -334,6 +365,10 @@ ApiResponse Route(ServiceApi& api, const ApiRequest& r) {
     return Json(api.Calibration());
   }
   if (what == "calibration" && s.size() >= 3 && s[2] == "wand") return RouteWanding(api, r, s);
+  if (what == "calibration" && s.size() == 3 && s[2] == "world") {
+    RequireMethod(r, "POST");
+    return Json(api.SetWorldFrame(WorldFrameFromBody(r.body)));
+  }
   if (what == "calibration" && s.size() == 4 && s[2] == "monitor" && s[3] == "apply") {
     RequireMethod(r, "POST");
     const json body = ParseBody(r.body, {"camera", "save"});

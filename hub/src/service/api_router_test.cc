@@ -246,6 +246,37 @@ TEST(ApiRouter, MonitorSolveIsAppliedPerCamera) {
   EXPECT_TRUE(api.calls.empty());
 }
 
+TEST(ApiRouter, TheFloorStepTakesItsSettingsOrDefaults) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "POST", "/api/calibration/world").body["called"], "world");
+  EXPECT_EQ(api.last_world.method, "lframe");
+  EXPECT_EQ(api.last_world.frames, 60);
+  EXPECT_EQ(api.last_world.up_axis, 2);
+  EXPECT_TRUE(api.last_world.lframe.empty());
+  ASSERT_EQ(Send(api, "POST", "/api/calibration/world",
+                 R"({"method": "lframe", "frames": 120, "up": "y", "max_fit_rms_mm": 3, "min_frames": 10,
+                     "lframe": [[0, 0, 0], [300, 0, 0], [0, 0, 200]]})")
+                .response.status,
+            200);
+  EXPECT_EQ(api.last_world.frames, 120);
+  EXPECT_EQ(api.last_world.up_axis, 1);
+  EXPECT_DOUBLE_EQ(api.last_world.max_fit_rms_mm, 3.0);
+  EXPECT_EQ(api.last_world.min_frames, 10);
+  ASSERT_EQ(api.last_world.lframe.size(), 3u);
+  EXPECT_DOUBLE_EQ(api.last_world.lframe[1].x(), 300.0);
+  Send(api, "POST", "/api/calibration/world", R"({"method": "floor"})");
+  EXPECT_EQ(api.last_world.method, "floor");
+  api.calls.clear();
+  for (const char* body : {R"({"method": "wall"})", R"({"frames": 5})", R"({"frames": 3000})", R"({"up": "w"})",
+                           R"({"up": 2})", R"({"lframe": [[0, 0, 0], [1, 0, 0]]})", R"({"lframe": [[0, 0], [1, 0, 0], [0, 1, 0]]})",
+                           R"({"method": "floor", "lframe": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]})",
+                           R"({"frames": 20, "min_frames": 30})", R"({"max_fit_rms_mm": 0})", R"({"other": 1})"}) {
+    EXPECT_EQ(Send(api, "POST", "/api/calibration/world", body).response.status, 400) << body;
+  }
+  EXPECT_EQ(Send(api, "GET", "/api/calibration/world").response.status, 405);
+  EXPECT_TRUE(api.calls.empty());
+}
+
 TEST(ApiRouter, WandingIntrinsicsAreACalibrationDocument) {
   FakeServiceApi api;
   const std::string camera =

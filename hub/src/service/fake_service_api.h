@@ -19,6 +19,7 @@ class FakeServiceApi : public ServiceApi {
   bool last_thresholded = false;
   std::string last_name;
   WandingOptions last_wanding;
+  WorldFrameRequest last_world;
   bool last_flag = false;
   nlohmann::json last_request;
   uint32_t known_node = 1;  // other ids answer 404, as the service does
@@ -83,6 +84,10 @@ class FakeServiceApi : public ServiceApi {
     last_number = camera_id;
     last_flag = save;
     return Call("monitorapply");
+  }
+  nlohmann::json SetWorldFrame(const WorldFrameRequest& request) override {
+    last_world = request;
+    return Call("world");
   }
   nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) override {
     last_name = name;

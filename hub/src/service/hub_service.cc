@@ -732,6 +732,60 @@ nlohmann::json HubService::ApplyMonitorSolve(uint32_t camera_id, bool save) {
   });
 }
 
+nlohmann::json HubService::SetWorldFrame(const WorldFrameRequest& request) {
+  request.Check();
+  const double collect_s = request.frames / options_.rate_hz + 2.0;
+  std::future<std::vector<FrameSet>> window = OnLoop([this, count = static_cast<size_t>(request.frames), collect_s] {
+    if (wanding_.collecting()) throw ApiError(409, "a wanding is collecting; stop it before the floor step");
+    return waiters_.ForFrameSets(count, RealtimeNowNs() + Ns(collect_s));
+  });
+  const std::vector<FrameSet> frames = Await(std::move(window), collect_s + options_.request_timeout_s + 1.0);
+  if (frames.size() < 10) {
+    throw ApiError(504, "only " + std::to_string(frames.size()) + " of " + std::to_string(request.frames) +
+                            " frame sets arrived in " + std::to_string(static_cast<int>(collect_s)) +
+                            " s (are the nodes running?)");
+  }
+  Rig rig;
+  std::string source;
+  {
+    std::lock_guard<std::mutex> lock(rig_mutex_);
+    rig = rig_;
+    source = calibration_source_;
+  }
+  // The solve (a few dozen frame sets reconstructed) runs on the API's thread, not the loop's.
+  const WorldFrameSolution solution = SolveWorldFrame(frames, rig, request);
+  return OnLoop([this, solution, source] {
+    if (source != calibration_source_)
+      throw ApiError(409, "the calibration changed while the floor step ran (now " + calibration_source_ +
+                              "); run it again");
+    // The document written keeps every other field of the calibration serve runs with.
+    nlohmann::json document;
+    try {
+      document = ReadJsonFile(calibration_source_);
+      for (const Camera& camera : solution.rig.cameras) document = WithCameraPose(std::move(document), camera);
+    } catch (const std::exception&) {
+      document = RigToJson(solution.rig);  // the source is gone or unreadable: the rig itself
+    }
+    document["world_frame"] = {{"method", solution.report["method"]},
+                               {"source", "serve (live)"},
+                               {"frames_used", solution.report["frames_used"]},
+                               {"fit_rms_mm", solution.report["fit_rms_mm"]},
+                               {"up", solution.report["up"]}};
+    ReplaceCalibrationKeepingOld(options_.calibration, document, RealtimeNowNs());
+    UseRig(solution.rig, options_.calibration);
+    nlohmann::json report = solution.report;
+    report["saved"] = options_.calibration;
+    log::Info("world frame set on the {} ({} of {} frame sets, fit {:.2f} mm): moved {:.1f} mm, turned {:.2f} deg, "
+              "tilt removed {:.2f} deg; saved to {}",
+              solution.report["method"].get<std::string>() == kWorldMethodFloor ? "floor" : "L-frame",
+              solution.report["frames_used"].get<int>(), solution.report["frames"].get<size_t>(),
+              solution.report["fit_rms_mm"].get<double>(), solution.report["moved_mm"].get<double>(),
+              solution.report["turned_deg"].get<double>(), solution.report["tilt_removed_deg"].get<double>(),
+              options_.calibration);
+    return report;
+  });
+}
+
 void HubService::UseRig(const Rig& rig, const std::string& source) {
   // The monitor judges residuals against the calibration it was made with: a new one starts
   // afresh (made again after the rig changes, so its worker never sees the change).

@@ -115,6 +115,10 @@ class HubService : public ServiceApi {
   nlohmann::json ApplyWandCalibration(bool save) override;
   // The monitor's accepted solve of one camera into the live reconstruction (409 without one).
   nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) override;
+  // Waits for request.frames frame sets (at most their duration + 2 s), solves on the calling
+  // thread, then applies and saves on the loop. 409 while wanding collects; 504 when fewer than
+  // 10 frame sets came; 422 when the L-frame (or floor) is not found.
+  nlohmann::json SetWorldFrame(const WorldFrameRequest& request) override;
   // 409 while the session is being captured or is not complete; 503 when serve runs no jobs.
   nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) override;
   nlohmann::json Processing() override;

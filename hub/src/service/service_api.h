@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/wanding_options.h"
+#include "service/world_frame_step.h"
 
 namespace mocap::service {
 
@@ -61,6 +62,10 @@ class ServiceApi {
   // The calibration monitor's accepted solve of a moved camera (calibration_monitor.h) applied to
   // the live reconstruction (and saved as serve's calibration); answers the monitor's status.
   virtual nlohmann::json ApplyMonitorSolve(uint32_t camera_id, bool save) = 0;
+  // The floor / L-frame step (world_frame_step.h): a window of live frame sets with the L-frame
+  // (or floor markers) lying still, the world put on it, applied to the live reconstruction and
+  // saved as serve's calibration (the old file kept); answers the step's report.
+  virtual nlohmann::json SetWorldFrame(const WorldFrameRequest& request) = 0;
   // Processing jobs (processing_jobs.h): a complete session queued for processing by a recipe (the
   // job's description), every job, and one file of a session's results (SESSION/processed/RECIPE/FILE).
   virtual nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) = 0;

@@ -49,10 +49,29 @@ std::future<BlobsSnapshot> Waiters::ForBlobs(uint64_t now_ns, const std::vector<
   return future;
 }
 
+std::future<std::vector<FrameSet>> Waiters::ForFrameSets(size_t count, uint64_t deadline_ns) {
+  FrameSetsWait wait;
+  wait.count = count;
+  wait.deadline_ns = deadline_ns;
+  wait.sets.reserve(count);
+  std::future<std::vector<FrameSet>> future = wait.promise.get_future();
+  frame_sets_.push_back(std::move(wait));
+  return future;
+}
+
 void Waiters::OnFrameSet(const FrameSet& set, const std::vector<CameraMask>& masks, uint64_t now_ns) {
   last_set_ns_ = now_ns;
   for (BlobsWait& wait : blobs_) wait.promise.set_value(BlobsSnapshot{set, masks});
   blobs_.clear();
+  for (auto it = frame_sets_.begin(); it != frame_sets_.end();) {
+    it->sets.push_back(set);
+    if (it->sets.size() < it->count) {
+      ++it;
+      continue;
+    }
+    it->promise.set_value(std::move(it->sets));
+    it = frame_sets_.erase(it);
+  }
 }
 
 void Waiters::Expire(uint64_t now_ns, const std::vector<CameraMask>& masks) {
@@ -72,6 +91,14 @@ void Waiters::Expire(uint64_t now_ns, const std::vector<CameraMask>& masks) {
     }
     it->promise.set_value(BlobsSnapshot{std::nullopt, masks});
     it = blobs_.erase(it);
+  }
+  for (auto it = frame_sets_.begin(); it != frame_sets_.end();) {
+    if (now_ns < it->deadline_ns) {
+      ++it;
+      continue;
+    }
+    it->promise.set_value(std::move(it->sets));
+    it = frame_sets_.erase(it);
   }
 }
 

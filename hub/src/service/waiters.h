@@ -1,5 +1,5 @@
 // Requests from other threads that wait on the loop for something the nodes send: a control
-// request's outcome, a node's preview image, the next frame set's blobs. One object on the loop
+// request's outcome, a node's preview image, the next frame set's blobs, a window of frame sets. One object on the loop
 // (pure: time passed in): a waiter is a promise kept until its answer comes or its deadline
 // passes (a preview then fails with ApiError 504, a blobs waiter gets no frame set).
 //
@@ -43,7 +43,10 @@ class Waiters {
   // The next frame set's blobs and `masks` then; answered at once with no frame set (and
   // `masks`) when none came for blobs_wait_ns.
   std::future<BlobsSnapshot> ForBlobs(uint64_t now_ns, const std::vector<CameraMask>& masks);
-  // A frame set published at now_ns: every blobs waiter gets it (copied only when one waits).
+  // The next `count` frame sets (the floor / L-frame step's window), answered when they are in
+  // or, with those that came, at deadline_ns.
+  std::future<std::vector<FrameSet>> ForFrameSets(size_t count, uint64_t deadline_ns);
+  // A frame set published at now_ns: every blobs and frame-set waiter gets it (copied only when one waits).
   void OnFrameSet(const FrameSet& set, const std::vector<CameraMask>& masks, uint64_t now_ns);
 
   // Answers the waiters whose deadline passed at now_ns.
@@ -60,12 +63,19 @@ class Waiters {
     uint64_t deadline_ns = 0;
     std::promise<BlobsSnapshot> promise;
   };
+  struct FrameSetsWait {
+    size_t count = 0;
+    uint64_t deadline_ns = 0;
+    std::vector<FrameSet> sets;
+    std::promise<std::vector<FrameSet>> promise;
+  };
 
   uint64_t blobs_wait_ns_;
   uint64_t last_set_ns_ = 0;
   std::map<uint64_t, std::promise<RequestResult>> requests_;
   std::vector<PreviewWait> previews_;
   std::vector<BlobsWait> blobs_;
+  std::vector<FrameSetsWait> frame_sets_;
 };
 
 }  // namespace mocap::service

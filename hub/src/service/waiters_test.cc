@@ -1,6 +1,7 @@
 // Requests waiting on the loop, without a loop or a socket: each answer reaches its own waiter,
 // deadlines end previews with a 504 and blobs waiters with no frame set, and a blobs request is
-// answered at once when no frame set came for the wait.
+// answered at once when no frame set came for the wait; a window of frame sets is answered full or,
+// at its deadline, with what came.
 #include "service/waiters.h"
 
 #include <chrono>
@@ -130,6 +131,32 @@ TEST(Waiters, BlobsPastTheirDeadlineGetNoFrameSet) {
   const BlobsSnapshot s = waiting.get();
   EXPECT_FALSE(s.set.has_value());
   EXPECT_EQ(s.masks.size(), 1u);
+}
+
+TEST(Waiters, AFrameSetWindowIsAnsweredWhenFullInOrder) {
+  Waiters waiters(kWait);
+  std::future<std::vector<FrameSet>> window = waiters.ForFrameSets(3, 5'000 * kMs);
+  waiters.OnFrameSet(Set(7), {}, 10 * kMs);
+  waiters.OnFrameSet(Set(8), {}, 20 * kMs);
+  EXPECT_FALSE(Ready(window));
+  waiters.OnFrameSet(Set(9), {}, 30 * kMs);
+  ASSERT_TRUE(Ready(window));
+  const std::vector<FrameSet> sets = window.get();
+  ASSERT_EQ(sets.size(), 3u);
+  EXPECT_EQ(sets[0].frame_number, 7u);
+  EXPECT_EQ(sets[2].frame_number, 9u);
+  waiters.OnFrameSet(Set(10), {}, 40 * kMs);  // nobody waits: nothing kept
+}
+
+TEST(Waiters, AFrameSetWindowPastItsDeadlineGetsWhatCame) {
+  Waiters waiters(kWait);
+  std::future<std::vector<FrameSet>> window = waiters.ForFrameSets(60, 1'000 * kMs);
+  waiters.OnFrameSet(Set(1), {}, 10 * kMs);
+  waiters.Expire(1'000 * kMs - 1, {});
+  EXPECT_FALSE(Ready(window));
+  waiters.Expire(1'000 * kMs, {});
+  ASSERT_TRUE(Ready(window));
+  EXPECT_EQ(window.get().size(), 1u);
 }
 
 }  // namespace

@@ -1,10 +1,11 @@
 // Calibration: live wanding (wanding_panel.js: per camera samples, coverage map and advice, then
-// the solve's report as plots), and the calibration serve runs with, as a camera layout in 3D and
-// a table per camera (resolution, intrinsics, distortion, position, distance to the volume's
-// centre, its node).
+// the solve's report as plots), the floor / L-frame step after it (world_frame_panel.js), and
+// the calibration serve runs with, as a camera layout in 3D and a table per camera (resolution,
+// intrinsics, distortion, position, distance to the volume's centre, its node).
 import { el, formatNumber } from './api.js';
 import { Scene3D } from './scene3d.js';
 import { WandingPanel } from './wanding_panel.js';
+import { WorldFramePanel } from './world_frame_panel.js';
 
 export class CalibrationPage {
   constructor(root, hub) {
@@ -12,6 +13,7 @@ export class CalibrationPage {
     const view = el('div', { class: 'view3d short', id: 'calibration-view' });
     this.file = el('span', { class: 'hint' });
     this.wanding = new WandingPanel(root, () => hub.loadCalibration());
+    this.world = new WorldFramePanel(root, () => hub.loadCalibration());
     root.append(el('h2', { text: 'Camera layout' }), this.file, view,
       el('table', { class: 'cameras', id: 'calibration-table' },
         el('thead', {}, el('tr', {}, ...['Camera', 'Image px', 'fx / fy px', 'cx / cy px', 'k1 / k2',

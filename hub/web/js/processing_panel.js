@@ -31,6 +31,9 @@ export class ProcessingPanel {
     this.bodies = el('select', { id: 'process-bodies' }, el('option', { value: '', text: 'no rigid bodies' }),
       el('option', { value: 'serve', text: "serve's rigid bodies" }));
     this.overwrite = el('input', { type: 'checkbox', id: 'process-overwrite' });
+    // The session's own calibration is checked against its blobs first; a misfit fails the job
+    // with every camera's residual unless this is ticked.
+    this.forceCalibration = el('input', { type: 'checkbox', id: 'process-force-calibration' });
     this.message = el('span', { class: 'message', id: 'process-message' });
     this.jobs = el('tbody', { id: 'processing-jobs' });
     this.results = el('div', { id: 'processed-results' });
@@ -40,6 +43,8 @@ export class ProcessingPanel {
         el('label', {}, this.trc, ' TRC'), el('label', {}, this.c3d, ' C3D'),
         el('span', { text: 'fill gaps up to (s)' }), this.gap, this.labels, this.bodies,
         el('label', {}, this.overwrite, ' replace results'),
+        el('label', { title: "reconstruct even when the session's calibration does not fit its cameras" },
+          this.forceCalibration, ' even with a misfit calibration'),
         el('button', { id: 'process-start', text: 'Process', onclick: () => this.start() }), this.message),
       this.results,
       el('table', { class: 'jobs' }, el('thead', {}, el('tr', {}, ...['Job', 'Session', 'Recipe', 'State',
@@ -64,6 +69,7 @@ export class ProcessingPanel {
     const recipe = { name: this.recipeName.value.trim(), outputs, max_spline_gap_s: Number(this.gap.value) };
     if (this.labels.value) recipe.labels = this.labels.value;
     if (this.bodies.value) recipe.bodies = this.bodies.value;
+    if (this.forceCalibration.checked) recipe.force_calibration = true;
     return recipe;
   }
 
