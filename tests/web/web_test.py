@@ -570,6 +570,54 @@ class WebConsoleTest(unittest.TestCase):
         self.page.find_element(By.ID, "process-start").click()
         wait_for("the refusal", lambda: "overwrite" in self.page.find_element(By.ID, "process-message").text)
 
+    def test_7c_a_session_annotated_renamed_and_deleted_in_the_page(self):
+        status, _ = http(self.rig.api_port, "POST", "/api/capture/start", b'{"name": "web_chores"}')
+        self.assertEqual(status, 200)
+        time.sleep(0.5)
+        status, _ = http(self.rig.api_port, "POST", "/api/capture/stop", b"{}")
+        self.assertEqual(status, 200)
+        sessions = os.path.join(WORK, "sessions")
+        log_bytes = os.path.getsize(os.path.join(sessions, "web_chores", "raw.mlog"))
+        self.go("nodes")
+        self.go("sessions")
+        wait_for("a click on the session's files", lambda: self.click_fresh(
+            "tr[data-session='web_chores'] button[data-action=files]"))
+        message = lambda: self.page.find_element(By.ID, "session-admin-message").text  # noqa: E731
+        notes = wait_for("the notes field", lambda: self.page.find_elements(By.ID, "session-notes"))[0]
+        notes.send_keys("subject 3\nleft knee brace")
+        self.page.find_element(By.ID, "session-notes-save").click()
+        wait_for("the notes saved", lambda: message() == "notes: done" or None)
+        with open(os.path.join(sessions, "web_chores", "notes.txt")) as f:
+            self.assertEqual(f.read(), "subject 3\nleft knee brace")
+        wait_for("the notes in the list", lambda: self.js(
+            "const r = document.querySelector(\"tr[data-session='web_chores'] td.notes\");"
+            "return r && r.textContent === 'subject 3'") or None)
+        # A name a session cannot have is refused with the reason; a good one renames it.
+        new_name = self.page.find_element(By.ID, "session-new-name")
+        new_name.clear()
+        new_name.send_keys("../escape")
+        self.page.find_element(By.ID, "session-rename").click()
+        wait_for("the refusal", lambda: "cannot name a session" in message() or None)
+        new_name = self.page.find_element(By.ID, "session-new-name")
+        new_name.clear()
+        new_name.send_keys("web_chores_s3")
+        self.page.find_element(By.ID, "session-rename").click()
+        wait_for("the details under the new name", lambda: self.js(
+            "const h = document.querySelector('#session-details h3'); return h && h.textContent") ==
+            "web_chores_s3 (complete)" or None)
+        self.assertFalse(os.path.exists(os.path.join(sessions, "web_chores")))
+        # Delete asks once more, then moves the take aside whole.
+        self.page.find_element(By.ID, "session-delete").click()
+        confirm = self.page.find_element(By.ID, "session-delete-confirm")
+        self.assertTrue(confirm.is_displayed())
+        confirm.click()
+        wait_for("the deletion", lambda: self.page.find_elements(By.ID, "session-deleted"))
+        moved = [d for d in os.listdir(os.path.join(sessions, ".deleted")) if d.startswith("web_chores_s3.")]
+        self.assertEqual(len(moved), 1, moved)
+        self.assertEqual(os.path.getsize(os.path.join(sessions, ".deleted", moved[0], "raw.mlog")), log_bytes)
+        wait_for("the row gone", lambda: not self.page.find_elements(
+            By.CSS_SELECTOR, "tr[data-session='web_chores_s3']"))
+
     def test_8_a_second_browser_and_a_serve_restart(self):
         other = browser()
         self.drivers.append(other)

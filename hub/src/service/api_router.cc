@@ -173,6 +173,19 @@ std::string FileType(const std::string& file) {
 ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
   const std::string& name = s[2];
   if (!ValidSessionName(name)) throw ApiError(404, "no session '" + name + "'");
+  if (s.size() == 3 && r.method == "DELETE") return Json(api.DeleteSession(name));
+  if (s.size() == 4 && s[3] == "rename") {
+    RequireMethod(r, "POST");
+    const json body = ParseBody(r.body, {"name"});
+    if (!body.contains("name") || !body["name"].is_string()) throw ApiError(400, "'name' (a string) is required");
+    return Json(api.RenameSession(name, body["name"].get<std::string>()));
+  }
+  if (s.size() == 4 && s[3] == "notes") {
+    RequireMethod(r, "PUT");
+    const json body = ParseBody(r.body, {"notes"});
+    if (!body.contains("notes") || !body["notes"].is_string()) throw ApiError(400, "'notes' (a string) is required");
+    return Json(api.AnnotateSession(name, body["notes"].get<std::string>()));
+  }
   if (s.size() == 4 && s[3] == "process") {
     RequireMethod(r, "POST");
     const json body = ParseBody(r.body, {"recipe", "overwrite"});

@@ -159,6 +159,26 @@ TEST(ApiRouter, ProcessingASessionAndItsResults) {
   EXPECT_TRUE(other.calls.empty());
 }
 
+TEST(ApiRouter, SessionsAreDeletedRenamedAndAnnotated) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "DELETE", "/api/sessions/walk_01").body["called"], "deletesession");
+  EXPECT_EQ(api.last_name, "walk_01");
+  EXPECT_EQ(Send(api, "POST", "/api/sessions/walk_01/rename", R"({"name": "walk_02"})").body["called"],
+            "renamesession");
+  EXPECT_EQ(api.last_name, "walk_01>walk_02");
+  EXPECT_EQ(Send(api, "PUT", "/api/sessions/walk_01/notes", R"({"notes": "subject 3, left knee brace"})").body["called"],
+            "annotatesession");
+  EXPECT_EQ(api.last_name, "walk_01:subject 3, left knee brace");
+  FakeServiceApi other;
+  EXPECT_EQ(Send(other, "POST", "/api/sessions/walk_01/rename", R"({"to": "x"})").response.status, 400);
+  EXPECT_EQ(Send(other, "POST", "/api/sessions/walk_01/rename", R"({"name": 7})").response.status, 400);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/rename").response.status, 405);
+  EXPECT_EQ(Send(other, "POST", "/api/sessions/walk_01/notes", R"({"notes": ""})").response.status, 405);
+  EXPECT_EQ(Send(other, "PUT", "/api/sessions/walk_01/notes", R"({"notes": null})").response.status, 400);
+  EXPECT_EQ(Send(other, "DELETE", "/api/sessions/..").response.status, 404);
+  EXPECT_TRUE(other.calls.empty());
+}
+
 TEST(ApiRouter, SessionPathsThatCouldLeaveTheSessionsDirectoryNeverReachTheService) {
   // The HTTP server hands the router decoded paths: "%2e%2e" arrives as "..", "%2f" as "/".
   const char* paths[] = {"/api/sessions/..", "/api/sessions/../files/x", "/api/sessions/a/files/..",

@@ -16,6 +16,7 @@
 
 #include "io/live_points.h"
 #include "service/api_error.h"
+#include "service/calibration_files.h"
 #include "util/log.h"
 
 namespace mocap::service {
@@ -418,6 +419,11 @@ nlohmann::json Captures::Summary(const fs::path& path) const {
     item["frame_sets"] = current ? frame_sets_ : info.frame_sets;
     item["cameras"] = info.camera_ids.size();
     item["rate_hz"] = info.rate_hz;
+    std::ifstream notes(path / kNotesFile, std::ios::binary);
+    std::string text(kMaxNotesBytes, '\0');
+    notes.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(notes.gcount()));
+    if (!text.empty()) item["notes"] = text;
   } catch (const std::exception& e) {
     item["state"] = "unreadable";
     item["error"] = e.what();
@@ -500,6 +506,65 @@ std::string Captures::FilePath(const std::string& name, const std::string& file)
   if (!ValidSessionName(file) || !fs::is_regular_file(fs::symlink_status(path, ec)))
     throw ApiError(404, "session '" + name + "' has no file '" + file + "'");
   return path.string();
+}
+
+fs::path Captures::IdleSessionPath(const std::string& name) const {
+  fs::path path = SessionPath(name);
+  if (writer_ && name == name_) throw ApiError(409, "session '" + name + "' is being captured; stop the capture first");
+  return path;
+}
+
+nlohmann::json Captures::Delete(const std::string& name, uint64_t now_ns) {
+  const fs::path path = IdleSessionPath(name);
+  const fs::path trash = fs::path(dir_) / ".deleted";
+  std::error_code ec;
+  fs::create_directories(trash, ec);
+  if (ec) throw ApiError(500, trash.string() + ": " + ec.message());
+  const fs::path to = DatedCopyName((trash / name).string(), now_ns);
+  fs::rename(path, to, ec);
+  if (ec) throw ApiError(500, "session '" + name + "' not deleted: " + ec.message());
+  log::Info("session {} deleted: moved to {}", name, to.string());
+  return {{"name", name}, {"moved_to", to.string()}};
+}
+
+nlohmann::json Captures::Rename(const std::string& name, const std::string& new_name) {
+  const fs::path path = IdleSessionPath(name);
+  if (!ValidSessionName(new_name))
+    throw ApiError(400, "'" + new_name + "' cannot name a session: 1-64 letters, digits, '.', '-', '_', not starting with '.'");
+  const fs::path to = fs::path(dir_) / new_name;
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(to, ec))) throw ApiError(409, "a session '" + new_name + "' exists already");
+  fs::rename(path, to, ec);
+  if (ec) throw ApiError(500, "session '" + name + "' not renamed: " + ec.message());
+  log::Info("session {} renamed {}", name, new_name);
+  return Summary(to);
+}
+
+nlohmann::json Captures::SetNotes(const std::string& name, const std::string& notes) {
+  const fs::path path = IdleSessionPath(name);
+  if (notes.size() > kMaxNotesBytes)
+    throw ApiError(400, "notes of " + std::to_string(notes.size()) + " bytes: at most " + std::to_string(kMaxNotesBytes));
+  const fs::path file = path / kNotesFile;
+  std::error_code ec;
+  if (notes.empty()) {
+    fs::remove(file, ec);
+    if (ec) throw ApiError(500, file.string() + ": " + ec.message());
+    return Summary(path);
+  }
+  // Written beside and renamed over, so a failed write leaves the old notes whole.
+  const fs::path temporary = path / ".notes.txt.new";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << notes;
+    out.close();
+    if (!out) {
+      fs::remove(temporary, ec);
+      throw ApiError(500, file.string() + ": cannot write the notes");
+    }
+  }
+  fs::rename(temporary, file, ec);
+  if (ec) throw ApiError(500, file.string() + ": " + ec.message());
+  return Summary(path);
 }
 
 }  // namespace mocap::service

@@ -135,10 +135,27 @@ class Captures {
   // Likewise one file of the results of a recipe (SESSION/processed/RECIPE/FILE).
   std::string ProcessedFilePath(const std::string& name, const std::string& recipe, const std::string& file) const;
 
+  // The operator's housekeeping (console and API). None touches the running capture (409); the
+  // caller refuses sessions its processing jobs use. Errors: ApiError 404 no such session, 400 a
+  // name a session cannot have or notes too long, 409 the running capture or a name taken, 500 I/O.
+  // Delete moves the session whole into the sessions directory's .deleted/ (as NAME.<UTC time>),
+  // so that a click loses nothing recorded; removing that directory frees the disk. Answers
+  // {"name", "moved_to"}.
+  nlohmann::json Delete(const std::string& name, uint64_t now_ns);
+  // Renames the session's directory; answers its summary under the new name.
+  nlohmann::json Rename(const std::string& name, const std::string& new_name);
+  // The notes on a session (NOTES_FILE in its directory, at most kMaxNotesBytes of text; empty
+  // removes them), shown as "notes" in its summary. Answers the summary.
+  nlohmann::json SetNotes(const std::string& name, const std::string& notes);
+  static constexpr const char* kNotesFile = "notes.txt";
+  static constexpr size_t kMaxNotesBytes = 16384;
+
  private:
   nlohmann::json Summary(const std::filesystem::path& path) const;
   static nlohmann::json FilesJson(const std::filesystem::path& dir);
   std::filesystem::path SessionPath(const std::string& name) const;  // throws ApiError 404
+  // SessionPath of a session that is not the running capture (409 when it is).
+  std::filesystem::path IdleSessionPath(const std::string& name) const;
   // Start's work once the name (or directory) is judged: the session created at `path`.
   void Begin(const std::filesystem::path& path, const std::string& name, const std::string& source,
              const IngestStats& stats, uint64_t now_ns);

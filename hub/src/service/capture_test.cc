@@ -173,6 +173,44 @@ TEST_F(CaptureTest, SessionFilesAreListedAndOnlyThoseCanBeNamed) {
   EXPECT_EQ(StatusOf([&] { captures.Describe(".."); }), 404);
 }
 
+// Housekeeping: a deleted session is moved aside whole (nothing recorded is lost), a renamed one
+// keeps its content, notes are kept in notes.txt and shown in the summary; the running capture
+// and names a session cannot have are refused.
+TEST_F(CaptureTest, SessionsAreDeletedRenamedAndAnnotatedButNeverTheRunningCapture) {
+  Captures captures = Make();
+  captures.Start("walk", IngestStats{}, 1 * kSecond);
+  captures.Stop(IngestStats{}, 2 * kSecond);
+  captures.Start("run", IngestStats{}, 3 * kSecond);
+  EXPECT_EQ(StatusOf([&] { captures.Delete("run", 4 * kSecond); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.Rename("run", "run2"); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.SetNotes("run", "x"); }), 409);
+  EXPECT_EQ(StatusOf([&] { captures.Rename("walk", "run"); }), 409);  // taken
+  EXPECT_EQ(StatusOf([&] { captures.Rename("walk", "../up"); }), 400);
+  EXPECT_EQ(StatusOf([&] { captures.Rename("nope", "x"); }), 404);
+  EXPECT_EQ(StatusOf([&] { captures.SetNotes("walk", std::string(Captures::kMaxNotesBytes + 1, 'a')); }), 400);
+
+  const nlohmann::json noted = captures.SetNotes("walk", "subject 3\nknee brace");
+  EXPECT_EQ(noted["notes"], "subject 3\nknee brace");
+  const nlohmann::json renamed = captures.Rename("walk", "walk_s3");
+  EXPECT_EQ(renamed["name"], "walk_s3");
+  EXPECT_EQ(renamed["state"], "complete");
+  EXPECT_EQ(renamed["notes"], "subject 3\nknee brace");
+  EXPECT_FALSE(fs::exists(dir_ / "sessions" / "walk"));
+  EXPECT_FALSE(captures.SetNotes("walk_s3", "").contains("notes"));
+
+  const uintmax_t log_bytes = fs::file_size(dir_ / "sessions" / "walk_s3" / "raw.mlog");
+  const nlohmann::json deleted = captures.Delete("walk_s3", 5 * kSecond);
+  const fs::path moved = deleted["moved_to"].get<std::string>();
+  EXPECT_EQ(moved.parent_path(), dir_ / "sessions" / ".deleted");
+  EXPECT_EQ(fs::file_size(moved / "raw.mlog"), log_bytes);  // kept whole
+  EXPECT_EQ(StatusOf([&] { captures.Describe("walk_s3"); }), 404);
+  for (const nlohmann::json& s : captures.List()) EXPECT_NE(s["name"], "walk_s3");
+  // A second session of the same name deleted in the same second is kept beside the first.
+  captures.Stop(IngestStats{}, 6 * kSecond);
+  captures.Rename("run", "walk_s3");
+  EXPECT_NE(captures.Delete("walk_s3", 5 * kSecond)["moved_to"], moved.string());
+}
+
 // The probe: a full disk ended serve (flush failed, exit 1) and left session.json "capturing"
 // with 0 frame sets. Now the capture ends "failed: disk full" and the service goes on.
 TEST_F(CaptureTest, ALowDiskRefusesAStartAndEndsARunningCaptureFailedDiskFull) {

@@ -61,6 +61,18 @@ class FakeServiceApi : public ServiceApi {
     Call("sessionfile");
     return "/sessions/" + name + "/" + file;
   }
+  nlohmann::json DeleteSession(const std::string& name) override {
+    last_name = name;
+    return Call("deletesession");
+  }
+  nlohmann::json RenameSession(const std::string& name, const std::string& new_name) override {
+    last_name = name + ">" + new_name;
+    return Call("renamesession");
+  }
+  nlohmann::json AnnotateSession(const std::string& name, const std::string& notes) override {
+    last_name = name + ":" + notes;
+    return Call("annotatesession");
+  }
   nlohmann::json Calibration() override { return Call("calibration"); }
   nlohmann::json Blobs() override { return Call("blobs"); }
   nlohmann::json StartWanding(const WandingOptions& options) override {

@@ -580,6 +580,26 @@ nlohmann::json HubService::Session(const std::string& name) {
   return OnLoop([this, name] { return captures_.Describe(name); });
 }
 
+nlohmann::json HubService::DeleteSession(const std::string& name) {
+  return OnLoop([this, name] {
+    if (processing_ && processing_->Uses(name))
+      throw ApiError(409, "session '" + name + "' has a processing job queued or running; wait for it");
+    return captures_.Delete(name, RealtimeNowNs());
+  });
+}
+
+nlohmann::json HubService::RenameSession(const std::string& name, const std::string& new_name) {
+  return OnLoop([this, name, new_name] {
+    if (processing_ && processing_->Uses(name))
+      throw ApiError(409, "session '" + name + "' has a processing job queued or running; wait for it");
+    return captures_.Rename(name, new_name);
+  });
+}
+
+nlohmann::json HubService::AnnotateSession(const std::string& name, const std::string& notes) {
+  return OnLoop([this, name, notes] { return captures_.SetNotes(name, notes); });
+}
+
 std::string HubService::SessionFile(const std::string& name, const std::string& file) {
   return OnLoop([this, name, file] { return captures_.FilePath(name, file); });
 }

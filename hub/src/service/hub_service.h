@@ -97,6 +97,9 @@ class HubService : public ServiceApi {
   nlohmann::json StopCapture() override;
   nlohmann::json Sessions() override;
   nlohmann::json Session(const std::string& name) override;
+  nlohmann::json DeleteSession(const std::string& name) override;
+  nlohmann::json RenameSession(const std::string& name, const std::string& new_name) override;
+  nlohmann::json AnnotateSession(const std::string& name, const std::string& notes) override;
   std::string SessionFile(const std::string& name, const std::string& file) override;
   nlohmann::json Calibration() override;
   // The next frame set's blobs: waits for it at most kBlobsWaitSeconds, and not at all when no

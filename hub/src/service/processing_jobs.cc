@@ -290,6 +290,14 @@ nlohmann::json ProcessingJobs::Describe(const Job& job) const {
   return out;
 }
 
+bool ProcessingJobs::Uses(const std::string& session) const {
+  if (active_.load() == 0) return false;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const Job& job : jobs_)
+    if (job.session == session && (job.state == "queued" || job.state == "running")) return true;
+  return false;
+}
+
 nlohmann::json ProcessingJobs::Jobs() const {
   std::lock_guard<std::mutex> lock(mutex_);
   nlohmann::json list = nlohmann::json::array();

@@ -59,6 +59,8 @@ class ProcessingJobs {
   // "outputs": the files written (done)}, ...]}, newest first: the queued, the running, the last
   // finished ones.
   nlohmann::json Jobs() const;
+  // Whether a job is queued for or running on `session` (it may not be renamed or deleted then).
+  bool Uses(const std::string& session) const;
   // Reaps a finished child and starts the next queued job. Called every turn of the hub's loop:
   // without a queued or running job it reads one atomic; with one it looks at most every 50 ms.
   void Poll();

@@ -43,6 +43,11 @@ class ServiceApi {
   // One session with its files; the path of one file of it (see Captures::Describe/FilePath).
   virtual nlohmann::json Session(const std::string& name) = 0;
   virtual std::string SessionFile(const std::string& name, const std::string& file) = 0;
+  // Housekeeping (Captures::Delete/Rename/SetNotes): refused 409 for the running capture and for
+  // a session a processing job is queued for or running on.
+  virtual nlohmann::json DeleteSession(const std::string& name) = 0;
+  virtual nlohmann::json RenameSession(const std::string& name, const std::string& new_name) = 0;
+  virtual nlohmann::json AnnotateSession(const std::string& name, const std::string& notes) = 0;
   // The cameras of the calibration: id, image size, intrinsics, cam_from_world, centre in world.
   virtual nlohmann::json Calibration() = 0;
   // The 2D blobs of the next frame set per calibrated camera, with each camera's mask regions:

@@ -4,7 +4,7 @@
 // timeline: play, pause, scrub, speed. A mesh binding (.mdb) plays the session's markers (its
 // first .mca, else markers.trc) with the mesh they drive, deformed in the page frame by frame. A
 // session is processed by a recipe from its details (processing_panel.js).
-import { el, getBytes, getJson, getText, postJson } from './api.js';
+import { deleteJson, el, getBytes, getJson, getText, postJson, putJson } from './api.js';
 import { openArchive } from './archive_recording.js';
 import { parseMarkerFile } from './marker_files.js';
 import { MeshDriver, parseMeshBinding } from './mesh_binding.js';
@@ -161,7 +161,7 @@ export class SessionsPage {
       el('h2', {}, 'Sessions ',
         el('button', { id: 'sessions-refresh', text: 'Refresh', onclick: () => this.refresh() })),
       el('table', { class: 'sessions', id: 'sessions-table' },
-        el('thead', {}, el('tr', {}, ...['Session', 'State', 'Frame sets', 'Cameras', 'Rate Hz', ''].map(
+        el('thead', {}, el('tr', {}, ...['Session', 'State', 'Frame sets', 'Cameras', 'Rate Hz', 'Notes', ''].map(
           (t) => el('th', { text: t })))), this.list),
       this.details);
     right.append(el('h2', { text: 'Playback' }), player, view);
@@ -224,6 +224,7 @@ export class SessionsPage {
     this.list.replaceChildren(...sessions.map((s) => el('tr', { 'data-session': s.name },
       el('td', { text: s.name }), el('td', { text: s.state }), el('td', { text: s.frame_sets ?? '–' }),
       el('td', { text: s.cameras ?? '–' }), el('td', { text: s.rate_hz ?? '–' }),
+      el('td', { class: 'notes', text: (s.notes || '').split('\n')[0] }),
       el('td', {}, el('button', { text: 'Files', 'data-action': 'files', onclick: () => this.open(s.name) })))));
   }
 
@@ -243,10 +244,52 @@ export class SessionsPage {
         el('td', { text: kilobytes(f.bytes) }),
         el('td', {}, playable(f.name) ? el('button', { text: 'Play', 'data-action': 'play',
           onclick: () => this.play(name, f.name) }) : ''))))),
+      this.housekeeping(name, session),
       (session.processed || []).length ? '' : el('p', { class: 'hint', text: 'Not processed yet: Process below ' +
         'reconstructs it into processed/RECIPE/ (live_points.tsv plays what serve published).' }),
       this.processing.element);
     this.processing.showFor(name, session.processed);
+  }
+
+  // Notes, rename and delete (a deleted session is moved to the sessions directory's .deleted/,
+  // never erased from here): each answer or refusal is shown beside the buttons.
+  housekeeping(name, session) {
+    const path = `/api/sessions/${encodeURIComponent(name)}`;
+    const message = el('span', { class: 'message', id: 'session-admin-message' });
+    const notes = el('textarea', { id: 'session-notes', rows: '3', cols: '60', placeholder: 'notes on this take' });
+    notes.value = session.notes || '';
+    const newName = el('input', { id: 'session-new-name', type: 'text', value: name, size: '24' });
+    const run = async (what, action) => {
+      message.textContent = `${what}…`;
+      try {
+        const answer = await action();
+        message.textContent = `${what}: done`;
+        return answer;
+      } catch (e) {
+        message.textContent = `${what}: ${e.message}`;
+        return null;
+      }
+    };
+    const confirmDelete = el('button', { id: 'session-delete-confirm', text: 'Yes, delete', hidden: true,
+      onclick: async () => {
+        const answer = await run('delete', () => deleteJson(path));
+        if (!answer) return;
+        this.shown = null;
+        this.details.replaceChildren(el('p', { id: 'session-deleted', text: `${name} deleted (moved to ${answer.moved_to})` }));
+        this.refresh();
+      } });
+    return el('div', { class: 'session-admin' },
+      el('div', {}, notes, el('button', { id: 'session-notes-save', text: 'Save notes',
+        onclick: async () => { if (await run('notes', () => putJson(`${path}/notes`, { notes: notes.value }))) this.refresh(); } })),
+      el('div', {}, newName, el('button', { id: 'session-rename', text: 'Rename',
+        onclick: async () => {
+          const answer = await run('rename', () => postJson(`${path}/rename`, { name: newName.value.trim() }));
+          if (answer) { this.refresh(); this.open(answer.name); }
+        } }),
+      el('button', { id: 'session-delete', text: 'Delete…', onclick: () => {
+        confirmDelete.hidden = false;
+        message.textContent = 'moved to .deleted/ in the sessions directory (remove it there to free the disk)';
+      } }), confirmDelete, message));
   }
 
   // url: where the file is (default: the session's own files).
