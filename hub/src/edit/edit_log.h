@@ -4,7 +4,8 @@
 //   {"format": "mocap-edits", "version": 1, "operations": [
 //     {"op": "fill", "marker": "LKNE", "method": "spline", "from": 120, "to": 180},
 //     {"op": "swap", "markers": ["LKNE", "RKNE"], "from": 300, "to": 420}, ...]}
-// Frame fields are the take's frame numbers (a TRC's Frame# column), inclusive. Reading refuses
+// Frame fields are the take's frame numbers (Time x rate: Frame# - 1 in the hub's own TRC files),
+// inclusive. Reading refuses
 // anything it does not know (field, value and rule named) and bounds every size.
 #pragma once
 

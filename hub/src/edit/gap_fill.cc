@@ -2,7 +2,9 @@
 // numbers is interpolated at the right instants.
 #include "edit/gap_fill.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <stdexcept>
 
@@ -75,14 +77,17 @@ class NaturalSpline {
   std::vector<Eigen::Vector3d> m_;
 };
 
-// The measured samples of `marker` from `from` walking by `step` (+1/-1), at most `count`.
-void CollectKnots(const EditedTake& take, size_t marker, long from, int step, int count, std::vector<double>* t,
-                  std::vector<Eigen::Vector3d>* y) {
+// At most `count` measured samples of `marker` from `from` walking by `step` (+1/-1), each at
+// least `stride` frames from the one before.
+void CollectKnots(const EditedTake& take, size_t marker, long from, int step, int count, long stride,
+                  std::vector<double>* t, std::vector<Eigen::Vector3d>* y) {
   const long frames = static_cast<long>(take.markers.NumFrames());
+  long last = -1;
   for (long f = from; f >= 0 && f < frames && count > 0; f += step) {
-    if (!take.markers.Has(static_cast<size_t>(f), marker)) continue;
+    if (!take.markers.Has(static_cast<size_t>(f), marker) || (last >= 0 && std::abs(f - last) < stride)) continue;
     t->push_back(TimeOf(take, static_cast<size_t>(f)));
     y->push_back(take.markers.At(static_cast<size_t>(f), marker));
+    last = f;
     --count;
   }
 }
@@ -92,15 +97,18 @@ size_t FillInterpolated(EditedTake* take, size_t marker, const Gap& gap, const F
   std::vector<double> t;
   std::vector<Eigen::Vector3d> y;
   if (options.method == FillMethod::kLinear) {
-    CollectKnots(*take, marker, gap.before, -1, 1, &t, &y);
-    CollectKnots(*take, marker, gap.after, +1, 1, &t, &y);
+    CollectKnots(*take, marker, gap.before, -1, 1, 1, &t, &y);
+    CollectKnots(*take, marker, gap.after, +1, 1, 1, &t, &y);
   } else {
+    // Knots spaced by a fifth of the gap: the spline follows the motion at the gap's own time
+    // scale, and a long gap's shape does not hang on the noise of the last few samples.
+    const long stride = std::max<long>(1, static_cast<long>(gap.last - gap.first + 1) / 5);
     std::vector<double> tb;
     std::vector<Eigen::Vector3d> yb;
-    CollectKnots(*take, marker, gap.before, -1, options.context, &tb, &yb);
+    CollectKnots(*take, marker, gap.before, -1, options.context, stride, &tb, &yb);
     t.assign(tb.rbegin(), tb.rend());
     y.assign(yb.rbegin(), yb.rend());
-    CollectKnots(*take, marker, gap.after, +1, options.context, &t, &y);
+    CollectKnots(*take, marker, gap.after, +1, options.context, stride, &t, &y);
   }
   const NaturalSpline spline(std::move(t), std::move(y));
   const uint8_t mark = static_cast<uint8_t>(options.method);

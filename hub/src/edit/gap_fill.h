@@ -1,8 +1,8 @@
 // Gap filling on a take under edit, one marker at a time, by five methods (docs/editor.md has
 // their measured accuracy):
-//   spline     a natural cubic spline through the measured samples of `context` frames on each
-//              side of the gap (in the spirit of Woltring's spline fill; interpolating, not
-//              smoothing); needs samples on both sides;
+//   spline     a natural cubic spline through `context` measured samples on each side of the
+//              gap, spaced a fifth of the gap's length apart (at least one frame), in the spirit
+//              of Woltring's spline fill (interpolating, not smoothing); needs both sides;
 //   linear     a straight line between the two samples bounding the gap;
 //   pattern    the donor marker's path, shifted by the target-donor offset at the gap's ends
 //              (blended linearly from one end to the other);

@@ -53,6 +53,7 @@ async function send(method, path, body) {
 export const getJson = (path) => send('GET', path);
 export const postJson = (path, body) => send('POST', path, body === undefined ? {} : body);
 export const deleteJson = (path) => send('DELETE', path);
+export const putJson = (path, body) => send('PUT', path, body);
 export async function login(token) {
   const who = await send('POST', '/api/login', { token });
   logins += 1;
