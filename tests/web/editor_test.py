@@ -3,7 +3,8 @@ nodes, a session whose processed results (processed/gait/markers.trc) are a simu
 one marker cut for 0.3 s; Debian's Chromium headless through selenium. The operator opens the
 results in the editor, picks the marker and the frames, fills by spline, and the hub writes
 edited.trc (the gap within 10 mm of the motion: the spline's 0.25 s figures in docs/editor.md),
-edited.filled.tsv (the stretch marked spline) and edits.json beside the results, never over them;
+edited.filled.tsv (the stretch marked spline), edited.c3d (ezc3d reads residual 0 on the filled
+samples, 1 on measured ones) and edits.json beside the results, never over them;
 Undo puts the gap back, Redo fills it again. The page is saved as WORK_DIR/editor.png
 (docs/console/editor.png).
 usage: editor_test.py BIN_DIR WORK_DIR"""
@@ -20,6 +21,7 @@ from web_test import browser, log_in  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
 from live_rig import wait_for  # noqa: E402
 
+import ezc3d  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 
 MARKERS, RATE, FRAMES = 8, 100, 400
@@ -67,6 +69,7 @@ def main():
                 '"from": %d, "to": %d}]}' % (names[CUT_MARKER], CUT_FROM, CUT_TO))
     hub(bin_dir, "edit", "apply", cut, "--input", motion, "-o", os.path.join(results, "markers.trc"))
     os.remove(os.path.join(results, "markers.filled.tsv"))
+    hub(bin_dir, "convert", os.path.join(results, "markers.trc"), os.path.join(results, "markers.c3d"))
     results_before = open(os.path.join(results, "markers.trc")).read()
     hub(bin_dir, "keys", "new", "1", "2", "3", "4", "--out", os.path.join(work, "keys"))
     log_path = os.path.join(work, "serve.log")
@@ -109,6 +112,12 @@ def main():
         assert f"{names[CUT_MARKER]}\t{CUT_FROM}\t{CUT_TO}\tspline\n" in filled, filled
         assert open(os.path.join(results, "markers.trc")).read() == results_before, "the results were written"
         assert '"spline"' in open(os.path.join(results, "edits.json")).read()
+        # edited.c3d as ezc3d (PyPI) reads it: residual 0 on the filled samples, 1 on measured ones.
+        c3d = ezc3d.c3d(os.path.join(results, "edited.c3d"))
+        column = c3d["parameters"]["POINT"]["LABELS"]["value"].index(names[CUT_MARKER])
+        residuals = c3d["data"]["meta_points"]["residuals"][0, column, :]
+        assert all(residuals[f] == 0.0 for f in range(CUT_FROM, CUT_TO + 1)), residuals[CUT_FROM:CUT_TO + 1]
+        assert residuals[CUT_FROM - 1] == 1.0 and residuals[CUT_TO + 1] == 1.0, residuals
         assert len(page.find_elements(By.CSS_SELECTOR, "#editor-log li")) == 1
         js("document.getElementById('editor-timeline').scrollIntoView({block: 'center'})")
         page.save_screenshot(os.path.join(work, "editor.png"))

@@ -2,8 +2,10 @@
 // beside it the side file that says which samples were filled (NAME.filled.tsv for NAME.trc or
 // NAME.c3d: one row per filled stretch, marker, first and last frame, method; every other present
 // sample is measured). A C3D also says it in its residual words, the standard's convention:
-// -1 a gap, 0 a computed (filled) point, kMeasuredResidual a measured one (our processed results
-// carry no residual per sample, so measured points get this nominal positive value).
+// -1 a gap, 0 a computed (filled) point, a positive residual a measured one. Our processed results
+// carry no residual per sample, so measured points get residual 1 with no camera bits: the float
+// word 256 (the residual in the word's high byte, the camera mask in its low byte, as ezc3d reads
+// and writes float files: ezc3d reads this residual as 1.0).
 #pragma once
 
 #include <cstdint>
@@ -14,7 +16,7 @@
 
 namespace mocap::edit {
 
-constexpr float kMeasuredResidual = 1.0f;
+constexpr float kMeasuredResidual = 256.0f;  // the residual word: residual 1, no camera bits
 
 struct FilledStretch {
   std::string marker;
