@@ -75,6 +75,7 @@ void AddRegisterCommand(CLI::App& app);   // cmd_register.cc
 void AddMeshDriveCommand(CLI::App& app);  // cmd_mesh.cc: mesh drive
 void AddBodyCommands(CLI::App& app);
 void AddLabelsCommands(CLI::App& app);  // cmd_labels.cc: labels learn, labels apply
+void AddEditCommands(CLI::App& app);    // cmd_edit.cc: edit apply, edit spikes
 void AddSkeletonCommands(CLI::App& app);  // cmd_skeleton.cc: skeleton template, calibrate, solve, sim, eval
 // cmd_sim_wand.cc, cmd_calibrate_wand.cc (wand, world), cmd_calibrate_camera.cc (intrinsics,
 // dlt), cmd_calibrate_import.cc (import-tsai, import-mcd), cmd_eval_calibration.cc.

@@ -32,6 +32,7 @@ const AddCommand kCommands[] = {
     mocap::AddMeshDriveCommand,
     mocap::AddBodyCommands,
     mocap::AddLabelsCommands,
+    mocap::AddEditCommands,
     mocap::AddSkeletonCommands,
     mocap::AddBenchCommand,
     mocap::AddSimWandCommand,
@@ -61,6 +62,7 @@ const GroupEntry kGroups[] = {
     {"labels", "Marker sets: learn a labelling template from named trials, name anonymous markers with it"},
     {"skeleton", "Skeletons: templates from marker sets, subject calibration, per-frame solve to BVH, ASF/AMC and .mot"},
     {"calibrate", "Camera calibration: wand extrinsics, world frame, refinement from captures, intrinsics, DLT, Tsai, merging and seed-format imports"},
+    {"edit", "Trajectory editor: apply an edit log (fills, swaps, splits, joins, renames, deletions, spikes) to a processed result"},
     {"body", "Rigid bodies: define one from a capture's markers, list a bodies file"},
     {"tokens", "API tokens for serve's HTTP API and console: issue (or rotate), revoke, list"},
 };

@@ -201,19 +201,19 @@ void C3dWriter::Open(const std::string& path, const std::vector<std::string>& na
   frames_ = 0;
 }
 
-void C3dWriter::WriteRow(const Eigen::Vector3d* points) {
+void C3dWriter::WriteRow(const Eigen::Vector3d* points, const float* residuals) {
   for (size_t i = 0; i < num_points_; ++i) {
     const bool gap = points == nullptr || MarkerTrajectories::IsGap(points[i]);
     row_[4 * i + 0] = gap ? 0.0f : static_cast<float>(points[i].x());
     row_[4 * i + 1] = gap ? 0.0f : static_cast<float>(points[i].y());
     row_[4 * i + 2] = gap ? 0.0f : static_cast<float>(points[i].z());
-    row_[4 * i + 3] = gap ? -1.0f : 0.0f;
+    row_[4 * i + 3] = gap ? -1.0f : residuals != nullptr ? residuals[i] : 0.0f;
   }
   if (std::fwrite(row_.data(), sizeof(float), row_.size(), file_) != row_.size()) Fail("write failed (disk full?)");
   ++frames_;
 }
 
-void C3dWriter::WriteFrame(uint64_t frame_number, const Eigen::Vector3d* points, size_t count) {
+void C3dWriter::WriteFrame(uint64_t frame_number, const Eigen::Vector3d* points, size_t count, const float* residuals) {
   if (file_ == nullptr) Fail("not open");
   if (count != num_points_) Fail("frame with " + std::to_string(count) + " points, file has " + std::to_string(num_points_));
   if (frames_ == 0) {
@@ -223,9 +223,9 @@ void C3dWriter::WriteFrame(uint64_t frame_number, const Eigen::Vector3d* points,
     if (frame_number - next_frame_ > kMaxSkippedFrames)
       Fail("frame " + std::to_string(frame_number) + " is " + std::to_string(frame_number - next_frame_) +
            " frames past the last one (at most " + std::to_string(kMaxSkippedFrames) + " are filled with gaps)");
-    while (next_frame_ < frame_number) WriteRow(nullptr), ++next_frame_;
+    while (next_frame_ < frame_number) WriteRow(nullptr, nullptr), ++next_frame_;
   }
-  WriteRow(points);
+  WriteRow(points, residuals);
   next_frame_ = frame_number + 1;
 }
 
@@ -254,12 +254,15 @@ void C3dWriter::Close() {
   if (!ok) Fail("write failed (disk full?)");
 }
 
-void WriteC3d(const MarkerTrajectories& trajectories, const std::string& path) {
+void WriteC3d(const MarkerTrajectories& trajectories, const std::string& path, const std::vector<float>* residuals) {
+  if (residuals != nullptr && residuals->size() != trajectories.points.size())
+    throw std::invalid_argument(path + ": " + std::to_string(residuals->size()) + " residuals for " +
+                                std::to_string(trajectories.points.size()) + " points");
   C3dWriter writer;
   writer.Open(path, trajectories.names, trajectories.rate_hz);
   for (size_t f = 0; f < trajectories.NumFrames(); ++f)
     writer.WriteFrame(trajectories.frame_numbers[f], &trajectories.points[f * trajectories.NumMarkers()],
-                      trajectories.NumMarkers());
+                      trajectories.NumMarkers(), residuals ? &(*residuals)[f * trajectories.NumMarkers()] : nullptr);
   writer.Close();
 }
 
@@ -411,9 +414,11 @@ PointLayout ReadPointLayout(const std::vector<uint8_t>& bytes, const C3dParamete
   return layout;
 }
 
-void ReadPointFrames(const std::vector<uint8_t>& bytes, const PointLayout& layout, MarkerTrajectories* out) {
+void ReadPointFrames(const std::vector<uint8_t>& bytes, const PointLayout& layout, MarkerTrajectories* out,
+                     std::vector<float>* residuals) {
   const bool floats = layout.scale < 0.0;
   out->points.reserve(layout.frames * layout.points);
+  if (residuals) residuals->assign(layout.frames * layout.points, -1.0f);
   for (size_t f = 0; f < layout.frames; ++f) {
     const size_t i = out->AddFrame(layout.first + f);
     const uint8_t* row = &bytes[layout.data_at + f * layout.frame_size];
@@ -426,27 +431,29 @@ void ReadPointFrames(const std::vector<uint8_t>& bytes, const PointLayout& layou
       if (v[3] < 0.0) continue;  // the residual word says: no point here
       const double s = floats ? 1.0 : layout.scale;
       const Eigen::Vector3d point(v[0] * s, v[1] * s, v[2] * s);
-      if (point.allFinite()) out->At(i, m) = point;
+      if (!point.allFinite()) continue;
+      out->At(i, m) = point;
+      if (residuals) (*residuals)[i * layout.points + m] = static_cast<float>(v[3]);
     }
   }
 }
 
 }  // namespace
 
-MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string& source) {
+MarkerTrajectories ParseC3d(const std::vector<uint8_t>& bytes, const std::string& source, std::vector<float>* residuals) {
   if (bytes.size() < kBlock) Refuse(source, "too short for a C3D header (" + std::to_string(bytes.size()) + " bytes)");
   if (bytes[1] != kKey || bytes[0] == 0) Refuse(source, "not a C3D file (no 0x50 key in the header)");
   const C3dParameters section = ReadParameterSection(bytes, source);
   MarkerTrajectories out;
   const PointLayout layout = ReadPointLayout(bytes, section, &out.rate_hz, source);
   out.names = PointLabels(section, layout.points);
-  ReadPointFrames(bytes, layout, &out);
+  ReadPointFrames(bytes, layout, &out, residuals);
   return out;
 }
 
-MarkerTrajectories ReadC3d(const std::string& path) {
+MarkerTrajectories ReadC3d(const std::string& path, std::vector<float>* residuals) {
   const std::string text = ReadRegularFile(path, kMaxRecordingFileBytes, "a C3D file");
-  return ParseC3d(std::vector<uint8_t>(text.begin(), text.end()), path);
+  return ParseC3d(std::vector<uint8_t>(text.begin(), text.end()), path, residuals);
 }
 
 }  // namespace mocap

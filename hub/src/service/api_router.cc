@@ -167,7 +167,8 @@ std::string FileType(const std::string& file) {
   return "application/octet-stream";
 }
 
-// /api/sessions/NAME[/files/FILE | /process | /processed/RECIPE/files/FILE]: names are checked
+// /api/sessions/NAME[/files/FILE | /process | /processed/RECIPE/files/FILE | /processed/RECIPE/edits]:
+// names are checked
 // here as the service names sessions, so a path that could leave the sessions directory ("..",
 // "/", a leading dot) never reaches it.
 ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector<std::string>& s) {
@@ -192,6 +193,17 @@ ApiResponse RouteSession(ServiceApi& api, const ApiRequest& r, const std::vector
     ApiResponse response = Json(api.ProcessSession(name, body));
     response.status = 202;
     return response;
+  }
+  if (s.size() == 6 && s[3] == "processed" && s[5] == "edits") {
+    const std::string& recipe = s[4];
+    if (!ValidSessionName(recipe)) throw ApiError(404, "session '" + name + "' has no results of recipe '" + recipe + "'");
+    if (r.method == "PUT") {
+      const json log = json::parse(r.body, nullptr, false);
+      if (log.is_discarded()) throw ApiError(400, "the body is not valid JSON");
+      return Json(api.PutProcessedEdits(name, recipe, log));
+    }
+    RequireMethod(r, "GET");
+    return Json(api.ProcessedEdits(name, recipe));
   }
   RequireMethod(r, "GET");
   if (s.size() == 3) return Json(api.Session(name));

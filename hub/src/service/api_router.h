@@ -19,6 +19,9 @@
 //   POST   /api/sessions/NAME/process       {"recipe": {recipe fields}, "overwrite": false}: 202 and
 //                                            the queued job (processing_jobs.h)
 //   GET    /api/sessions/NAME/processed/RECIPE/files/FILE   one file of a recipe's results
+//   GET    /api/sessions/NAME/processed/RECIPE/edits   the trajectory editor's log of those results
+//   PUT    /api/sessions/NAME/processed/RECIPE/edits   {edit log}: applied, saved, edited outputs
+//                                            written (processed_edits.h); 400 names the operation
 //   GET    /api/processing                  every processing job: state, progress, log, outputs
 //   GET    /api/calibration                 the cameras: intrinsics, pose, centre
 //   GET    /api/blobs                       every camera's 2D blobs of the next frame set, masks

@@ -179,6 +179,20 @@ TEST(ApiRouter, SessionsAreDeletedRenamedAndAnnotated) {
   EXPECT_TRUE(other.calls.empty());
 }
 
+TEST(ApiRouter, TheEditLogOfResults) {
+  FakeServiceApi api;
+  EXPECT_EQ(Send(api, "GET", "/api/sessions/walk_01/processed/gait/edits").body["called"], "edits");
+  EXPECT_EQ(api.last_name, "walk_01/gait");
+  const std::string log = R"({"format": "mocap-edits", "version": 1, "operations": []})";
+  EXPECT_EQ(Send(api, "PUT", "/api/sessions/walk_01/processed/gait/edits", log).body["called"], "putedits");
+  EXPECT_EQ(api.last_request["format"], "mocap-edits");  // the service judges the log (processed_edits_test)
+  FakeServiceApi other;
+  EXPECT_EQ(Send(other, "PUT", "/api/sessions/walk_01/processed/gait/edits", "{").response.status, 400);
+  EXPECT_EQ(Send(other, "POST", "/api/sessions/walk_01/processed/gait/edits", log).response.status, 405);
+  EXPECT_EQ(Send(other, "GET", "/api/sessions/walk_01/processed/.x/edits").response.status, 404);
+  EXPECT_TRUE(other.calls.empty());
+}
+
 TEST(ApiRouter, SessionPathsThatCouldLeaveTheSessionsDirectoryNeverReachTheService) {
   // The HTTP server hands the router decoded paths: "%2e%2e" arrives as "..", "%2f" as "/".
   const char* paths[] = {"/api/sessions/..", "/api/sessions/../files/x", "/api/sessions/a/files/..",

@@ -488,12 +488,18 @@ nlohmann::json Captures::Describe(const std::string& name) const {
   return item;
 }
 
-std::string Captures::ProcessedFilePath(const std::string& name, const std::string& recipe,
-                                        const std::string& file) const {
+std::string Captures::ProcessedDirPath(const std::string& name, const std::string& recipe) const {
   const fs::path dir = SessionPath(name) / "processed" / recipe;
   std::error_code ec;
   if (!ValidSessionName(recipe) || !fs::is_directory(fs::symlink_status(dir, ec)))
     throw ApiError(404, "session '" + name + "' has no results of recipe '" + recipe + "'");
+  return dir.string();
+}
+
+std::string Captures::ProcessedFilePath(const std::string& name, const std::string& recipe,
+                                        const std::string& file) const {
+  const fs::path dir = ProcessedDirPath(name, recipe);
+  std::error_code ec;
   const fs::path path = dir / file;
   if (!ValidSessionName(file) || !fs::is_regular_file(fs::symlink_status(path, ec)))
     throw ApiError(404, "session '" + name + "' has no file '" + file + "' in its results of recipe '" + recipe + "'");

@@ -134,6 +134,8 @@ class Captures {
   std::string FilePath(const std::string& name, const std::string& file) const;
   // Likewise one file of the results of a recipe (SESSION/processed/RECIPE/FILE).
   std::string ProcessedFilePath(const std::string& name, const std::string& recipe, const std::string& file) const;
+  // The directory of a recipe's results (ApiError 404 as above).
+  std::string ProcessedDirPath(const std::string& name, const std::string& recipe) const;
 
   // The operator's housekeeping (console and API). None touches the running capture (409); the
   // caller refuses sessions its processing jobs use. Errors: ApiError 404 no such session, 400 a

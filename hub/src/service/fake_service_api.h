@@ -111,6 +111,15 @@ class FakeServiceApi : public ServiceApi {
     calls.push_back("processedfile");
     return "/sessions/" + name + "/processed/" + recipe + "/" + file;
   }
+  nlohmann::json ProcessedEdits(const std::string& name, const std::string& recipe) override {
+    last_name = name + "/" + recipe;
+    return Call("edits");
+  }
+  nlohmann::json PutProcessedEdits(const std::string& name, const std::string& recipe, const nlohmann::json& log) override {
+    last_name = name + "/" + recipe;
+    last_request = log;
+    return Call("putedits");
+  }
 
  private:
   nlohmann::json Call(const std::string& what, uint32_t node = 0) {

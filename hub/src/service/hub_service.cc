@@ -10,6 +10,7 @@
 #include "io/calibration_json.h"
 #include "service/calibration_files.h"
 #include "service/hub_json.h"
+#include "service/processed_edits.h"
 #include "util/json_file.h"
 #include "util/log.h"
 #include "util/thread_priority.h"
@@ -625,6 +626,20 @@ nlohmann::json HubService::Processing() {
 
 std::string HubService::ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) {
   return OnLoop([this, name, recipe, file] { return captures_.ProcessedFilePath(name, recipe, file); });
+}
+
+// The edits run on the caller's thread (an HTTP worker), not the loop: a long take's fill must not
+// hold frame sets back. One at a time, so two PUTs never write the same outputs together.
+nlohmann::json HubService::ProcessedEdits(const std::string& name, const std::string& recipe) {
+  const std::string dir = OnLoop([this, name, recipe] { return captures_.ProcessedDirPath(name, recipe); });
+  std::lock_guard<std::mutex> lock(edits_mutex_);
+  return ReadProcessedEdits(dir);
+}
+
+nlohmann::json HubService::PutProcessedEdits(const std::string& name, const std::string& recipe, const nlohmann::json& log) {
+  const std::string dir = OnLoop([this, name, recipe] { return captures_.ProcessedDirPath(name, recipe); });
+  std::lock_guard<std::mutex> lock(edits_mutex_);
+  return WriteProcessedEdits(dir, log);
 }
 
 nlohmann::json HubService::Calibration() {

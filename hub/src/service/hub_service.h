@@ -126,6 +126,8 @@ class HubService : public ServiceApi {
   nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) override;
   nlohmann::json Processing() override;
   std::string ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) override;
+  nlohmann::json ProcessedEdits(const std::string& name, const std::string& recipe) override;
+  nlohmann::json PutProcessedEdits(const std::string& name, const std::string& recipe, const nlohmann::json& log) override;
 
   // Every published frame, and every capture's start and stop (live_subscribers.h), called on the
   // loop; Unsubscribe takes either's id.
@@ -174,6 +176,7 @@ class HubService : public ServiceApi {
   // The loop thread is the only writer of rig_ (ApplyWandCalibration) and reads it freely; other
   // threads read it under rig_mutex_, which the writer holds while it changes.
   mutable std::mutex rig_mutex_;
+  std::mutex edits_mutex_;  // PutProcessedEdits one at a time (hub_service.cc)
   Rig rig_;
   std::string calibration_source_;  // the file rig_ came from
   UdpSocket socket_;

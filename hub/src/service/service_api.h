@@ -76,6 +76,10 @@ class ServiceApi {
   virtual nlohmann::json ProcessSession(const std::string& name, const nlohmann::json& request) = 0;
   virtual nlohmann::json Processing() = 0;
   virtual std::string ProcessedFile(const std::string& name, const std::string& recipe, const std::string& file) = 0;
+  // The trajectory editor's log of a recipe's results, and a new log applied to them
+  // (processed_edits.h: the log saved and the edited outputs written only when it applies).
+  virtual nlohmann::json ProcessedEdits(const std::string& name, const std::string& recipe) = 0;
+  virtual nlohmann::json PutProcessedEdits(const std::string& name, const std::string& recipe, const nlohmann::json& log) = 0;
 };
 
 }  // namespace mocap::service

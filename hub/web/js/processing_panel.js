@@ -15,10 +15,12 @@ function percent(progress) {
 
 export class ProcessingPanel {
   // onPlay(session, recipe, file): play one of a recipe's results; onFinished(session): a job of
-  // that session ended (the caller shows its results again).
-  constructor(onPlay, onFinished) {
+  // that session ended (the caller shows its results again); onEdit(session, recipe): open the
+  // trajectory editor on a recipe's results (editor_panel.js).
+  constructor(onPlay, onFinished, onEdit) {
     this.onPlay = onPlay;
     this.onFinished = onFinished;
+    this.onEdit = onEdit;
     this.session = null;
     this.timer = null;
     this.seenActive = new Set();
@@ -56,7 +58,10 @@ export class ProcessingPanel {
     this.session = session;
     const base = `/api/sessions/${encodeURIComponent(session)}/processed/`;
     this.results.replaceChildren(...(processed || []).map((p) => el('div', { class: 'processed', 'data-recipe': p.recipe },
-      el('span', { text: `${p.recipe}: ` }), ...p.files.map((f) => el('span', { class: 'result-file' },
+      el('span', { text: `${p.recipe}: ` }),
+      p.files.some((f) => f.name === 'markers.trc') ? el('button', { text: 'Edit', 'data-action': 'edit-result',
+        onclick: () => this.onEdit(session, p.recipe) }) : '',
+      ...p.files.map((f) => el('span', { class: 'result-file' },
         el('a', { href: `${base}${encodeURIComponent(p.recipe)}/files/${encodeURIComponent(f.name)}`, download: f.name,
           text: f.name }),
         f.name.endsWith('.trc') ? el('button', { text: 'Play', 'data-action': 'play-result',

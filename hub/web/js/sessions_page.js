@@ -8,6 +8,7 @@ import { deleteJson, el, getBytes, getJson, getText, postJson, putJson } from '.
 import { openArchive } from './archive_recording.js';
 import { parseMarkerFile } from './marker_files.js';
 import { MeshDriver, parseMeshBinding } from './mesh_binding.js';
+import { EditorPanel } from './editor_panel.js';
 import { ProcessingPanel } from './processing_panel.js';
 import { Scene3D } from './scene3d.js';
 
@@ -146,7 +147,9 @@ export class SessionsPage {
     this.processing = new ProcessingPanel(
       (session, recipe, file) => this.play(session, file,
         `/api/sessions/${encodeURIComponent(session)}/processed/${encodeURIComponent(recipe)}/files/${encodeURIComponent(file)}`),
-      (session) => { if (this.shown === session) this.open(session); });
+      (session) => { if (this.shown === session) this.open(session); },
+      (session, recipe) => this.editor.open(session, recipe));
+    this.editor = new EditorPanel();
     const view = el('div', { class: 'view3d short', id: 'player-view' });
     const player = el('div', { class: 'player' });
     const left = el('div', { class: 'column' });
@@ -247,7 +250,7 @@ export class SessionsPage {
       this.housekeeping(name, session),
       (session.processed || []).length ? '' : el('p', { class: 'hint', text: 'Not processed yet: Process below ' +
         'reconstructs it into processed/RECIPE/ (live_points.tsv plays what serve published).' }),
-      this.processing.element);
+      this.processing.element, this.editor.element);
     this.processing.showFor(name, session.processed);
   }
 
