@@ -48,7 +48,7 @@ struct BenchArgs {
   int frames = 2400;
   std::string matcher = "relaxation";
   bool no_predictions = false;
-  bool no_contested_groups = false;
+  bool contested_groups = false;
   ProjectOptions faults;
   bool json = false;
   bool ingest = false;
@@ -198,7 +198,7 @@ CaseResult RunCase(const BenchArgs& args, const MarkerTrajectories& motion, cons
   ReconstructorOptions recon_options;
   recon_options.matcher = MatcherTypeFromString(args.matcher);
   recon_options.use_predictions = !args.no_predictions;
-  recon_options.prediction.resolve_contested_groups = !args.no_contested_groups;
+  recon_options.prediction.resolve_contested_groups = args.contested_groups;
   recon_options.threads = args.threads;
   Reconstructor reconstructor(rig, recon_options);
   TrackerOptions tracker_options;
@@ -461,8 +461,8 @@ void AddBenchCommand(CLI::App& app) {
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
       ->capture_default_str();
   command->add_flag("--no-predictions", args->no_predictions, "Match every frame from scratch");
-  command->add_flag("--no-contested-groups", args->no_contested_groups,
-                    "Leave contested predictions' blobs to the matcher (recon/contested_groups.h off)");
+  command->add_flag("--contested-groups", args->contested_groups,
+                    "Assign contested predictions' groups to blobs per camera (recon/contested_groups.h)");
   command->add_option("--noise-px", args->faults.noise_px, "Centroid noise sigma")->capture_default_str();
   command->add_option("--occlusion", args->faults.occlusion, "Occlusion probability")->capture_default_str();
   command->add_option("--spurious", args->faults.spurious, "False blobs per camera per frame")->capture_default_str();

@@ -110,7 +110,9 @@ TEST(ContestedGroups, NearestBlobsAloneWouldTakeTheNeighbours) {
 TEST(ContestedGroups, MatcherNotCalledWhenEveryBlobIsExplained) {
   TwoCloseMarkers scene;
   std::vector<ReconstructedPoint> points;
-  Reconstructor with(scene.rig, ReconstructorOptions());
+  ReconstructorOptions on;
+  on.prediction.resolve_contested_groups = true;
+  Reconstructor with(scene.rig, on);
   with.Process(scene.frame_set, scene.predictions, &points);
   ASSERT_EQ(points.size(), 2u);
   for (const ReconstructedPoint& point : points) EXPECT_EQ(point.track_hint, -1);
@@ -118,10 +120,8 @@ TEST(ContestedGroups, MatcherNotCalledWhenEveryBlobIsExplained) {
   EXPECT_EQ(with.stats().matcher_runs, 0);
   EXPECT_EQ(with.stats().leftover_observations, 0);
 
-  // Off: the same two points, found by the matcher from every blob.
-  ReconstructorOptions off;
-  off.prediction.resolve_contested_groups = false;
-  Reconstructor without(scene.rig, off);
+  // Off (the default): the same two points, found by the matcher from every blob.
+  Reconstructor without(scene.rig, ReconstructorOptions());
   without.Process(scene.frame_set, scene.predictions, &points);
   EXPECT_EQ(points.size(), 2u);
   EXPECT_EQ(without.stats().matcher_runs, 1);
