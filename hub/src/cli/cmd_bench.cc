@@ -48,6 +48,7 @@ struct BenchArgs {
   int frames = 2400;
   std::string matcher = "relaxation";
   bool no_predictions = false;
+  bool contested_groups = false;
   ProjectOptions faults;
   bool json = false;
   bool ingest = false;
@@ -186,6 +187,8 @@ struct CaseResult {
   double points_per_frame = 0.0, floor_points_per_frame = 0.0, output_samples_per_frame = 0.0;
   double leftover_per_frame = 0.0;
   double served_again_per_frame = 0.0;
+  double group_points_per_frame = 0.0;
+  double matcher_frames = 0.0;  // share of frames that left blobs to the matcher
   int output_markers = 0;
   ReconstructionStageTimes stages;
 };
@@ -195,6 +198,7 @@ CaseResult RunCase(const BenchArgs& args, const MarkerTrajectories& motion, cons
   ReconstructorOptions recon_options;
   recon_options.matcher = MatcherTypeFromString(args.matcher);
   recon_options.use_predictions = !args.no_predictions;
+  recon_options.prediction.resolve_contested_groups = args.contested_groups;
   recon_options.threads = args.threads;
   Reconstructor reconstructor(rig, recon_options);
   TrackerOptions tracker_options;
@@ -257,6 +261,8 @@ CaseResult RunCase(const BenchArgs& args, const MarkerTrajectories& motion, cons
   result.output_samples_per_frame = output_samples / frames;
   result.leftover_per_frame = reconstructor.stats().leftover_observations / frames;
   result.served_again_per_frame = reconstructor.stats().predictions_served_again / frames;
+  result.group_points_per_frame = reconstructor.stats().points_from_contested_groups / frames;
+  result.matcher_frames = reconstructor.stats().matcher_runs / frames;
   result.output_markers = tracker.NumMarkers();
   result.stages = reconstructor.stage_times();
   return result;
@@ -298,6 +304,8 @@ nlohmann::json CaseJson(const BenchArgs& args, const CaseResult& r) {
       {"points_per_frame", r.points_per_frame},
       {"leftover_blobs_per_frame", r.leftover_per_frame},
       {"predictions_served_again_per_frame", r.served_again_per_frame},
+      {"contested_group_points_per_frame", r.group_points_per_frame},
+      {"matcher_frames_share", r.matcher_frames},
       {"floor_points_per_frame", r.floor_points_per_frame},
       {"output_markers", r.output_markers},
       {"output_samples_per_frame", r.output_samples_per_frame},
@@ -305,6 +313,7 @@ nlohmann::json CaseJson(const BenchArgs& args, const CaseResult& r) {
        {{"views", r.stages.views_us / frames},
         {"index", r.stages.index_us / frames},
         {"predictions", r.stages.predictions_us / frames},
+        {"groups", r.stages.groups_us / frames},
         {"matcher", r.stages.matcher_us / frames},
         {"ghosts", r.stages.ghosts_us / frames}}},
   };
@@ -335,10 +344,13 @@ void PrintCase(const BenchArgs& args, const CaseResult& r, const std::string& mo
               "matcher; %d output markers for %zu\n",
               mean / floor_mean, pipeline.Percentile(0.99) / pipeline.Percentile(0.5), r.points_per_frame,
               r.floor_points_per_frame, r.leftover_per_frame, r.output_markers, r.markers);
-  std::printf("stages (us/frame, wall): views %.1f index %.1f predictions %.1f matcher %.1f ghosts %.1f; "
-              "track the rest; %.2f predictions/frame served again after a parallel attempt\n",
+  std::printf("stages (us/frame, wall): views %.1f index %.1f predictions %.1f contested groups %.1f matcher %.1f "
+              "ghosts %.1f; track the rest; %.2f predictions/frame served again after a parallel attempt\n",
               r.stages.views_us / frames, r.stages.index_us / frames, r.stages.predictions_us / frames,
-              r.stages.matcher_us / frames, r.stages.ghosts_us / frames, r.served_again_per_frame);
+              r.stages.groups_us / frames, r.stages.matcher_us / frames, r.stages.ghosts_us / frames,
+              r.served_again_per_frame);
+  std::printf("contested groups: %.2f points/frame; matcher called in %.1f %% of frames\n", r.group_points_per_frame,
+              100.0 * r.matcher_frames);
 }
 
 MarkerTrajectories SyntheticBenchMotion(const BenchArgs& args, int markers) {
@@ -449,6 +461,8 @@ void AddBenchCommand(CLI::App& app) {
       ->check(CLI::IsMember({"relaxation", "clustering", "greedy"}))
       ->capture_default_str();
   command->add_flag("--no-predictions", args->no_predictions, "Match every frame from scratch");
+  command->add_flag("--contested-groups", args->contested_groups,
+                    "Assign contested predictions' groups to blobs per camera (recon/contested_groups.h)");
   command->add_option("--noise-px", args->faults.noise_px, "Centroid noise sigma")->capture_default_str();
   command->add_option("--occlusion", args->faults.occlusion, "Occlusion probability")->capture_default_str();
   command->add_option("--spurious", args->faults.spurious, "False blobs per camera per frame")->capture_default_str();

@@ -361,6 +361,10 @@ void AddReconstructCommand(CLI::App& app) {
                       "Predictions nearer each other than this times the sum of their gates (each counted up to "
                       "30 mm) are left to the matcher (dense clusters); 0 serves every prediction")
       ->capture_default_str();
+  command->add_flag(
+      "--contested-groups", [args](int64_t) { args->chain.recon.prediction.resolve_contested_groups = true; },
+      "Assign each group of contested predictions to blobs per camera instead of leaving their blobs to the matcher "
+      "(recon/contested_groups.h: faster on dense sets)");
   command->add_option("--threads", args->chain.recon.threads,
                       "Worker threads inside a frame (undistortion, blob index, predictions); results are identical "
                       "for any count")

@@ -164,10 +164,11 @@ void PredictionMatcher::Serve(const RigModel& rig, const FrameViews& views, cons
   if (static_cast<int>(gathered) < triangulation_options_.min_views) return;
   if (!TriangulateRobust(rig, views, picked, triangulation_options_, &attempt->point, shared)) return;
   CompleteViews(rig, views, index, used, triangulation_options_, &attempt->point, shared, &picked);
-  attempt->served = Judge(predictions[which], gathered, attempt->point);
+  attempt->served = JudgePredictedPoint(options_, predictions[which], gathered, attempt->point);
 }
 
-bool PredictionMatcher::Judge(const PointPrediction& prediction, size_t gathered, const TriangulatedPoint& point) const {
+bool JudgePredictedPoint(const PredictionMatchOptions& options, const PointPrediction& prediction, size_t gathered,
+                         const TriangulatedPoint& point) {
   const size_t kept = point.observations.size();
   // Two views left out of many gathered: the prediction collected other markers' blobs and two
   // of them happen to agree. A real marker keeps most of its views.
@@ -176,9 +177,9 @@ bool PredictionMatcher::Judge(const PointPrediction& prediction, size_t gathered
   // the gates; the shift check bounds how far such a combination may land.
   // Few views leave a wrong blob near an epipolar line free to drag the point along it; such a
   // point must stay closer to the prediction.
-  const double factor = kept == 2 ? 0.5 * options_.max_shift_factor
-                        : kept == 3 ? 0.75 * options_.max_shift_factor
-                                    : options_.max_shift_factor;
+  const double factor = kept == 2 ? 0.5 * options.max_shift_factor
+                        : kept == 3 ? 0.75 * options.max_shift_factor
+                                    : options.max_shift_factor;
   return (point.point_in_world - prediction.point_in_world).norm() <= factor * prediction.gate_mm;
 }
 

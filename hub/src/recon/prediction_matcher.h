@@ -31,6 +31,12 @@ struct PointPrediction {
 void MarkContested(const std::vector<PointPrediction>& predictions, double factor, double gate_cap_mm,
                    std::vector<char>* contested);
 
+// Whether the point triangulated from `gathered` blobs gathered for `prediction` is a marker
+// where the prediction expected one: it keeps most of its views and lands within
+// max_shift_factor times the prediction's gate (closer with only two or three views).
+bool JudgePredictedPoint(const PredictionMatchOptions& options, const PointPrediction& prediction, size_t gathered,
+                         const TriangulatedPoint& point);
+
 int FindSharedBlobs(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
                     const std::vector<PointPrediction>& predictions, double coincident_px, double min_depth_mm,
                     std::vector<char>* shared, WorkerTeam* team = nullptr);
@@ -59,6 +65,8 @@ class PredictionMatcher {
              const std::vector<char>* shared = nullptr, WorkerTeam* team = nullptr);
   // Predictions served again because an earlier one took a blob of their parallel attempt.
   long long served_again() const { return served_again_; }
+  // The last Match's contested predictions (MarkContested), one entry per prediction.
+  const std::vector<char>& contested() const { return contested_; }
 
  private:
   // One prediction served: its point, and every blob its searches picked (kept or not): the
@@ -77,9 +85,6 @@ class PredictionMatcher {
   void Serve(const RigModel& rig, const FrameViews& views, const BlobIndex& index,
              const std::vector<PointPrediction>& predictions, size_t which, const UseCounts& used,
              const std::vector<char>* shared, Attempt* attempt) const;
-  // Whether the point triangulated from `gathered` blobs is the prediction's marker.
-  bool Judge(const PointPrediction& prediction, size_t gathered, const TriangulatedPoint& point) const;
-
   PredictionMatchOptions options_;
   TriangulationOptions triangulation_options_;
   std::vector<Attempt> speculative_;

@@ -83,6 +83,12 @@ struct PredictionMatchOptions {
   // uncertain, not that its neighbours are near (the serve's racket hand: markers ~100 mm apart
   // whose predictions the triangulation checks still tell apart).
   double contested_gate_cap_mm = 30.0;
+  // Contested predictions resolved jointly (recon/contested_groups.h: an optimal assignment of
+  // each group's predictions to blobs per camera) before the matcher; the matcher then gets
+  // only the blobs no point took. Off by default: on the dense set 3.3x faster with a better
+  // rmse, but 3 more trajectories and 4 more swaps, and the shared motions' outputs move
+  // (recon/README.md, issue 39). false: every contested prediction's blobs go to the matcher.
+  bool resolve_contested_groups = false;
   // Two predictions whose reprojections fall within this of one blob (pixels) share it: two
   // markers a pixel or two apart in that image make one round blob that the node's shape test
   // cannot flag, whose centroid is off for both. It is then treated as a merged blob (left out

@@ -30,6 +30,7 @@ Reconstructor::Reconstructor(const Rig& rig, const ReconstructorOptions& options
       options_(GatesForNoise(configured_, gate_noise_px_, mm_per_px_)),
       matcher_(CreateMatcher(options_)),
       prediction_matcher_(options_.prediction, options_.triangulation),
+      group_resolver_(options_.prediction, options_.triangulation),
       ghost_filter_(options_.ghosts, options_.triangulation),
       seed_mask_(SpreadCameras(rig_, options.seed_cameras)),
       team_(options_.threads) {}
@@ -50,6 +51,7 @@ void Reconstructor::FollowNoise(double sigma_px) {
   options_ = gates;
   matcher_ = CreateMatcher(options_);
   prediction_matcher_.SetOptions(options_.prediction, options_.triangulation);
+  group_resolver_.SetOptions(options_.prediction, options_.triangulation);
   ghost_filter_.SetTriangulationOptions(options_.triangulation);
 }
 
@@ -73,13 +75,17 @@ void Reconstructor::CompleteFrom(size_t first) {
   }
 }
 
-int Reconstructor::ComputeLeftoverRays() {
+int Reconstructor::ComputeLeftoverRays(int* available) {
   // Every blob a matcher may use this frame is available now: matching only takes blobs (the
   // seed cameras' pass sets the others aside and gives them back).
   int unused = 0;
+  *available = 0;
   for (int i = 0; i < views_.NumObservations(); ++i) {
     unused += used_[i] == 0;
-    if (IsAvailable(views_.observations[i], used_[i])) ComputeRay(rig_, &views_.observations[i]);
+    if (IsAvailable(views_.observations[i], used_[i])) {
+      ComputeRay(rig_, &views_.observations[i]);
+      ++*available;
+    }
   }
   return unused;
 }
@@ -123,8 +129,9 @@ void Reconstructor::Process(const FrameSet& frame_set,
   Lap(&lap, &stage_times_.index_us);
   // Blobs two predictions share are only set aside for precise points (precise_fraction), which
   // a rig as noisy as the last frame's points were cannot make: then the search is skipped.
-  if (options_.use_predictions && !predictions.empty()) {
-    const bool look_for_shared = median_rms_px_ < PreciseGatePx(options_.triangulation);
+  const bool predicting = options_.use_predictions && !predictions.empty();
+  const bool look_for_shared = predicting && median_rms_px_ < PreciseGatePx(options_.triangulation);
+  if (predicting) {
     if (look_for_shared) {
       stats_.coincident_blobs += FindSharedBlobs(rig_, views_, index_, predictions, options_.prediction.coincident_px,
                                                  options_.triangulation.min_depth_mm, &shared_, &team_);
@@ -134,11 +141,24 @@ void Reconstructor::Process(const FrameSet& frame_set,
   }
   stats_.predictions_served_again = prediction_matcher_.served_again();
   Lap(&lap, &stage_times_.predictions_us);
+  // The points before from_predictions carry track hints; the contested groups' points follow
+  // them unhinted, like the matcher's.
   size_t from_predictions = triangulated_.size();
+  if (predicting && options_.prediction.resolve_contested_groups) {
+    stats_.points_from_contested_groups +=
+        group_resolver_.Resolve(rig_, views_, index_, predictions, prediction_matcher_.contested(), &used_,
+                                &triangulated_, look_for_shared ? &shared_ : nullptr);
+  }
+  Lap(&lap, &stage_times_.groups_us);
   stats_.observations += views_.NumObservations();
-  const int leftover = ComputeLeftoverRays();
+  int available = 0;
+  const int leftover = ComputeLeftoverRays(&available);
   stats_.leftover_observations += leftover;
-  MatchLeftovers(leftover);
+  // No blob left: nothing for the matcher to find (a dense set whose every marker was served).
+  if (available > 0) {
+    MatchLeftovers(leftover);
+    ++stats_.matcher_runs;
+  }
   Lap(&lap, &stage_times_.matcher_us);
   stats_.ghosts_rejected += ghost_filter_.Apply(rig_, views_, index_, triangulated_, from_predictions, &used_, &keep_);
   Lap(&lap, &stage_times_.ghosts_us);

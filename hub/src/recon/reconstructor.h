@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "recon/blob_index.h"
+#include "recon/contested_groups.h"
 #include "recon/frame_views.h"
 #include "recon/ghost_filter.h"
 #include "recon/matcher.h"
@@ -30,6 +31,7 @@ struct ReconstructionStats {
   long long frames = 0;
   long long points = 0;
   long long points_from_predictions = 0;
+  long long points_from_contested_groups = 0;  // ContestedGroupResolver's (no track hint)
   long long outlier_views_rejected = 0;
   long long coincident_blobs = 0;  // blobs two predictions fell in, left out of their solves
   long long observations = 0;
@@ -37,6 +39,7 @@ struct ReconstructionStats {
   long long unknown_camera_frames = 0;
   long long ghosts_rejected = 0;  // duplicates and points without views of their own
   long long predictions_served_again = 0;  // several threads: a parallel attempt lost a blob
+  long long matcher_runs = 0;  // frames in which blobs were left to the matcher (none: not called)
 };
 
 // Where a frame's time goes, microseconds of wall clock summed over the frames processed (the
@@ -45,6 +48,7 @@ struct ReconstructionStageTimes {
   double views_us = 0.0;        // undistortion into observations and rays
   double index_us = 0.0;        // the per-camera blob grid
   double predictions_us = 0.0;  // serving the tracker's predictions
+  double groups_us = 0.0;       // resolving contested groups of predictions
   double matcher_us = 0.0;      // matching the blobs left over, completing their points' views
   double ghosts_us = 0.0;       // the ghost filter
 };
@@ -76,8 +80,9 @@ class Reconstructor {
   const std::vector<TriangulatedPoint>& triangulated() const { return triangulated_; }
 
  private:
-  // Sets the rays of the observations still available to a matcher; returns how many are unused.
-  int ComputeLeftoverRays();
+  // Sets the rays of the observations still available to a matcher; returns how many are unused
+  // and sets *available to how many a matcher may take.
+  int ComputeLeftoverRays(int* available);
   // Runs the matcher on the available observations (first on the seed cameras when many are
   // left) and completes the views of the points it makes.
   void MatchLeftovers(int leftover);
@@ -96,6 +101,7 @@ class Reconstructor {
   ReconstructorOptions options_;
   std::unique_ptr<Matcher> matcher_;
   PredictionMatcher prediction_matcher_;
+  ContestedGroupResolver group_resolver_;
   GhostFilter ghost_filter_;
   std::vector<char> keep_;
   std::vector<char> seed_mask_;  // empty: acquisition matches over all cameras
