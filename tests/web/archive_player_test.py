@@ -10,15 +10,13 @@ played and to the whole hour decoded.
 usage: archive_player_test.py BIN_DIR WORK_DIR"""
 
 import os
-import re
 import shutil
 import struct
-import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from web_test import browser, log_in  # noqa: E402
+from console_session import click, console_on_sessions, hub  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
 from live_rig import wait_for  # noqa: E402
@@ -27,10 +25,6 @@ from selenium.webdriver.common.by import By  # noqa: E402
 
 MARKERS, RATE, MINUTE, REPEATS, WINDOW = 30, 60, 3600, 60, 240
 
-
-def hub(bin_dir, *args):
-    return subprocess.run([os.path.join(bin_dir, "mocap-hub"), *args], check=True, capture_output=True,
-                          text=True).stdout
 
 
 def varint(value):
@@ -112,26 +106,8 @@ def main():
     hour_mca = os.path.join(session, "hour.mca")
     repeat_archive(minute_mca, hour_mca, REPEATS)
     print(f"hour.mca: {os.path.getsize(hour_mca)} bytes for {MINUTE * REPEATS} frames of {MARKERS} markers")
-    hub(bin_dir, "keys", "new", "1", "2", "3", "4", "--out", os.path.join(work, "keys"))
-    log_path = os.path.join(work, "serve.log")
-    with open(log_path, "w") as log:
-        serve = subprocess.Popen([os.path.join(bin_dir, "mocap-hub"), "serve", "--listen", "127.0.0.1:0",
-                                  "--api", "127.0.0.1:0", "--calibration", rig, "--sessions-dir",
-                                  os.path.join(work, "sessions"), "--masks-file", os.path.join(work, "masks.json"),
-                                  "--keys", os.path.join(work, "keys"), "--stream", "off"],
-                                 stdout=subprocess.DEVNULL, stderr=log)
-    page = None
-    try:
-        ports = wait_for("serve's ports", lambda: re.search(r"API http://[^:]+:(\d+)", open(log_path).read()))
-        page = browser()
-        # The operator logs in with the token serve issued at its first start (beside its
-        # sessions directory), as on an installed hub.
-        with open(os.path.join(work, "api-auth", "operator.token")) as f:
-            log_in(page, f"http://127.0.0.1:{ports.group(1)}/", f.read().strip())
-        page.get(f"http://127.0.0.1:{ports.group(1)}/#sessions")
+    with console_on_sessions(bin_dir, work, rig) as (page, port):
         js = page.execute_script
-        wait_for("the sessions page", lambda: js("return window.mocapConsole && mocapConsole.currentPage()") ==
-                 "sessions")
         wait_for("the session's files", lambda: click(page, "tr[data-session='hour'] button[data-action=files]"))
         play = wait_for("hour.mca's play button", lambda: page.find_elements(
             By.CSS_SELECTOR, "#session-details tr[data-file='hour.mca'] button[data-action=play]"))[0]
@@ -162,22 +138,7 @@ def main():
         print(f"hour-long archive: first frame played {first_played:.2f} s after the click, the whole hour "
               f"({total} frames) decoded after {all_decoded:.2f} s; points within {worst:.5f} mm of the hub's decoding")
         return 0
-    finally:
-        if page is not None:
-            page.quit()
-        serve.terminate()
-        serve.wait(timeout=10)
 
-
-def click(page, selector):
-    buttons = page.find_elements(By.CSS_SELECTOR, selector)
-    if not buttons:
-        return False
-    try:
-        buttons[0].click()
-        return True
-    except Exception:  # redrawn under the click: try again
-        return False
 
 
 if __name__ == "__main__":

@@ -10,13 +10,11 @@ Undo puts the gap back, Redo fills it again. The page is saved as WORK_DIR/edito
 usage: editor_test.py BIN_DIR WORK_DIR"""
 
 import os
-import re
 import shutil
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from web_test import browser, log_in  # noqa: E402
+from console_session import click, console_on_sessions, hub  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
 from live_rig import wait_for  # noqa: E402
@@ -27,10 +25,6 @@ from selenium.webdriver.common.by import By  # noqa: E402
 MARKERS, RATE, FRAMES = 8, 100, 400
 CUT_MARKER, CUT_FROM, CUT_TO = 3, 150, 179  # frame numbers (Time x rate)
 
-
-def hub(bin_dir, *args):
-    return subprocess.run([os.path.join(bin_dir, "mocap-hub"), *args], check=True, capture_output=True,
-                          text=True).stdout
 
 
 def trc(path):
@@ -71,24 +65,8 @@ def main():
     os.remove(os.path.join(results, "markers.filled.tsv"))
     hub(bin_dir, "convert", os.path.join(results, "markers.trc"), os.path.join(results, "markers.c3d"))
     results_before = open(os.path.join(results, "markers.trc")).read()
-    hub(bin_dir, "keys", "new", "1", "2", "3", "4", "--out", os.path.join(work, "keys"))
-    log_path = os.path.join(work, "serve.log")
-    with open(log_path, "w") as log:
-        serve = subprocess.Popen([os.path.join(bin_dir, "mocap-hub"), "serve", "--listen", "127.0.0.1:0",
-                                  "--api", "127.0.0.1:0", "--calibration", rig, "--sessions-dir",
-                                  os.path.join(work, "sessions"), "--masks-file", os.path.join(work, "masks.json"),
-                                  "--keys", os.path.join(work, "keys"), "--stream", "off"],
-                                 stdout=subprocess.DEVNULL, stderr=log)
-    page = None
-    try:
-        ports = wait_for("serve's ports", lambda: re.search(r"API http://[^:]+:(\d+)", open(log_path).read()))
-        page = browser()
-        with open(os.path.join(work, "api-auth", "operator.token")) as f:
-            log_in(page, f"http://127.0.0.1:{ports.group(1)}/", f.read().strip())
-        page.get(f"http://127.0.0.1:{ports.group(1)}/#sessions")
+    with console_on_sessions(bin_dir, work, rig) as (page, port):
         js = page.execute_script
-        wait_for("the sessions page", lambda: js("return window.mocapConsole && mocapConsole.currentPage()") ==
-                 "sessions")
         wait_for("the session's files", lambda: click(page, "tr[data-session='take'] button[data-action=files]"))
         wait_for("the results' Edit button", lambda: click(page, "#processed-results button[data-action=edit-result]"))
         wait_for("the editor's markers", lambda: len(page.find_elements(By.CSS_SELECTOR, "#editor-marker option")) ==
@@ -130,22 +108,7 @@ def main():
         print(f"gap of {CUT_TO - CUT_FROM + 1} frames filled by spline through the console, "
               f"worst {worst:.3f} mm from the motion; undo and redo re-applied the log")
         return 0
-    finally:
-        if page is not None:
-            page.quit()
-        serve.terminate()
-        serve.wait(timeout=10)
 
-
-def click(page, selector):
-    buttons = page.find_elements(By.CSS_SELECTOR, selector)
-    if not buttons:
-        return False
-    try:
-        buttons[0].click()
-        return True
-    except Exception:  # redrawn under the click: try again
-        return False
 
 
 if __name__ == "__main__":

@@ -14,15 +14,13 @@ WebGL: a relative cost), and the per-frame deformation cost.
 usage: mesh_player_test.py BIN_DIR WORK_DIR"""
 
 import os
-import re
 import shutil
 import struct
-import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from web_test import browser, log_in  # noqa: E402
+from console_session import click, console_on_sessions, hub  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "serve"))
 from live_rig import wait_for  # noqa: E402
@@ -35,10 +33,6 @@ COMPARED = (0, 1, 137, 300, FRAMES - 1)
 SAMPLE_STEP = 47  # vertices compared: every 47th (1064 of them, spread over every patch)
 TOLERANCE_MM = 0.01
 
-
-def hub(bin_dir, *args):
-    return subprocess.run([os.path.join(bin_dir, "mocap-hub"), *args], check=True, capture_output=True,
-                          text=True).stdout
 
 
 def trc_lines(path):
@@ -105,24 +99,8 @@ def main():
               "--binding", os.path.join(session, "face.mdb"), "-o", os.path.join(work, "hub.pc2")).strip())
     points, expected = read_pc2(os.path.join(work, "hub.pc2"))
     assert points == vertex_count and len(expected) == len(COMPARED)
-    hub(bin_dir, "keys", "new", "1", "2", "3", "4", "--out", os.path.join(work, "keys"))
-    log_path = os.path.join(work, "serve.log")
-    with open(log_path, "w") as log:
-        serve = subprocess.Popen([os.path.join(bin_dir, "mocap-hub"), "serve", "--listen", "127.0.0.1:0",
-                                  "--api", "127.0.0.1:0", "--calibration", rig, "--sessions-dir",
-                                  os.path.join(work, "sessions"), "--masks-file", os.path.join(work, "masks.json"),
-                                  "--keys", os.path.join(work, "keys"), "--stream", "off"],
-                                 stdout=subprocess.DEVNULL, stderr=log)
-    page = None
-    try:
-        ports = wait_for("serve's ports", lambda: re.search(r"API http://[^:]+:(\d+)", open(log_path).read()))
-        page = browser()
-        with open(os.path.join(work, "api-auth", "operator.token")) as f:
-            log_in(page, f"http://127.0.0.1:{ports.group(1)}/", f.read().strip())
-        page.get(f"http://127.0.0.1:{ports.group(1)}/#sessions")
+    with console_on_sessions(bin_dir, work, rig) as (page, port):
         js = page.execute_script
-        wait_for("the sessions page", lambda: js("return window.mocapConsole && mocapConsole.currentPage()") ==
-                 "sessions")
         wait_for("the session's files", lambda: click(page, "tr[data-session='face'] button[data-action=files]"))
         player = "mocapConsole.pages.sessions.player"
         # The same take as markers alone first: the frames rendered without the mesh, the
@@ -165,11 +143,6 @@ def main():
         assert worst < TOLERANCE_MM, f"the page's vertices are {worst:.5f} mm from the hub's deformation"
         print(f"displayed vertices within {worst:.5f} mm of the hub's deformation at frames {COMPARED}")
         return 0
-    finally:
-        if page is not None:
-            page.quit()
-        serve.terminate()
-        serve.wait(timeout=10)
 
 
 def rendered_per_second(js, player, seconds=2.0):
@@ -178,16 +151,6 @@ def rendered_per_second(js, player, seconds=2.0):
     end = js(f"return [performance.now(), {player}.scene.framesRendered]")
     return (end[1] - start[1]) * 1000 / (end[0] - start[0])
 
-
-def click(page, selector):
-    buttons = page.find_elements(By.CSS_SELECTOR, selector)
-    if not buttons:
-        return False
-    try:
-        buttons[0].click()
-        return True
-    except Exception:  # redrawn under the click: try again
-        return False
 
 
 if __name__ == "__main__":
