@@ -565,7 +565,10 @@ class WebConsoleTest(unittest.TestCase):
                                                 "button[data-action=play-result]").click()
         wait_for("the processed TRC playing", lambda: "markers.trc" in self.page.find_element(By.ID, "play-title").text
                  and self.js("return mocapConsole.pages.sessions.player.recording.markers.length") > 0)
-        self.page.find_element(By.ID, "play").click()
+        # The player sits above the details: brought to the middle of the window, not under the header.
+        play = self.page.find_element(By.ID, "play")
+        self.page.execute_script("arguments[0].scrollIntoView({block: 'center'})", play)
+        play.click()
         # The same recipe again is refused in the page: the results are kept unless replaced.
         self.page.find_element(By.ID, "process-start").click()
         wait_for("the refusal", lambda: "overwrite" in self.page.find_element(By.ID, "process-message").text)

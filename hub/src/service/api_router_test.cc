@@ -210,7 +210,7 @@ TEST(ApiRouter, SessionPathsThatCouldLeaveTheSessionsDirectoryNeverReachTheServi
   }
   FakeServiceApi api;
   EXPECT_EQ(Send(api, "POST", "/api/sessions/a/files/b").response.status, 405);
-  EXPECT_EQ(Send(api, "DELETE", "/api/sessions/a").response.status, 405);
+  EXPECT_EQ(Send(api, "DELETE", "/api/sessions/a/files/b").response.status, 405);
   EXPECT_EQ(Send(api, "POST", "/api/blobs").response.status, 405);
   EXPECT_EQ(Send(api, "PUT", "/api/calibration").response.status, 405);
   EXPECT_TRUE(api.calls.empty());
