@@ -10,6 +10,8 @@
 
 #include <Eigen/Geometry>
 
+#include "geometry/rigid_fit.h"
+
 namespace mocap::edit {
 namespace {
 
@@ -143,9 +145,15 @@ std::optional<Eigen::Vector3d> Estimate(const FillOptions& options, const Eigen:
     case FillMethod::kPattern:
       return Eigen::Vector3d(donors_now.col(0) + (target_ref - donors_ref.col(0)));
     case FillMethod::kRigid: {
-      const Eigen::Matrix4d now_from_ref = Eigen::umeyama(donors_ref, donors_now, false);
-      if (!now_from_ref.allFinite()) return std::nullopt;
-      return Eigen::Vector3d(now_from_ref.topLeftCorner<3, 3>() * target_ref + now_from_ref.topRightCorner<3, 1>());
+      // The project's one rigid fit (geometry/rigid_fit.h): collinear donors place nothing.
+      std::vector<Eigen::Vector3d> ref(donors_ref.cols()), now(donors_now.cols());
+      for (long i = 0; i < donors_ref.cols(); ++i) ref[static_cast<size_t>(i)] = donors_ref.col(i);
+      for (long i = 0; i < donors_now.cols(); ++i) now[static_cast<size_t>(i)] = donors_now.col(i);
+      try {
+        return FitRigid(ref, now).Apply(target_ref);
+      } catch (const std::invalid_argument&) {
+        return std::nullopt;
+      }
     }
     case FillMethod::kRelational: {
       const std::optional<Eigen::Matrix3d> ref = AxesOf(donors_ref), now = AxesOf(donors_now);

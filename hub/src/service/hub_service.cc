@@ -581,18 +581,21 @@ nlohmann::json HubService::Session(const std::string& name) {
   return OnLoop([this, name] { return captures_.Describe(name); });
 }
 
+void HubService::RefuseIfProcessing(const std::string& name) const {
+  if (processing_ && processing_->Uses(name))
+    throw ApiError(409, "session '" + name + "' has a processing job queued or running; wait for it");
+}
+
 nlohmann::json HubService::DeleteSession(const std::string& name) {
   return OnLoop([this, name] {
-    if (processing_ && processing_->Uses(name))
-      throw ApiError(409, "session '" + name + "' has a processing job queued or running; wait for it");
+    RefuseIfProcessing(name);
     return captures_.Delete(name, RealtimeNowNs());
   });
 }
 
 nlohmann::json HubService::RenameSession(const std::string& name, const std::string& new_name) {
   return OnLoop([this, name, new_name] {
-    if (processing_ && processing_->Uses(name))
-      throw ApiError(409, "session '" + name + "' has a processing job queued or running; wait for it");
+    RefuseIfProcessing(name);
     return captures_.Rename(name, new_name);
   });
 }

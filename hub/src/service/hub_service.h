@@ -152,6 +152,8 @@ class HubService : public ServiceApi {
   void Publish(const FrameSet& set);
   void Tick(uint64_t now_ns);
   void WarnOfSingleCameraSets(uint64_t now_ns);
+  // ApiError 409 when a processing job is queued for or running on the session (no rename, delete).
+  void RefuseIfProcessing(const std::string& name) const;
   void Announce(uint64_t now_ns);
   void OnRegistryEvents(const std::vector<RegistryEvent>& events);
   void OnRequestFinished(const RequestResult& result);
